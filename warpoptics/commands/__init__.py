@@ -1,0 +1,1 @@
+"""Subcommands of the `warpoptics` command line (see warpoptics/cli.py)."""
