@@ -45,6 +45,7 @@ from ..errors import InputError
 __all__ = [
     "Proportions",
     "convex_from_planes",
+    "measure_proportions",
     "round_brilliant",
     "oval",
     "pear",
@@ -260,6 +261,37 @@ def convex_from_planes(
     mesh.metadata["face_facet"] = np.array(face_facet, dtype=np.int64)
     mesh.metadata["proportions"] = proportions
     return mesh
+
+
+def measure_proportions(mesh: trimesh.Trimesh, shape: str = "mesh") -> Proportions:
+    """Proportions measured on a faceted mesh with girdle at z ~ 0 (GemCAD designs, loaded files).
+
+    Width is the smaller of the x and y extents; the table is the extent of the top horizontal
+    facet along that axis; the girdle spans from the lowest crown vertex (thin point) down to the
+    highest pavilion vertex, crown and pavilion facets being the non-vertical facets facing up
+    and down.  Angles are not reported (a design has many).
+    """
+    from .mesh import facet_planes
+
+    planes, face_facet = facet_planes(mesh)
+    v = np.asarray(mesh.vertices)
+    ext = v.max(axis=0) - v.min(axis=0)
+    axis = 0 if ext[0] <= ext[1] else 1
+    width, length = float(ext[axis]), float(ext[1 - axis])
+    nz = planes[:, 2]
+    fz = nz[face_facet]
+    tri = mesh.faces
+    crown_v = np.unique(tri[fz > 1e-6].ravel())
+    pav_v = np.unique(tri[fz < -1e-6].ravel())
+    top_faces = np.flatnonzero(fz > 1 - 1e-9)
+    table_v = np.unique(tri[top_faces].ravel()) if len(top_faces) else np.array([], dtype=np.int64)
+    ztop, zbot = float(v[:, 2].max()), float(v[:, 2].min())
+    g_top = float(v[crown_v, 2].min()) if len(crown_v) else ztop
+    g_bot = float(v[pav_v, 2].max()) if len(pav_v) else zbot
+    table = float(np.ptp(v[table_v, axis])) / width if len(table_v) else 0.0
+    return Proportions(shape=shape, length=length, width=width, table=table,
+                       crown_height=(ztop - g_top) / width, pavilion_depth=(g_bot - zbot) / width,
+                       girdle=max(g_top - g_bot, 0.0) / width, total_depth=(ztop - zbot) / width)
 
 
 def _plane_through(p0, p1, p2) -> tuple[np.ndarray, float]:
