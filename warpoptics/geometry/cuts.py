@@ -1,0 +1,775 @@
+"""Parametric gem cuts and simple optical solids, as watertight convex triangle meshes.
+
+Every solid here is built the same way: as the intersection of half-spaces ``n . x <= d``
+(``n`` the outward unit normal of a facet plane, ``d`` its distance from the origin, in mm),
+which makes it convex and closed by construction (:func:`convex_from_planes`).  The mesh keeps
+the facet structure in ``mesh.metadata``:
+
+``"planes"``       (K, 4) float64, one row ``[nx, ny, nz, d]`` per facet, outward unit normal
+``"facet_names"``  K names ("table", "star 3", "pavilion main 0", ...)
+``"face_facet"``   (F,) int64, the facet each triangle belongs to
+``"proportions"``  a :class:`Proportions` (gem cuts) or ``None``
+
+Conventions: millimetres, right-handed, z up, normals out of the solid.  Gem cuts have their
+girdle centred on the z = 0 plane (crown above, pavilion below); other solids are centred on the
+origin, except :func:`ground_plane` whose top face is at ``z``.  Angles are in degrees; facet
+angles are measured between the facet and the girdle plane (i.e. between the facet normal and
+the z axis), the convention of gem cutters and of GemCAD.
+
+Proportions follow the usual gemological definitions (GIA): crown height, pavilion depth, girdle
+thickness and total depth as fractions of the girdle diameter (of the width for fancy shapes);
+crown height from the top of the girdle to the table, pavilion depth from the bottom of the
+girdle to the culet.  The table of a brilliant is measured corner to corner of its octagon
+(through the bezel/main azimuth, the profile of Tolkowsky's derivation).
+
+References
+----------
+- M. Tolkowsky, *Diamond Design: A Study of the Reflection and Refraction of Light in a Diamond*,
+  E. & F. N. Spon, London, 1919 (table 53 %, crown 34.5 deg, pavilion 40.75 deg).
+- GIA, *Diamond Grading ABC* / GIA cut-grading system: star length, lower-girdle length,
+  girdle thickness and depth definitions.
+- S. Guy and C. Soler, "Graphics Gems Revisited", ACM TOG 23(3), 2004 (convex faceted stones).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable, Sequence
+
+import numpy as np
+import trimesh
+
+from ..errors import InputError
+
+__all__ = [
+    "Proportions",
+    "convex_from_planes",
+    "measure_proportions",
+    "round_brilliant",
+    "oval",
+    "pear",
+    "marquise",
+    "emerald",
+    "princess",
+    "step_cut",
+    "prism",
+    "plate",
+    "cube",
+    "sphere",
+    "ground_plane",
+    "SHAPES",
+]
+
+
+@dataclasses.dataclass(frozen=True)
+class Proportions:
+    """Proportions of a cut, lengths in mm, ratios as fractions of ``width``.
+
+    ``width`` is the girdle diameter of a round stone (the smaller girdle extent of a fancy
+    shape); ``length`` the larger extent.  ``crown_height`` is from the top of the girdle to the
+    table, ``pavilion_depth`` from the bottom of the girdle to the culet (keel), ``girdle`` the
+    girdle thickness at its thin points, ``total_depth`` table to culet.  Angles in degrees
+    (``None`` where a cut has no single such angle).
+    """
+
+    shape: str
+    length: float
+    width: float
+    table: float
+    crown_height: float
+    pavilion_depth: float
+    girdle: float
+    total_depth: float
+    crown_angle: float | None = None
+    pavilion_angle: float | None = None
+
+    def summary(self) -> str:
+        """One human-readable block, percentages of the width."""
+        lines = [
+            f"shape            {self.shape}",
+            f"length x width   {self.length:.4g} x {self.width:.4g} mm (ratio {self.length / self.width:.3f})",
+            f"table            {100 * self.table:.1f} %",
+            f"crown height     {100 * self.crown_height:.1f} %",
+            f"girdle           {100 * self.girdle:.1f} %",
+            f"pavilion depth   {100 * self.pavilion_depth:.1f} %",
+            f"total depth      {100 * self.total_depth:.1f} %",
+        ]
+        if self.crown_angle is not None:
+            lines.append(f"crown angle      {self.crown_angle:.2f} deg")
+        if self.pavilion_angle is not None:
+            lines.append(f"pavilion angle   {self.pavilion_angle:.2f} deg")
+        return "\n".join(lines)
+
+
+# ---------------------------------------------------------------------------------------------
+# Half-space intersection
+# ---------------------------------------------------------------------------------------------
+
+
+def _clip(poly: np.ndarray, n: np.ndarray, d: float, eps: float) -> np.ndarray:
+    """Sutherland-Hodgman: keep the part of a convex polygon with ``n . x <= d``."""
+    if len(poly) == 0:
+        return poly
+    s = poly @ n - d
+    if np.all(s <= eps):
+        return poly
+    if np.all(s > -eps):
+        return poly[:0]
+    out = []
+    m = len(poly)
+    for i in range(m):
+        j = (i + 1) % m
+        a, b, sa, sb = poly[i], poly[j], s[i], s[j]
+        if sa <= eps:
+            out.append(a)
+        if (sa < -eps and sb > eps) or (sa > eps and sb < -eps):
+            out.append(a + (sa / (sa - sb)) * (b - a))
+    return np.array(out) if out else poly[:0]
+
+
+def _plane_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    a = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    u = np.cross(n, a)
+    u /= np.linalg.norm(u)
+    v = np.cross(n, u)  # (u, v, n) right-handed: polygons built in (u, v) are CCW about n
+    return u, v
+
+
+def convex_from_planes(
+    normals,
+    offsets,
+    names: Sequence[str] | None = None,
+    *,
+    proportions: Proportions | None = None,
+    source: str | None = None,
+) -> trimesh.Trimesh:
+    """The convex polyhedron ``{x : n_i . x <= d_i for all i}`` as a watertight triangle mesh.
+
+    ``normals`` (K, 3) need not be unit length (they are normalised, ``offsets`` with them).
+    Each plane that bounds a face of positive area becomes one facet; redundant planes are
+    dropped (their names with them).  Raises :class:`InputError` if the intersection is empty,
+    flat or unbounded.  ``source`` names the input in error messages (a file name).
+    """
+    n = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
+    d = np.asarray(offsets, dtype=np.float64).reshape(-1)
+    if len(n) != len(d):
+        raise ValueError("normals and offsets differ in length")
+    if names is None:
+        names = [f"facet {i}" for i in range(len(n))]
+    names = list(names)
+    if len(n) < 4:
+        raise InputError("at least 4 planes are needed to bound a solid", file=source, value=len(n))
+    length = np.linalg.norm(n, axis=1)
+    if np.any(length == 0) or not np.all(np.isfinite(n)) or not np.all(np.isfinite(d)):
+        raise InputError("a facet plane has a zero or non-finite normal", file=source)
+    n = n / length[:, None]
+    d = d / length
+    scale = float(np.max(np.abs(d)))
+    if scale <= 0:
+        raise InputError("all facet planes pass through the origin: the solid is empty", file=source)
+    big = 1e4 * scale
+    eps = 1e-11 * scale
+
+    polys: list[np.ndarray] = []
+    keep: list[int] = []
+    for i in range(len(n)):
+        u, v = _plane_basis(n[i])
+        c = n[i] * d[i]
+        poly = np.array([c - big * u - big * v, c + big * u - big * v, c + big * u + big * v, c - big * u + big * v])
+        for j in range(len(n)):
+            if j != i:
+                poly = _clip(poly, n[j], d[j], eps)
+                if len(poly) < 3:
+                    break
+        if len(poly) < 3:
+            continue
+        if np.max(np.abs(poly)) > 0.5 * big:
+            raise InputError(
+                "the facet planes do not enclose a bounded solid (is a crown, pavilion or girdle missing?)",
+                file=source,
+                field=names[i],
+            )
+        polys.append(poly)
+        keep.append(i)
+    if len(keep) < 4:
+        raise InputError("the facet planes enclose no solid", file=source)
+
+    # Merge the vertices that adjacent facets computed independently.
+    allv = np.concatenate(polys)
+    tol = 1e-9 * scale
+    from scipy.spatial import cKDTree
+
+    tree = cKDTree(allv)
+    parent = np.arange(len(allv))
+
+    def find(a: int) -> int:
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+
+    for a, b in tree.query_pairs(tol):
+        ra, rb = find(a), find(b)
+        if ra != rb:
+            parent[max(ra, rb)] = min(ra, rb)
+    roots = np.array([find(a) for a in range(len(allv))])
+    uniq, inverse = np.unique(roots, return_inverse=True)
+    vertices = [allv[roots == r].mean(axis=0) for r in uniq]
+
+    faces: list[list[int]] = []
+    face_facet: list[int] = []
+    planes: list[np.ndarray] = []
+    facet_names: list[str] = []
+    start = 0
+    for poly, i in zip(polys, keep, strict=True):
+        ids = [int(x) for x in inverse[start : start + len(poly)]]
+        start += len(poly)
+        ring: list[int] = []
+        for x in ids:
+            if not ring or ring[-1] != x:
+                ring.append(x)
+        while len(ring) > 1 and ring[0] == ring[-1]:
+            ring.pop()
+        if len(ring) < 3:
+            continue
+        k = len(planes)
+        planes.append(np.array([*n[i], d[i]]))
+        facet_names.append(names[i])
+        pts = np.array([vertices[x] for x in ring])
+        # Fan from a vertex unless three consecutive vertices are collinear (then from the centroid).
+        m = len(ring)
+        crosses = [
+            np.linalg.norm(np.cross(pts[(a + 1) % m] - pts[a], pts[(a - 1) % m] - pts[a])) for a in range(m)
+        ]
+        if min(crosses) < 1e-10 * scale * scale:
+            vertices.append(pts.mean(axis=0))
+            c = len(vertices) - 1
+            for a in range(m):
+                faces.append([c, ring[a], ring[(a + 1) % m]])
+                face_facet.append(k)
+        else:
+            for a in range(1, m - 1):
+                faces.append([ring[0], ring[a], ring[a + 1]])
+                face_facet.append(k)
+
+    mesh = trimesh.Trimesh(vertices=np.array(vertices), faces=np.array(faces, dtype=np.int64), process=False)
+    if not mesh.is_watertight or mesh.volume <= 0:
+        raise InputError("the facet planes did not give a closed solid (degenerate design?)", file=source)
+    mesh.metadata["planes"] = np.array(planes)
+    mesh.metadata["facet_names"] = facet_names
+    mesh.metadata["face_facet"] = np.array(face_facet, dtype=np.int64)
+    mesh.metadata["proportions"] = proportions
+    return mesh
+
+
+def measure_proportions(mesh: trimesh.Trimesh, shape: str = "mesh") -> Proportions:
+    """Proportions measured on a faceted mesh with girdle at z ~ 0 (GemCAD designs, loaded files).
+
+    Width is the smaller of the x and y extents; the table is the extent of the top horizontal
+    facet along that axis; the girdle spans from the lowest crown vertex (thin point) down to the
+    highest pavilion vertex, crown and pavilion facets being the non-vertical facets facing up
+    and down.  Angles are not reported (a design has many).
+    """
+    from .mesh import facet_planes
+
+    planes, face_facet = facet_planes(mesh)
+    v = np.asarray(mesh.vertices)
+    ext = v.max(axis=0) - v.min(axis=0)
+    axis = 0 if ext[0] <= ext[1] else 1
+    width, length = float(ext[axis]), float(ext[1 - axis])
+    nz = planes[:, 2]
+    fz = nz[face_facet]
+    tri = mesh.faces
+    crown_v = np.unique(tri[fz > 1e-6].ravel())
+    pav_v = np.unique(tri[fz < -1e-6].ravel())
+    top_faces = np.flatnonzero(fz > 1 - 1e-9)
+    table_v = np.unique(tri[top_faces].ravel()) if len(top_faces) else np.array([], dtype=np.int64)
+    ztop, zbot = float(v[:, 2].max()), float(v[:, 2].min())
+    g_top = float(v[crown_v, 2].min()) if len(crown_v) else ztop
+    g_bot = float(v[pav_v, 2].max()) if len(pav_v) else zbot
+    table = float(np.ptp(v[table_v, axis])) / width if len(table_v) else 0.0
+    return Proportions(shape=shape, length=length, width=width, table=table,
+                       crown_height=(ztop - g_top) / width, pavilion_depth=(g_bot - zbot) / width,
+                       girdle=max(g_top - g_bot, 0.0) / width, total_depth=(ztop - zbot) / width)
+
+
+def _plane_through(p0, p1, p2) -> tuple[np.ndarray, float]:
+    """Outward (away from the origin) plane through three points."""
+    nrm = np.cross(np.asarray(p1) - p0, np.asarray(p2) - p0)
+    nrm /= np.linalg.norm(nrm)
+    dd = float(nrm @ p0)
+    return (nrm, dd) if dd >= 0 else (-nrm, -dd)
+
+
+def _plane_from_point_dirs(p, a, b) -> tuple[np.ndarray, float]:
+    """Outward plane through point ``p`` spanned by directions ``a`` and ``b``."""
+    nrm = np.cross(a, b)
+    nrm /= np.linalg.norm(nrm)
+    dd = float(nrm @ p)
+    return (nrm, dd) if dd >= 0 else (-nrm, -dd)
+
+
+def _check(name: str, value: float, lo: float, hi: float, *, lo_open=False, hi_open=False, unit="") -> float:
+    v = float(value)
+    ok = math.isfinite(v) and (v > lo if lo_open else v >= lo) and (v < hi if hi_open else v <= hi)
+    if not ok:
+        allowed = f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}{unit}"
+        raise InputError("out of range", field=name, value=value, allowed=allowed)
+    return v
+
+
+# ---------------------------------------------------------------------------------------------
+# Brilliant family
+# ---------------------------------------------------------------------------------------------
+
+
+def _outline_round(theta: np.ndarray) -> np.ndarray:
+    return np.ones_like(theta)
+
+
+def _outline_ellipse(ratio: float) -> Callable[[np.ndarray], np.ndarray]:
+    # half-length = ratio, half-width = 1 (units of the half-width)
+    def r(theta):
+        return 1.0 / np.sqrt((np.cos(theta) / ratio) ** 2 + np.sin(theta) ** 2)
+
+    return r
+
+
+def _pointed_half(h: float, w: float, theta: np.ndarray) -> np.ndarray:
+    """Distance to a vesica arc reaching (h, 0) and (0, +-w), along direction theta (|theta| <= 90)."""
+    c = (h * h - w * w) / (2.0 * w)
+    rc = c + w
+    s = np.abs(np.sin(theta))
+    return -c * s + np.sqrt(c * c * s * s + rc * rc - c * c)
+
+
+def _outline_marquise(ratio: float) -> Callable[[np.ndarray], np.ndarray]:
+    def r(theta):
+        return _pointed_half(ratio, 1.0, theta)
+
+    return r
+
+
+def _outline_pear(ratio: float) -> Callable[[np.ndarray], np.ndarray]:
+    # round end: unit half-circle for x <= 0; pointed end reaching x = 2 ratio - 1
+    h = 2.0 * ratio - 1.0
+
+    def r(theta):
+        theta = np.asarray(theta, dtype=np.float64)
+        out = np.ones_like(theta)
+        front = np.cos(theta) > 0
+        out[front] = _pointed_half(h, 1.0, theta[front])
+        return out
+
+    return r
+
+
+def _brilliant(
+    shape: str,
+    outline: Callable[[np.ndarray], np.ndarray],
+    half_width: float,
+    table: float,
+    crown_angle: float,
+    pavilion_angle: float,
+    star_length: float,
+    lower_girdle_length: float,
+    girdle: float,
+    culet: float,
+    girdle_facets: int,
+) -> trimesh.Trimesh:
+    """The 57/58-facet brilliant over an outline ``r(theta)`` (in units of the half-width).
+
+    The round stone is constructed exactly from its defining points (unit radius, girdle at z=0):
+    girdle points G_j at azimuth 22.5 j deg (even j: bezel/main azimuths), table corners T_k,
+    star tips S_k on the ridge between bezels k and k+1, lower-girdle tips L_k on the ridge
+    between mains k and k+1 and the culet point C.  Fancy shapes move every point radially onto
+    the outline (z kept) and rebuild each facet plane through its moved defining points.
+    """
+    table = _check("table", table, 0.05, 0.95)
+    crown_angle = _check("crown_angle", crown_angle, 5.0, 60.0, unit=" deg")
+    pavilion_angle = _check("pavilion_angle", pavilion_angle, 20.0, 60.0, unit=" deg")
+    star_length = _check("star_length", star_length, 0.05, 0.95)
+    lower_girdle_length = _check("lower_girdle_length", lower_girdle_length, 0.05, 0.95)
+    girdle = _check("girdle", girdle, 0.0, 0.2)
+    culet = _check("culet", culet, 0.0, 0.3)
+    if girdle_facets not in (16, 32, 64, 128):
+        raise InputError("unsupported girdle facet count", field="girdle_facets", value=girdle_facets,
+                         allowed="16, 32, 64, 128")
+    a = math.radians(crown_angle)
+    p = math.radians(pavilion_angle)
+    c225 = math.cos(math.radians(22.5))
+    g2 = girdle  # half-thickness in units of the half-width (girdle is a fraction of the width)
+    rt = table
+    zt = g2 + (1.0 - rt) * math.tan(a)
+    rs = rt * c225 + star_length * (1.0 - rt * c225)
+    zs = g2 + (1.0 - rs * c225) * math.tan(a)
+    rl = 1.0 - lower_girdle_length
+    zl = -g2 - (1.0 - rl * c225) * math.tan(p)
+    zc = -g2 - math.tan(p)
+
+    def warp_pt(rho, theta, z):
+        th = np.asarray(theta, dtype=np.float64)
+        rr = rho * outline(np.atleast_1d(th))[0]
+        return np.array([rr * math.cos(th), rr * math.sin(th), z])
+
+    phi = [math.radians(45.0 * k) for k in range(8)]
+    psi = [math.radians(22.5 + 45.0 * k) for k in range(8)]
+    Gu = [warp_pt(1.0, math.radians(22.5 * j), g2) for j in range(16)]
+    Gl = [warp_pt(1.0, math.radians(22.5 * j), -g2) for j in range(16)]
+    T = [warp_pt(rt, phi[k], zt) for k in range(8)]
+    S = [warp_pt(rs, psi[k], zs) for k in range(8)]
+    L = [warp_pt(rl, psi[k], zl) for k in range(8)]
+    C = np.array([0.0, 0.0, zc])
+
+    normals, offsets, names = [], [], []
+
+    def add(plane, name):
+        normals.append(plane[0])
+        offsets.append(plane[1])
+        names.append(name)
+
+    add((np.array([0.0, 0.0, 1.0]), zt), "table")
+    for k in range(8):
+        add(_plane_through(T[k], T[(k + 1) % 8], S[k]), f"star {k}")
+    for k in range(8):
+        add(_plane_from_point_dirs(T[k], Gu[2 * k] - T[k], S[k] - S[k - 1]), f"bezel {k}")
+    for k in range(8):
+        add(_plane_through(Gu[2 * k], Gu[2 * k + 1], S[k]), f"upper girdle {2 * k}")
+        add(_plane_through(Gu[2 * k + 1], Gu[(2 * k + 2) % 16], S[k]), f"upper girdle {2 * k + 1}")
+    for k in range(8):
+        add(_plane_from_point_dirs(C, Gl[2 * k] - C, L[k] - L[k - 1]), f"pavilion main {k}")
+    for k in range(8):
+        add(_plane_through(Gl[2 * k], Gl[2 * k + 1], L[k]), f"lower girdle {2 * k}")
+        add(_plane_through(Gl[2 * k + 1], Gl[(2 * k + 2) % 16], L[k]), f"lower girdle {2 * k + 1}")
+    if culet > 0:
+        add((np.array([0.0, 0.0, -1.0]), -(zc + culet * math.tan(p))), "culet")
+    if girdle > 0:
+        th = np.radians(np.arange(girdle_facets) * 360.0 / girdle_facets)
+        pts = [warp_pt(1.0, t, 0.0) for t in th]
+        for j in range(girdle_facets):
+            add(_plane_from_point_dirs(pts[j], pts[(j + 1) % girdle_facets] - pts[j], np.array([0.0, 0.0, 1.0])),
+                f"girdle {j}")
+
+    s = half_width
+    mesh = convex_from_planes(np.array(normals), np.array(offsets) * s, names)
+    ext = mesh.bounds[1] - mesh.bounds[0]
+    width, length = float(min(ext[0], ext[1])), float(max(ext[0], ext[1]))
+    zmin = float(mesh.bounds[0][2])
+    round_ = shape == "round_brilliant"
+    # ratios: relative to the width (2 s for every outline here, the outline's half-width is 1)
+    w_ref = 2.0 * s
+    mesh.metadata["proportions"] = Proportions(
+        shape=shape,
+        length=length,
+        width=width,
+        table=rt,
+        crown_height=(zt - g2) * s / w_ref,
+        pavilion_depth=(-g2 * s - zmin) / w_ref,
+        girdle=2.0 * g2 * s / w_ref,
+        total_depth=(zt * s - zmin) / w_ref,
+        crown_angle=crown_angle if round_ else None,
+        pavilion_angle=pavilion_angle if round_ else None,
+    )
+    mesh.metadata["symmetry"] = (8, True) if round_ else (2, True) if shape != "pear" else (1, True)
+    mesh.metadata["shape"] = shape
+    return mesh
+
+
+def round_brilliant(
+    diameter: float = 1.0,
+    table: float = 0.53,
+    crown_angle: float = 34.5,
+    pavilion_angle: float = 40.75,
+    *,
+    star_length: float = 0.5,
+    lower_girdle_length: float = 0.75,
+    girdle: float = 0.02,
+    culet: float = 0.0,
+    girdle_facets: int = 16,
+) -> trimesh.Trimesh:
+    """Round brilliant: table, 8 stars, 8 bezels, 16 upper girdle, 8 pavilion mains, 16 lower
+    girdle (57 facets), plus a culet (58) when ``culet > 0``, plus ``girdle_facets`` vertical
+    girdle facets when ``girdle > 0``.
+
+    Defaults are Tolkowsky's (1919) ideal: table 53 %, crown 34.5 deg, pavilion 40.75 deg,
+    which give crown height 16.2 % and pavilion depth 43.1 %.
+
+    Parameters
+    ----------
+    diameter : girdle diameter in mm (through the 16 points where bezels, mains and the
+        upper/lower girdle facets touch the girdle).
+    table : table width / diameter, corner to corner of the octagon.
+    crown_angle, pavilion_angle : bezel and pavilion-main angles to the girdle plane, degrees.
+    star_length : radial extent of the stars from the table edge, as a fraction of the distance
+        from the table edge to the girdle (GIA definition, typically 0.45-0.55).
+    lower_girdle_length : radial extent of the lower girdle facets from the girdle, as a fraction
+        of the girdle radius (typically 0.75-0.80).
+    girdle : girdle thickness at the thin points / diameter (0 = knife edge).
+    culet : culet size / diameter (0 = pointed).
+    girdle_facets : number of vertical girdle facets (16, 32, 64 or 128).
+    """
+    diameter = _check("diameter", diameter, 0.0, 1e4, lo_open=True, unit=" mm")
+    return _brilliant("round_brilliant", _outline_round, diameter / 2, table, crown_angle, pavilion_angle,
+                      star_length, lower_girdle_length, girdle, culet, girdle_facets)
+
+
+def _fancy(shape, outline_factory, length, width, kw) -> trimesh.Trimesh:
+    width = _check("width", width, 0.0, 1e4, lo_open=True, unit=" mm")
+    length = _check("length", length, width, 1e4, unit=" mm (>= width)")
+    ratio = length / width
+    if shape != "oval" and ratio < 1.05:
+        raise InputError(f"a {shape} needs length/width >= 1.05", field="length", value=length)
+    defaults = dict(table=0.53, crown_angle=34.5, pavilion_angle=40.75, star_length=0.5,
+                    lower_girdle_length=0.75, girdle=0.02, culet=0.0, girdle_facets=16)
+    unknown = set(kw) - set(defaults)
+    if unknown:
+        raise TypeError(f"unexpected argument(s) {sorted(unknown)}")
+    defaults.update(kw)
+    return _brilliant(shape, outline_factory(ratio), width / 2, **defaults)
+
+
+def oval(length: float = 1.5, width: float = 1.0, **kw) -> trimesh.Trimesh:
+    """Oval brilliant: the round brilliant's facets over an elliptic girdle (length along x).
+
+    Keyword arguments as :func:`round_brilliant`; the angles are those of the facets across the
+    width, facets along the length are flatter, as on real ovals.
+    """
+    return _fancy("oval", _outline_ellipse, length, width, kw)
+
+
+def pear(length: float = 1.5, width: float = 1.0, **kw) -> trimesh.Trimesh:
+    """Pear brilliant: round end (radius width/2, centred on the origin) towards -x, point at
+    x = length - width/2.  Keyword arguments as :func:`round_brilliant`."""
+    return _fancy("pear", _outline_pear, length, width, kw)
+
+
+def marquise(length: float = 2.0, width: float = 1.0, **kw) -> trimesh.Trimesh:
+    """Marquise (navette) brilliant: girdle of two circular arcs meeting in points at
+    x = +-length/2.  Keyword arguments as :func:`round_brilliant`."""
+    return _fancy("marquise", _outline_marquise, length, width, kw)
+
+
+# ---------------------------------------------------------------------------------------------
+# Step cuts
+# ---------------------------------------------------------------------------------------------
+
+
+def step_cut(
+    length: float = 1.4,
+    width: float = 1.0,
+    *,
+    corner: float = 0.15,
+    table: float = 0.6,
+    crown_angles: Sequence[float] = (45.0, 30.0),
+    pavilion_angles: Sequence[float] = (50.0, 43.0, 38.0),
+    girdle: float = 0.02,
+    shape: str = "step_cut",
+) -> trimesh.Trimesh:
+    """Step cut over a rectangle with 45-degree cut corners (an octagon).
+
+    Each tier is a ring of facets parallel to the girdle outline (4 sides + 4 corners), at the
+    tier's angle to the girdle plane.  The crown insets the outline by ``(1 - table) * width / 2``
+    from girdle to table in equal steps, the pavilion by ``width / 2`` from girdle to keel (a
+    keel line of length ``length - width``, a point for a square).  For the facets to exist the
+    angles must decrease from the girdle inwards (the solid is convex).
+
+    ``corner`` : the length cut off each side at a corner, as a fraction of the width.
+    """
+    width = _check("width", width, 0.0, 1e4, lo_open=True, unit=" mm")
+    length = _check("length", length, width, 1e4, unit=" mm (>= width)")
+    corner = _check("corner", corner, 0.0, 0.45)
+    table = _check("table", table, 0.05, 0.95)
+    girdle = _check("girdle", girdle, 0.0, 0.2)
+    crown_angles = [float(x) for x in crown_angles]
+    pavilion_angles = [float(x) for x in pavilion_angles]
+    if not crown_angles or not pavilion_angles:
+        raise InputError("a step cut needs at least one crown and one pavilion tier", field="crown_angles")
+    for nm, seq in (("crown_angles", crown_angles), ("pavilion_angles", pavilion_angles)):
+        for x in seq:
+            _check(nm, x, 5.0, 85.0, unit=" deg")
+        if any(b >= a for a, b in zip(seq, seq[1:], strict=False)):
+            raise InputError("tier angles must decrease from the girdle inwards", field=nm, value=tuple(seq))
+    W, Lh = width / 2, length / 2
+    c = corner * width
+    edges = [((1.0, 0.0), Lh, "side +x"), ((0.0, 1.0), W, "side +y"), ((-1.0, 0.0), Lh, "side -x"),
+             ((0.0, -1.0), W, "side -y")]
+    if c > 0:
+        r2 = 1 / math.sqrt(2)
+        hc = (Lh + W - c) * r2
+        edges += [((r2, r2), hc, "corner +x+y"), ((-r2, r2), hc, "corner -x+y"), ((-r2, -r2), hc, "corner -x-y"),
+                  ((r2, -r2), hc, "corner +x-y")]
+    g2 = girdle * width / 2
+    normals, offsets, names = [], [], []
+    for (ex, ey), h, nm in edges:
+        normals.append((ex, ey, 0.0))
+        offsets.append(h)
+        names.append(f"girdle {nm}")
+
+    def tiers(angles, total_inset, sign, label):
+        z = sign * g2
+        delta = 0.0
+        step = total_inset / len(angles)
+        for t, ang in enumerate(angles):
+            al = math.radians(ang)
+            for (ex, ey), h, nm in edges:
+                nrm = (math.sin(al) * ex, math.sin(al) * ey, sign * math.cos(al))
+                normals.append(nrm)
+                offsets.append(math.sin(al) * (h - delta) + sign * math.cos(al) * z)
+                names.append(f"{label} {t + 1} {nm}")
+            delta += step
+            z += sign * step * math.tan(al)
+        return z
+
+    zt = tiers(crown_angles, (1 - table) * W, 1.0, "crown step")
+    zk = tiers(pavilion_angles, W, -1.0, "pavilion step")
+    normals.append((0.0, 0.0, 1.0))
+    offsets.append(zt)
+    names.append("table")
+    mesh = convex_from_planes(np.array(normals), np.array(offsets), names)
+    mesh.metadata["proportions"] = Proportions(
+        shape=shape, length=length, width=width, table=table, crown_height=(zt - g2) / width,
+        pavilion_depth=(-g2 - zk) / width, girdle=2 * g2 / width, total_depth=(zt - zk) / width,
+        crown_angle=crown_angles[0] if len(crown_angles) == 1 else None,
+        pavilion_angle=pavilion_angles[-1] if len(pavilion_angles) == 1 else None,
+    )
+    mesh.metadata["symmetry"] = (4, True) if length == width else (2, True)
+    mesh.metadata["shape"] = shape
+    return mesh
+
+
+def emerald(
+    length: float = 1.4,
+    width: float = 1.0,
+    *,
+    corner: float = 0.15,
+    table: float = 0.6,
+    crown_angles: Sequence[float] = (45.0, 30.0),
+    pavilion_angles: Sequence[float] = (50.0, 43.0, 38.0),
+    girdle: float = 0.02,
+) -> trimesh.Trimesh:
+    """Emerald cut: rectangular step cut with cut corners (see :func:`step_cut`)."""
+    return step_cut(length, width, corner=corner, table=table, crown_angles=crown_angles,
+                    pavilion_angles=pavilion_angles, girdle=girdle, shape="emerald")
+
+
+def princess(
+    width: float = 1.0,
+    *,
+    table: float = 0.7,
+    crown_angle: float = 35.0,
+    pavilion_angles: Sequence[float] = (50.0, 44.0, 40.0),
+    girdle: float = 0.02,
+) -> trimesh.Trimesh:
+    """Princess (square, sharp corners): one crown tier, a stepped pyramidal pavilion to a point.
+
+    A simplification of the commercial princess, whose pavilion chevrons are split further.
+    """
+    return step_cut(width, width, corner=0.0, table=table, crown_angles=(crown_angle,),
+                    pavilion_angles=pavilion_angles, girdle=girdle, shape="princess")
+
+
+# ---------------------------------------------------------------------------------------------
+# Optical solids
+# ---------------------------------------------------------------------------------------------
+
+
+def _box(sx: float, sy: float, sz: float, zc: float = 0.0, names=None) -> trimesh.Trimesh:
+    normals = [(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1)]
+    offsets = [sx / 2, sx / 2, sy / 2, sy / 2, sz / 2 + zc, sz / 2 - zc]
+    names = names or ["+x", "-x", "+y", "-y", "+z", "-z"]
+    return convex_from_planes(np.array(normals, dtype=float), np.array(offsets), names)
+
+
+def prism(apex_angle: float = 60.0, size: float = 10.0, length: float = 10.0) -> trimesh.Trimesh:
+    """Triangular prism: an isosceles cross-section in the x-z plane extruded along y.
+
+    The refracting edge (apex) is parallel to y at the top; ``size`` is the width of each of the
+    two refracting faces (mm), ``apex_angle`` the angle between them (degrees), ``length`` the
+    extent along y.  The bounding box is centred on the origin.  Facets: "face +x", "face -x"
+    (refracting faces, normals in the x-z plane), "base" (normal -z), "end +y", "end -y".
+    """
+    A = math.radians(_check("apex_angle", apex_angle, 1.0, 179.0, unit=" deg"))
+    size = _check("size", size, 0.0, 1e4, lo_open=True, unit=" mm")
+    length = _check("length", length, 0.0, 1e4, lo_open=True, unit=" mm")
+    h = size * math.cos(A / 2)  # apex height above the base
+    half_base = size * math.sin(A / 2)
+    z_apex, z_base = h / 2, -h / 2
+    n_r = np.array([math.cos(A / 2), 0.0, math.sin(A / 2)])
+    n_l = np.array([-math.cos(A / 2), 0.0, math.sin(A / 2)])
+    apex = np.array([0.0, 0.0, z_apex])
+    normals = [n_r, n_l, (0, 0, -1), (0, 1, 0), (0, -1, 0)]
+    offsets = [n_r @ apex, n_l @ apex, -z_base, length / 2, length / 2]
+    m = convex_from_planes(np.array(normals, dtype=float), np.array(offsets),
+                           ["face +x", "face -x", "base", "end +y", "end -y"])
+    m.metadata["shape"] = "prism"
+    m.metadata["apex_angle"] = math.degrees(A)
+    m.metadata["base_width"] = 2 * half_base
+    return m
+
+
+def plate(width: float = 10.0, length: float = 10.0, thickness: float = 1.0) -> trimesh.Trimesh:
+    """Plane-parallel plate (mm), faces normal to z, centred on the origin."""
+    width = _check("width", width, 0.0, 1e5, lo_open=True, unit=" mm")
+    length = _check("length", length, 0.0, 1e5, lo_open=True, unit=" mm")
+    thickness = _check("thickness", thickness, 0.0, 1e5, lo_open=True, unit=" mm")
+    m = _box(length, width, thickness)
+    m.metadata["shape"] = "plate"
+    return m
+
+
+def cube(size: float = 1.0) -> trimesh.Trimesh:
+    """Cube of edge ``size`` (mm), axis-aligned, centred on the origin."""
+    size = _check("size", size, 0.0, 1e5, lo_open=True, unit=" mm")
+    m = _box(size, size, size)
+    m.metadata["shape"] = "cube"
+    return m
+
+
+def sphere(diameter: float = 1.0, subdivisions: int = 3) -> trimesh.Trimesh:
+    """Icosphere of the given circumscribed diameter (mm), centred on the origin.
+
+    ``subdivisions`` 3 gives 1280 triangles (each its own facet plane); the flat facets deviate
+    from the true sphere by at most ~0.2 % of the radius at 3 subdivisions.
+    """
+    diameter = _check("diameter", diameter, 0.0, 1e5, lo_open=True, unit=" mm")
+    if int(subdivisions) != subdivisions or not 0 <= subdivisions <= 6:
+        raise InputError("out of range", field="subdivisions", value=subdivisions, allowed="0..6")
+    m = trimesh.creation.icosphere(subdivisions=int(subdivisions), radius=diameter / 2)
+    nrm = np.asarray(m.face_normals, dtype=np.float64)
+    d = np.einsum("ij,ij->i", nrm, m.triangles_center)
+    m.metadata["planes"] = np.column_stack([nrm, d])
+    m.metadata["facet_names"] = [f"face {i}" for i in range(len(m.faces))]
+    m.metadata["face_facet"] = np.arange(len(m.faces), dtype=np.int64)
+    m.metadata["proportions"] = None
+    m.metadata["shape"] = "sphere"
+    return m
+
+
+def ground_plane(size: float = 100.0, thickness: float = 1.0, z: float = 0.0) -> trimesh.Trimesh:
+    """A ground slab ``size`` x ``size`` x ``thickness`` mm whose top face is the plane z = ``z``.
+
+    A closed slab rather than an open quad so that every solid in a scene is watertight.
+    """
+    size = _check("size", size, 0.0, 1e6, lo_open=True, unit=" mm")
+    thickness = _check("thickness", thickness, 0.0, 1e6, lo_open=True, unit=" mm")
+    m = _box(size, size, thickness, zc=float(z) - thickness / 2)
+    m.metadata["shape"] = "ground_plane"
+    return m
+
+
+#: Shapes by name, for the command line and scene files.
+SHAPES: dict[str, Callable[..., trimesh.Trimesh]] = {
+    "round_brilliant": round_brilliant,
+    "oval": oval,
+    "pear": pear,
+    "marquise": marquise,
+    "emerald": emerald,
+    "princess": princess,
+    "step_cut": step_cut,
+    "prism": prism,
+    "plate": plate,
+    "cube": cube,
+    "sphere": sphere,
+    "ground_plane": ground_plane,
+}

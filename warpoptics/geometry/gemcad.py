@@ -1,0 +1,373 @@
+"""GemCAD ``.asc`` faceting designs: reader, writer, and the stone as an intersection of half-spaces.
+
+Format (GemCAD for Windows text export; Windows-1252, CRLF line ends)::
+
+    GemCad 5.0
+    g 96 0.0                 index gear teeth, reference angle (deg)
+    y 8 y                    symmetry, mirror (y|n)
+    I 2.417000               refractive index
+    H <text>                 header / title lines (repeatable)
+    a -40.750000 0.65317734 96 n P1 12 24 36 48 60 72 84 G <instruction>
+    a 0.000000 0.5 96 n T    table (angle 0, positive distance)
+    a 0.000000 -0.8 96 n C   culet (angle 0, negative distance; a "-0" angle is also a culet)
+    F <text>                 footnote lines (repeatable)
+
+One ``a`` line per tier: the facet angle in degrees from the girdle plane (negative: pavilion,
+positive: crown, +-90: girdle), the distance of the facet planes from the stone's centre (the
+"mast", in the design's normalised units) and the index-gear positions of its facets, with
+``n <name>`` after an index naming that facet and ``G <instruction>`` ending the record.  Lines
+that start with none of the record letters continue the open ``a`` record (long index lists).
+
+Geometry: index ``i`` is the facet azimuth ``phi = 90 deg - (360 i / gear + reference)``,
+measured counter-clockwise from +x in the x-y plane: index 0 (= gear) points to +y and indices
+increase clockwise seen from above, as in GemCAD's crown view.  The same formula serves crown and
+pavilion.  A facet at angle ``theta`` has the outward normal
+``(sin|theta| cos phi, sin|theta| sin phi, +-cos theta)`` (+ crown, - pavilion) and is the plane
+``n . x = distance``.  The stone is the intersection of all these half-spaces, scaled so that its
+girdle width (the smaller of its x and y extents) is the requested diameter in mm.
+
+The reader accepts UTF-8 with a byte-order mark, LF, CRLF or CR line ends, glued keywords
+(``g96``) and continuation lines; the writer emits Windows-1252 with CRLF, like GemCAD.
+
+References
+----------
+- R. W. Strickland, *GemCad* user manual (file format of the ``.asc`` export).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import re
+
+import numpy as np
+import trimesh
+
+from ..errors import InputError
+from .cuts import convex_from_planes, measure_proportions
+
+__all__ = [
+    "Tier",
+    "Design",
+    "parse",
+    "read_design",
+    "read",
+    "design_to_mesh",
+    "design_from_mesh",
+    "dumps",
+    "write",
+]
+
+
+@dataclasses.dataclass
+class Tier:
+    """One ``a`` record: facets at one angle and distance, one per index."""
+
+    angle: float  # degrees, signed (negative: pavilion)
+    distance: float  # design units; negative only for a culet written as angle 0
+    indices: list[float]
+    names: dict[int, str] = dataclasses.field(default_factory=dict)  # position in indices -> name
+    instruction: str = ""
+    pavilion_zero: bool = False  # angle written as "-0": a culet
+
+    @property
+    def is_culet(self) -> bool:
+        return self.angle == 0 and (self.distance < 0 or self.pavilion_zero)
+
+    @property
+    def is_table(self) -> bool:
+        return self.angle == 0 and not self.is_culet
+
+
+@dataclasses.dataclass
+class Design:
+    """A GemCAD design: header records and tiers."""
+
+    tiers: list[Tier]
+    gear: int = 96
+    reference_angle: float = 0.0
+    symmetry: int = 1
+    mirror: bool = False
+    refractive_index: float = 1.54
+    headers: list[str] = dataclasses.field(default_factory=list)
+    footnotes: list[str] = dataclasses.field(default_factory=list)
+    version: str = "5.0"
+
+    def planes(self) -> tuple[np.ndarray, np.ndarray, list[str]]:
+        """Facet planes ``(normals (K,3), distances (K,), names)`` in design units (see module doc)."""
+        normals, dist, names = [], [], []
+        for t, tier in enumerate(self.tiers):
+            base = tier.names.get(0) or f"tier {t + 1}"
+            if tier.angle == 0:
+                if tier.is_culet:
+                    normals.append((0.0, 0.0, -1.0))
+                    dist.append(abs(tier.distance))
+                    names.append(tier.names.get(0) or "culet")
+                else:
+                    normals.append((0.0, 0.0, 1.0))
+                    dist.append(tier.distance)
+                    names.append(tier.names.get(0) or "table")
+                continue
+            th = math.radians(abs(tier.angle))
+            sz = 1.0 if tier.angle > 0 else -1.0
+            for j, idx in enumerate(tier.indices):
+                phi = math.radians(90.0 - (360.0 * idx / self.gear + self.reference_angle))
+                normals.append((math.sin(th) * math.cos(phi), math.sin(th) * math.sin(phi), sz * math.cos(th)))
+                dist.append(tier.distance)
+                names.append(f"{tier.names.get(j, base)} @{_fmt_index(idx)}")
+        return np.array(normals, dtype=np.float64).reshape(-1, 3), np.array(dist, dtype=np.float64), names
+
+
+_KEY = re.compile(r"^(GemCad|[gyIHFa])(?=$|[\s\-+\d.])")
+
+
+def _num(tok: str, source, lineno: int, what: str) -> float:
+    try:
+        v = float(tok)
+    except ValueError:
+        raise InputError(f"line {lineno}: expected a number for {what}", file=source, value=tok) from None
+    if not math.isfinite(v):
+        raise InputError(f"line {lineno}: {what} must be finite", file=source, value=tok)
+    return v
+
+
+def parse(text: str, *, source: str | None = None) -> Design:
+    """Parse the text of a ``.asc`` design (already decoded)."""
+    text = text.lstrip("\ufeff").replace("\r\n", "\n").replace("\r", "\n")
+    design = Design(tiers=[])
+    seen_header = False
+    open_tier: Tier | None = None
+    in_instruction = False
+    for lineno, raw in enumerate(text.split("\n"), start=1):
+        line = raw.strip()
+        if not line:
+            continue
+        m = _KEY.match(line)
+        key = m.group(1) if m else None
+        rest = line[m.end():].strip() if m else line
+        if key == "GemCad":
+            design.version = rest or design.version
+            seen_header = True
+            open_tier = None
+            continue
+        if not seen_header:
+            raise InputError(f"line {lineno}: not a GemCAD .asc file (expected 'GemCad <version>' first)",
+                             file=source, value=line[:40])
+        if key == "H":
+            design.headers.append(rest)
+            open_tier = None
+        elif key == "F":
+            design.footnotes.append(rest)
+            open_tier = None
+        elif key == "g":
+            tok = rest.split()
+            if not tok:
+                raise InputError(f"line {lineno}: 'g' needs the gear tooth count", file=source)
+            gear = _num(tok[0], source, lineno, "the gear tooth count")
+            if gear == 0 or gear != int(gear) or abs(gear) > 720:
+                raise InputError(f"line {lineno}: bad index gear", file=source, value=tok[0],
+                                 allowed="a non-zero integer up to 720")
+            design.gear = abs(int(gear))
+            design.reference_angle = _num(tok[1], source, lineno, "the reference angle") if len(tok) > 1 else 0.0
+            open_tier = None
+        elif key == "y":
+            tok = rest.split()
+            if tok:
+                design.symmetry = int(_num(tok[0], source, lineno, "the symmetry"))
+            if len(tok) > 1:
+                design.mirror = tok[1].lower().startswith("y")
+            open_tier = None
+        elif key == "I":
+            tok = rest.split()
+            if tok:
+                design.refractive_index = _num(tok[0], source, lineno, "the refractive index")
+            open_tier = None
+        elif key == "a":
+            tok = rest.split()
+            if len(tok) < 2:
+                raise InputError(f"line {lineno}: a tier needs an angle and a distance", file=source,
+                                 value=line)
+            angle = _num(tok[0], source, lineno, "the facet angle")
+            if abs(angle) > 90:
+                raise InputError(f"line {lineno}: facet angle out of range", file=source, value=angle,
+                                 allowed="[-90, 90] deg")
+            dist = _num(tok[1], source, lineno, "the facet distance")
+            open_tier = Tier(angle=angle if angle != 0 else 0.0,
+                             distance=dist, indices=[],
+                             pavilion_zero=angle == 0 and tok[0].lstrip().startswith("-"))
+            design.tiers.append(open_tier)
+            in_instruction = _parse_tail(open_tier, tok[2:], source, lineno)
+        else:
+            if open_tier is None:
+                raise InputError(f"line {lineno}: unrecognised record", file=source, value=line[:40],
+                                 allowed="GemCad, g, y, I, H, F, a")
+            if in_instruction:
+                open_tier.instruction = f"{open_tier.instruction} {line}".strip()
+            else:
+                in_instruction = _parse_tail(open_tier, line.split(), source, lineno)
+    if not seen_header:
+        raise InputError("empty file or not a GemCAD .asc file", file=source)
+    if not design.tiers:
+        raise InputError("the design has no facet tiers ('a' records)", file=source)
+    return design
+
+
+def _parse_tail(tier: Tier, tok: list[str], source, lineno: int) -> bool:
+    """Indices, names and instruction of an ``a`` record; True once ``G`` has started."""
+    k = 0
+    while k < len(tok):
+        t = tok[k]
+        if t == "G":
+            extra = " ".join(tok[k + 1:])
+            tier.instruction = f"{tier.instruction} {extra}".strip()
+            return True
+        if t == "n":
+            if k + 1 >= len(tok):
+                raise InputError(f"line {lineno}: 'n' without a facet name", file=source)
+            tier.names[max(len(tier.indices) - 1, 0)] = tok[k + 1]
+            k += 2
+            continue
+        tier.indices.append(_num(t, source, lineno, "a gear index"))
+        k += 1
+    return False
+
+
+def read_design(path: str | os.PathLike) -> Design:
+    """Read a ``.asc`` file (Windows-1252, or UTF-8 with a byte-order mark)."""
+    path = os.fspath(path)
+    try:
+        with open(path, "rb") as f:
+            data = f.read()
+    except FileNotFoundError:
+        raise InputError("no such file", file=path) from None
+    if data.startswith(b"\xef\xbb\xbf"):
+        text = data[3:].decode("utf-8", errors="replace")
+    else:
+        text = data.decode("cp1252", errors="replace")
+    return parse(text, source=path)
+
+
+def design_to_mesh(design: Design, diameter: float = 1.0, *, source: str | None = None) -> trimesh.Trimesh:
+    """The stone of a design, girdle width scaled to ``diameter`` mm (see module doc)."""
+    if not (math.isfinite(diameter) and diameter > 0):
+        raise InputError("must be a positive length in mm", field="diameter", value=diameter)
+    normals, dist, names = design.planes()
+    mesh = convex_from_planes(normals, dist, names, source=source)
+    ext = mesh.extents
+    s = diameter / float(min(ext[0], ext[1]))
+    mesh.apply_scale(s)
+    mesh.metadata["planes"] = np.column_stack([mesh.metadata["planes"][:, :3], mesh.metadata["planes"][:, 3] * s])
+    mesh.metadata["proportions"] = measure_proportions(mesh, shape="gemcad")
+    mesh.metadata["symmetry"] = (design.symmetry, design.mirror)
+    mesh.metadata["refractive_index"] = design.refractive_index
+    mesh.metadata["design_scale"] = s  # mm per design unit
+    mesh.metadata["shape"] = "gemcad"
+    return mesh
+
+
+def read(path: str | os.PathLike, diameter: float = 1.0) -> trimesh.Trimesh:
+    """Read a ``.asc`` design and build its stone with girdle width ``diameter`` mm."""
+    path = os.fspath(path)
+    return design_to_mesh(read_design(path), diameter, source=path)
+
+
+def _fmt_index(idx: float) -> str:
+    r = round(idx)
+    return str(int(r)) if abs(idx - r) < 1e-6 else f"{idx:.6f}".rstrip("0")
+
+
+def _tier_name(name: str) -> str:
+    base = re.sub(r"\s*(\d+|@\S+)$", "", name).strip() or "f"
+    return re.sub(r"\s+", "_", base)
+
+
+def design_from_mesh(
+    mesh: trimesh.Trimesh,
+    *,
+    gear: int = 96,
+    refractive_index: float = 2.417,
+    title: str | None = None,
+    unit: float | None = None,
+) -> Design:
+    """A design from a convex faceted mesh (its facet planes), distances in units of ``unit`` mm.
+
+    ``unit`` defaults to half the girdle width, so distances are relative to the girdle radius.
+    Facets with equal angle and distance become one tier.
+    """
+    from .mesh import facet_planes
+
+    planes, _ = facet_planes(mesh)
+    names = mesh.metadata.get("facet_names") or [f"f{i}" for i in range(len(planes))]
+    if unit is None:
+        ext = mesh.extents
+        unit = 0.5 * float(min(ext[0], ext[1]))
+    tiers: dict[tuple, Tier] = {}
+    order: list[tuple] = []
+    for (nx, ny, nz, d), name in zip(planes, names, strict=True):
+        nz = float(np.clip(nz, -1.0, 1.0))
+        horiz = math.hypot(nx, ny)
+        theta = math.degrees(math.atan2(horiz, abs(nz)))
+        dist = d / unit
+        if horiz < 1e-9:
+            angle, idxs = 0.0, [float(gear)]
+            if nz < 0:
+                dist = -dist
+        else:
+            angle = theta if nz >= 0 else -theta
+            if abs(nz) < 1e-12:
+                angle = 90.0
+            phi = math.degrees(math.atan2(ny, nx))
+            idx = ((90.0 - phi) * gear / 360.0) % gear
+            if abs(idx - round(idx)) < 1e-6:
+                idx = float(round(idx))
+            if idx < 1e-6:
+                idx = float(gear)
+            idxs = [idx]
+        key = (round(angle, 6), round(dist, 8))
+        if key not in tiers:
+            tiers[key] = Tier(angle=angle, distance=dist, indices=[], names={0: _tier_name(name)})
+            order.append(key)
+        tiers[key].indices.extend(idxs)
+
+    def sort_key(k):
+        a, dd = k
+        group = 0 if a < 0 or (a == 0 and dd < 0) else 1 if a == 90 else 2 if a > 0 else 3
+        return (group, -abs(a) if group == 0 else -a, dd)
+
+    tier_list = [tiers[k] for k in sorted(order, key=sort_key)]
+    for t in tier_list:
+        t.indices.sort()
+    sym, mirror = mesh.metadata.get("symmetry", (1, False))
+    headers = [title or f"warpoptics {mesh.metadata.get('shape', 'design')}"]
+    return Design(tiers=tier_list, gear=gear, symmetry=int(sym), mirror=bool(mirror),
+                  refractive_index=refractive_index, headers=headers)
+
+
+def dumps(design: Design) -> str:
+    """The ``.asc`` text of a design (LF line ends; :func:`write` converts to CRLF)."""
+    out = [f"GemCad {design.version}", f"g {design.gear} {design.reference_angle:.1f}",
+           f"y {design.symmetry} {'y' if design.mirror else 'n'}", f"I {design.refractive_index:.6f}"]
+    out += [f"H {h}" for h in design.headers]
+    for t in design.tiers:
+        angle = "-0.000000" if t.pavilion_zero and t.angle == 0 else f"{t.angle:.6f}"
+        parts = [f"a {angle} {t.distance:.8f}"]
+        for j, idx in enumerate(t.indices):
+            parts.append(_fmt_index(idx))
+            if j in t.names:
+                parts.append(f"n {t.names[j]}")
+        if t.instruction:
+            parts.append(f"G {t.instruction}")
+        out.append(" ".join(parts))
+    out += [f"F {f}" for f in design.footnotes]
+    return "\n".join(out) + "\n"
+
+
+def write(obj: trimesh.Trimesh | Design, path: str | os.PathLike, **kw) -> Design:
+    """Write a design (or a convex faceted mesh, via :func:`design_from_mesh` with ``kw``) as a
+    GemCAD ``.asc`` file: Windows-1252, CRLF.  Returns the design written."""
+    design = obj if isinstance(obj, Design) else design_from_mesh(obj, **kw)
+    text = dumps(design).replace("\n", "\r\n")
+    with open(os.fspath(path), "wb") as f:
+        f.write(text.encode("cp1252", errors="replace"))
+    return design

@@ -1,0 +1,159 @@
+"""Meshes from files (OBJ, STL, PLY, GLB/GLTF, OFF) via trimesh, validated for ray tracing.
+
+A mesh enters the renderer as a closed surface with outward normals, in millimetres.  Validation
+rejects, with an :class:`~warpoptics.errors.InputError` naming the file and what is wrong:
+
+- no faces, non-finite coordinates;
+- degenerate (zero-area) faces;
+- inconsistent winding (adjacent faces oriented oppositely);
+- not watertight (open boundary edges or non-manifold edges);
+- inverted (consistent winding, but the normals point inwards: negative volume);
+- an absurd scale (largest extent outside ``[min_size, max_size]`` mm, e.g. a model in metres).
+
+``repair=True`` opts in to trimesh's fixes (drop degenerate faces, merge duplicate vertices,
+fix winding and inversion, fill small holes); anything still wrong is an error.  Scale is never
+guessed: pass ``scale`` (e.g. 1000 for a model in metres).
+
+:func:`facet_planes` groups coplanar faces into facets (planes ``[n, d]``, outward ``n``), which
+the convex ray-query path uses; the cuts of :mod:`warpoptics.geometry.cuts` carry theirs.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import trimesh
+
+from ..errors import InputError
+
+__all__ = ["SUPPORTED_EXTENSIONS", "load_mesh", "validate_mesh", "facet_planes"]
+
+SUPPORTED_EXTENSIONS = (".obj", ".stl", ".ply", ".glb", ".gltf", ".off")
+
+
+def load_mesh(
+    path: str | os.PathLike,
+    *,
+    scale: float = 1.0,
+    repair: bool = False,
+    min_size: float = 1e-3,
+    max_size: float = 1e4,
+) -> trimesh.Trimesh:
+    """Load a triangle mesh (mm after multiplying by ``scale``) and validate it (see module doc).
+
+    Scenes with several meshes (GLB) are concatenated into one solid in world coordinates.
+    """
+    path = os.fspath(path)
+    ext = os.path.splitext(path)[1].lower()
+    if ext not in SUPPORTED_EXTENSIONS:
+        raise InputError("unsupported mesh format", file=path, value=ext or "(none)",
+                         allowed=", ".join(SUPPORTED_EXTENSIONS))
+    if not os.path.isfile(path):
+        raise InputError("no such file", file=path)
+    try:
+        loaded = trimesh.load(path, force="mesh", process=True, validate=False)
+    except Exception as exc:  # trimesh raises many types for bad files
+        raise InputError(f"cannot read mesh: {exc}", file=path) from exc
+    if not isinstance(loaded, trimesh.Trimesh):
+        raise InputError("the file holds no triangle mesh", file=path)
+    if scale != 1.0:
+        if not np.isfinite(scale) or scale <= 0:
+            raise InputError("scale must be a positive number", field="scale", value=scale)
+        loaded.apply_scale(float(scale))
+    return validate_mesh(loaded, name=path, repair=repair, min_size=min_size, max_size=max_size)
+
+
+def validate_mesh(
+    mesh: trimesh.Trimesh,
+    *,
+    name: str | None = None,
+    repair: bool = False,
+    min_size: float = 1e-3,
+    max_size: float = 1e4,
+) -> trimesh.Trimesh:
+    """Check (and with ``repair`` fix, on a copy) a mesh for ray tracing; return the mesh to use."""
+    if not isinstance(mesh, trimesh.Trimesh):
+        raise InputError("not a triangle mesh", file=name, value=type(mesh).__name__)
+    if len(mesh.faces) == 0:
+        raise InputError("the mesh has no faces", file=name)
+    if not np.all(np.isfinite(mesh.vertices)):
+        raise InputError("the mesh has non-finite vertex coordinates", file=name)
+    size = float(np.max(mesh.extents))
+    if not min_size <= size <= max_size:
+        raise InputError(
+            f"absurd scale: largest extent {size:.4g} mm (lengths are in mm; pass scale=1000 for metres, "
+            "scale=10 for cm)",
+            file=name, field="scale", allowed=f"[{min_size:g}, {max_size:g}] mm",
+        )
+    if repair:
+        mesh = mesh.copy()
+        mesh.merge_vertices()
+    area_tol = (1e-9 * size) ** 2  # far below any real face, far above float64 round-off
+    degenerate = mesh.area_faces <= area_tol
+    if np.any(degenerate):
+        if not repair:
+            raise InputError(f"{int(degenerate.sum())} degenerate (zero-area) face(s), e.g. face "
+                             f"{int(np.flatnonzero(degenerate)[0])} (use repair to drop them)", file=name)
+        mesh.update_faces(~degenerate)
+        mesh.remove_unreferenced_vertices()
+    if not mesh.is_winding_consistent:
+        if not repair:
+            raise InputError("inconsistent winding: adjacent faces are oriented oppositely (use repair)",
+                             file=name)
+        trimesh.repair.fix_winding(mesh)
+    if not mesh.is_watertight:
+        if not repair:
+            raise InputError("not watertight: the surface has open or non-manifold edges; a refracting "
+                             "solid must be closed (use repair to fill small holes)", file=name)
+        trimesh.repair.fill_holes(mesh)
+        if not mesh.is_watertight:
+            raise InputError("not watertight, and repair could not close it", file=name)
+        if not mesh.is_winding_consistent:
+            trimesh.repair.fix_winding(mesh)
+    if mesh.volume < 0:
+        if not repair:
+            raise InputError("inverted: the normals point into the solid (negative volume; use repair)",
+                             file=name)
+        mesh.invert()
+    if not repair and not mesh.is_winding_consistent:  # pragma: no cover - defensive
+        raise InputError("inconsistent winding", file=name)
+    return mesh
+
+
+def facet_planes(mesh: trimesh.Trimesh, *, angle_tol: float = 1e-6) -> tuple[np.ndarray, np.ndarray]:
+    """Facet planes of a mesh and the facet of each face.
+
+    Returns ``planes`` (K, 4) float64 rows ``[nx, ny, nz, d]`` (unit outward normal, ``n . x = d``
+    on the facet) and ``face_facet`` (F,) int64.  Uses ``mesh.metadata`` when it carries them
+    (cuts and GemCAD designs), else groups adjacent coplanar faces (normals within ``angle_tol``
+    radians) into facets; a face not in a group is its own facet.
+    """
+    md = mesh.metadata
+    if "planes" in md and "face_facet" in md and len(md["face_facet"]) == len(mesh.faces):
+        return np.asarray(md["planes"], dtype=np.float64), np.asarray(md["face_facet"], dtype=np.int64)
+    nf = len(mesh.faces)
+    face_facet = np.full(nf, -1, dtype=np.int64)
+    k = 0
+    groups = trimesh.graph.facets(mesh, facet_threshold=angle_tol) if nf else []
+    planes = []
+    for g in groups:
+        face_facet[g] = k
+        k += 1
+    singles = np.flatnonzero(face_facet < 0)
+    face_facet[singles] = np.arange(k, k + len(singles))
+    k += len(singles)
+    normals = np.zeros((k, 3))
+    np.add.at(normals, face_facet, mesh.face_normals * mesh.area_faces[:, None])
+    length = np.linalg.norm(normals, axis=1)
+    length[length == 0] = 1.0
+    normals /= length[:, None]
+    # d: area-weighted mean of n . centroid over the facet's faces
+    dsum = np.zeros(k)
+    asum = np.zeros(k)
+    np.add.at(dsum, face_facet,
+              np.einsum("ij,ij->i", normals[face_facet], mesh.triangles_center) * mesh.area_faces)
+    np.add.at(asum, face_facet, mesh.area_faces)
+    asum[asum == 0] = 1.0
+    planes = np.column_stack([normals, dsum / asum])
+    return planes, face_facet

@@ -1,0 +1,239 @@
+"""Fresnel amplitude coefficients at a plane interface between isotropic media.
+
+``fresnel_amplitudes(cos_i, n1, n2)`` is the one place where the Fresnel laws live; the
+renderer's trace kernel, the thin-film stack and the uniaxial approximation (eq. 10 of Guy &
+Soler) call it per ray.
+
+Conventions
+-----------
+- Complex indices ``n + i k`` as ``wp.vec2f`` (k >= 0 absorbing), time dependence
+  ``exp(-i omega t)`` (see ``warpoptics.optics.complex``).
+- ``cos_i`` is the cosine of the incidence angle in medium 1, in [0, 1] (clamped).
+- Amplitudes are ratios of electric-field amplitudes, each wave in its own right-handed frame
+  ``(s, p, k)``: ``s = normalize(normal x d)`` is shared by the incident, reflected and
+  transmitted waves and ``p = k x s`` for each wave.  This is the Born & Wolf / Hecht (and
+  Mitsuba 3) sign convention::
+
+      rs = (n1 cos i - n2 cos t) / (n1 cos i + n2 cos t)
+      rp = (n2 cos i - n1 cos t) / (n2 cos i + n1 cos t)
+      ts = 2 n1 cos i / (n1 cos i + n2 cos t)
+      tp = 2 n1 cos i / (n2 cos i + n1 cos t)
+
+  so that at normal incidence ``rp = -rs`` (the reflected p axis is reversed with respect to
+  the incident one because the frames stay right-handed).  These are the formulas of fig. 2 of
+  Guy & Soler 2004 (``F_r^perp = -sin(i-t)/sin(i+t)``, ``F_r^par = tan(i-t)/tan(i+t)``), and
+  the ones the generalized 4x4 solution of ``birefringence.py`` reduces to (tested).  We keep
+  right-handed frames for every ray because Jones matrices, Stokes S3 and the frame rotations of
+  eq. 12 are only meaningful in right-handed frames; the alternative "rs = rp at normal
+  incidence" convention needs a left-handed reflected frame.
+- ``N2 cos t`` is taken on the physical branch (Im >= 0, decaying / evanescent) by
+  ``c_normal_component``.  Beyond the critical angle ``N2 cos t = i |.|`` and ``|rs| = |rp| = 1``
+  with the total-internal-reflection phase; exactly at the critical angle ``rs = rp = 1``; at
+  grazing incidence ``rs = rp = -1`` (``r = 0, t = 1`` when also ``n1 = n2``).  No NaN/Inf.
+- Power coefficients (``fresnel_power``): ``R = |r|^2``, ``Ts = Re(N2 cos t) |ts|^2 /
+  Re(n1 cos i)`` and ``Tp = Re(conj(N2) cos t) |tp|^2 / Re(n1 cos i)`` are the normal energy
+  fluxes just past the interface (valid for a non-absorbing medium 1); ``R + T = 1``.
+
+References:
+    Born, M., Wolf, E. 1999. Principles of Optics, 7th ed., §1.5.2 eq. 20-21, §13.2 (absorbing).
+    Hecht, E. 2017. Optics, 5th ed., §4.6.2 eq. 4.42-4.45.
+    Guy, S., Soler, C. 2004. Graphics Gems Revisited, fig. 2.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import warp as wp
+
+from ..device import elementwise
+from ..errors import InputError
+from .complex import c_abs2, c_conj, c_div, c_mul, c_normal_component
+
+__all__ = [
+    "FresnelAmplitudes",
+    "fresnel_amplitudes",
+    "fresnel_power_coefficients",
+    "reflect_direction",
+    "refract_direction",
+    "fresnel",
+    "fresnel_power",
+]
+
+
+@wp.struct
+class FresnelAmplitudes:
+    """Complex amplitude coefficients (wp.vec2f) and the normal wave-vector components."""
+
+    rs: wp.vec2f
+    rp: wp.vec2f
+    ts: wp.vec2f
+    tp: wp.vec2f
+    n1_cos_i: wp.vec2f  # N1 cos(theta_i)
+    n2_cos_t: wp.vec2f  # N2 cos(theta_t), Im >= 0 (imaginary beyond the critical angle)
+
+
+@wp.func
+def fresnel_amplitudes(cos_i: float, n1: wp.vec2f, n2: wp.vec2f):
+    """Fresnel amplitudes rs, rp, ts, tp for complex indices n1 -> n2 (Born & Wolf convention,
+    rp = -rs at normal incidence; see the module docstring).  ``cos_i`` in [0, 1]."""
+    c = wp.clamp(cos_i, 0.0, 1.0)
+    a = n1 * c  # N1 cos i
+    b = c_normal_component(n1, n2, c)  # N2 cos t
+    n1sq = c_mul(n1, n1)
+    n2sq = c_mul(n2, n2)
+    # s: (a - b) / (a + b), 2a / (a + b)
+    ds = a + b
+    # p, multiplied through by N2 (avoids dividing by N2): (N2^2 cos i - N1 N2 cos t) / (...)
+    pa = n2sq * c
+    pb = c_mul(n1, b)
+    dp = pa + pb
+    f = FresnelAmplitudes()
+    f.n1_cos_i = a
+    f.n2_cos_t = b
+    if c_abs2(ds) == 0.0 or c_abs2(dp) == 0.0:
+        # grazing incidence into an identical medium (the only way both normal components
+        # vanish): no interface
+        f.rs = wp.vec2f(0.0, 0.0)
+        f.rp = wp.vec2f(0.0, 0.0)
+        f.ts = wp.vec2f(1.0, 0.0)
+        f.tp = wp.vec2f(1.0, 0.0)
+        return f
+    f.rs = c_div(a - b, ds)
+    f.ts = c_div(2.0 * a, ds)
+    f.rp = c_div(pa - pb, dp)
+    # tp = 2 N1 cos i / (N2 cos i + N1 cos t) = 2 N1 N2 cos i / (N2^2 cos i + N1 N2 cos t)
+    f.tp = c_div(2.0 * c_mul(c_mul(n1, n2), wp.vec2f(c, 0.0)), dp)
+    if n1sq[0] == n2sq[0] and n1sq[1] == n2sq[1]:
+        # identical media: exactly no reflection, whatever the rounding of N2 cos t
+        f.rs = wp.vec2f(0.0, 0.0)
+        f.rp = wp.vec2f(0.0, 0.0)
+        f.ts = wp.vec2f(1.0, 0.0)
+        f.tp = wp.vec2f(1.0, 0.0)
+    return f
+
+
+@wp.func
+def fresnel_power_coefficients(f: FresnelAmplitudes, n2: wp.vec2f):
+    """(Rs, Rp, Ts, Tp): reflectances |r|^2 and the transmitted normal energy fluxes per unit
+    incident flux, for a non-absorbing incident medium (module docstring).  Zero
+    transmittance beyond the critical angle."""
+    rs2 = c_abs2(f.rs)
+    rp2 = c_abs2(f.rp)
+    den = f.n1_cos_i[0]
+    ts = 0.0
+    tp = 0.0
+    if den > 0.0:
+        ts = f.n2_cos_t[0] * c_abs2(f.ts) / den
+        # conj(N2) cos t = conj(N2) (N2 cos t) / N2
+        q = c_div(c_mul(c_conj(n2), f.n2_cos_t), n2)
+        tp = q[0] * c_abs2(f.tp) / den
+    return wp.vec4(rs2, rp2, ts, tp)
+
+
+@wp.func
+def reflect_direction(d: wp.vec3, normal: wp.vec3):
+    """Mirror direction d - 2 (d . n) n (either orientation of the unit normal)."""
+    return d - normal * (2.0 * wp.dot(d, normal))
+
+
+@wp.func
+def refract_direction(d: wp.vec3, normal: wp.vec3, n1: float, n2: float):
+    """Snell refraction of unit ``d`` through a surface whose unit ``normal`` points to the
+    incident side (d . normal <= 0), real indices.  Returns the zero vector under total
+    internal reflection."""
+    eta = n1 / n2
+    c = -wp.dot(d, normal)
+    k = 1.0 - eta * eta * wp.max(1.0 - c * c, 0.0)
+    if k < 0.0:
+        return wp.vec3(0.0, 0.0, 0.0)
+    return wp.normalize(d * eta + normal * (eta * c - wp.sqrt(k)))
+
+
+_vec8 = wp.types.vector(length=8, dtype=wp.float32)
+
+
+@wp.kernel
+def _fresnel_kernel(
+    offset: int,
+    cos_i: wp.array(dtype=float),
+    n1: wp.array(dtype=wp.vec2f),
+    n2: wp.array(dtype=wp.vec2f),
+    out_amp: wp.array(dtype=_vec8),
+    out_pow: wp.array(dtype=wp.vec4),
+):
+    i = wp.tid() + offset
+    f = fresnel_amplitudes(cos_i[i], n1[i], n2[i])
+    v = _vec8()
+    v[0] = f.rs[0]
+    v[1] = f.rs[1]
+    v[2] = f.rp[0]
+    v[3] = f.rp[1]
+    v[4] = f.ts[0]
+    v[5] = f.ts[1]
+    v[6] = f.tp[0]
+    v[7] = f.tp[1]
+    out_amp[i] = v
+    out_pow[i] = fresnel_power_coefficients(f, n2[i])
+
+
+def _complex_pairs(n, name: str) -> np.ndarray:
+    a = np.asarray(n)
+    if not np.iscomplexobj(a):
+        a = a.astype(np.float64)
+    if not np.all(np.isfinite(a)):
+        raise InputError("refractive index must be finite", field=name, value=n)
+    if np.any(np.imag(a) < 0):
+        raise InputError(
+            "refractive index must have a non-negative imaginary part (n + ik, k >= 0 absorbing)",
+            field=name,
+            value=n,
+            allowed="Im(n) >= 0",
+        )
+    if np.any(np.real(a) <= 0):
+        raise InputError("refractive index must have a positive real part", field=name, value=n, allowed="Re(n) > 0")
+    return np.stack([np.real(a), np.imag(a)], axis=-1)
+
+
+def _cosines(cos_i) -> np.ndarray:
+    c = np.asarray(cos_i, dtype=np.float64)
+    if not np.all(np.isfinite(c)) or np.any(c < -1e-6) or np.any(c > 1.0 + 1e-6):
+        raise InputError("cosine of the incidence angle must lie in [0, 1]", field="cos_i", value=cos_i, allowed="[0, 1]")
+    return np.clip(c, 0.0, 1.0)
+
+
+def _run(cos_i, n1, n2, device):
+    return elementwise(
+        _fresnel_kernel,
+        [(_cosines(cos_i), wp.float32), (_complex_pairs(n1, "n1"), wp.vec2f), (_complex_pairs(n2, "n2"), wp.vec2f)],
+        [_vec8, wp.vec4],
+        device=device,
+    )
+
+
+def fresnel(
+    cos_i, n1, n2, *, device=None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Fresnel amplitude coefficients (rs, rp, ts, tp) as complex NumPy arrays.
+
+    Parameters
+    ----------
+    cos_i : array_like
+        Cosine of the incidence angle in medium 1, in [0, 1].
+    n1, n2 : array_like, real or complex
+        Refractive indices ``n + ik`` (k >= 0) of the incident and transmitting media.
+        All three broadcast together.
+
+    Born & Wolf sign convention (``rp = -rs`` at normal incidence), evaluated in float32 by
+    ``fresnel_amplitudes``; see the module docstring.
+    """
+    amp, _ = _run(cos_i, n1, n2, device)
+    amp = amp.astype(np.float64)
+    return tuple(amp[..., 2 * k] + 1j * amp[..., 2 * k + 1] for k in range(4))  # type: ignore[return-value]
+
+
+def fresnel_power(cos_i, n1, n2, *, device=None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Power coefficients (Rs, Rp, Ts, Tp): reflectances and transmitted normal energy fluxes
+    (valid for a non-absorbing incident medium); Rs + Ts = Rp + Tp = 1."""
+    _, pw = _run(cos_i, n1, n2, device)
+    pw = pw.astype(np.float64)
+    return pw[..., 0], pw[..., 1], pw[..., 2], pw[..., 3]
