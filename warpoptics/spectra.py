@@ -14,8 +14,9 @@ of sample ``index`` of ``count`` and an ``xyz_weight`` such that
 
 is an estimator of XYZ[S]:
 
-- ``rgb3`` — three fixed wavelengths (612, 549, 465 nm: the dominant wavelengths of the sRGB
-  primaries), each weighted by its primary's XYZ so that a constant spectrum comes out exact.
+- ``rgb3`` — three fixed wavelengths, the CIE 1931 RGB primaries 700, 546.1 and 435.8 nm (Guy &
+  Soler 2004 §4.1), each weighted by its colour-matching values times a constant chosen so that
+  a constant spectrum comes out exact.
   Biased for anything but smooth spectra: this is the three-IOR baseline of seed 001, whose
   banding it reproduces.
 - ``uniform`` — a random wavelength, pdf 1/470 nm (seed 003).
@@ -49,6 +50,8 @@ __all__ = [
     "spectral_tables",
     "cmf_xyz",
     "illuminant_value",
+    "rgb_spectrum_value",
+    "rgb_to_spectrum",
     "sample_wavelength",
     "sample_wavelengths",
     "strategy_id",
@@ -66,8 +69,9 @@ STRATEGY_UNIFORM = wp.constant(1)
 STRATEGY_IMPORTANCE = wp.constant(2)
 STRATEGY_STRATIFIED = wp.constant(3)
 
-#: dominant wavelengths (nm) of the sRGB red, green and blue primaries
-RGB3_WAVELENGTHS = (612.0, 549.0, 465.0)
+#: the R, G, B wavelengths (nm) of the three-wavelength mode: the CIE 1931 RGB primaries
+#: (Guy & Soler 2004 §4.1; Wyszecki & Stiles 1982)
+RGB3_WAVELENGTHS = (700.0, 546.1, 435.8)
 
 #: illuminant names -> row in SpectralTables.illuminants
 ILLUMINANTS = {"E": 0, "D65": 1, "A": 2}
@@ -152,6 +156,8 @@ class SpectralTables:
     bin_pdf:      (count,) float, importance pdf (1/nm) on each bin
     rgb3_weight:  (3,) vec3f, XYZ weight of each rgb3 wavelength
     rgb3_wavelength: vec3f, the three rgb3 wavelengths (nm)
+    rgb_basis:    (count,) vec3f, D65 times the Mallett–Yuksel sRGB basis spectra (emission
+                  spectrum of a linear-sRGB colour; (1, 1, 1) gives D65 with Y = 1)
     """
 
     cmf: wp.array(dtype=wp.vec3f)
@@ -160,6 +166,7 @@ class SpectralTables:
     bin_pdf: wp.array(dtype=wp.float32)
     rgb3_weight: wp.array(dtype=wp.vec3f)
     rgb3_wavelength: wp.vec3f
+    rgb_basis: wp.array(dtype=wp.vec3f)
     lambda_min: float
     lambda_max: float
     count: int
@@ -175,13 +182,36 @@ def _importance_pdf_bins() -> np.ndarray:
 
 
 def _rgb3_weights() -> np.ndarray:
-    """XYZ weight per rgb3 wavelength: the sRGB primary's XYZ column times the linear-sRGB
-    coordinate of the equal-energy white, so that sum_c w_c * 1 = XYZ[S=1] exactly."""
-    from .color import SRGB_TO_XYZ
-
+    """XYZ weight per rgb3 wavelength: w_c = k_c cmf(l_c) with the k_c that make a constant
+    spectrum exact, sum_c w_c = XYZ[S = 1] (the CIE RGB primaries' tristimulus columns scaled to
+    the equal-energy white)."""
+    m = cmf(np.asarray(RGB3_WAVELENGTHS))  # row c = xbar, ybar, zbar at l_c
     xyz_e = _cmf_1nm().sum(axis=0) / _cmf_1nm()[:, 1].sum()
-    rgb_e = np.linalg.solve(SRGB_TO_XYZ, xyz_e)
-    return (SRGB_TO_XYZ * rgb_e[None, :]).T  # row c = weight of wavelength c
+    k = np.linalg.solve(m.T, xyz_e)
+    return m * k[:, None]  # row c = weight of wavelength c
+
+
+@functools.lru_cache(maxsize=1)
+def _rgb_basis_1nm() -> np.ndarray:
+    """D65 x the sRGB basis spectra of Mallett & Yuksel 2019 (colour-science), 360-830 nm.
+
+    The three basis functions sum to 1 at every wavelength, so (1, 1, 1) is D65 (Y = 1); they are
+    tabulated 380-780 nm and extended as constants."""
+    import colour
+
+    basis = colour.recovery.MSDS_BASIS_FUNCTIONS_sRGB_MALLETT2019
+    wl = grid()
+    b = np.stack([np.interp(wl, basis.wavelengths, basis.values[:, c]) for c in range(3)], axis=-1)
+    return b * _illuminant_1nm("D65")[:, None]
+
+
+def rgb_to_spectrum(rgb, wavelength_nm) -> np.ndarray:
+    """Emission spectrum of linear-sRGB colours ``(..., 3)`` at ``wavelength_nm`` (broadcast):
+    D65 times the Mallett–Yuksel basis; its XYZ is close to the colour's (exact for greys)."""
+    wl = np.asarray(wavelength_nm, dtype=np.float64)
+    b = _rgb_basis_1nm()
+    basis = np.stack([np.interp(wl, grid(), b[:, c], left=0.0, right=0.0) for c in range(3)], axis=-1)
+    return (np.asarray(rgb, dtype=np.float64) * basis).sum(axis=-1)
 
 
 @functools.lru_cache(maxsize=8)
@@ -199,6 +229,7 @@ def _tables_for(device_alias: str) -> SpectralTables:
     t.bin_pdf = wp.array(np.concatenate([pdf, [pdf[-1]]]).astype(np.float32), dtype=wp.float32, device=dev)
     t.rgb3_weight = wp.array(_rgb3_weights().astype(np.float32), dtype=wp.vec3f, device=dev)
     t.rgb3_wavelength = wp.vec3f(*RGB3_WAVELENGTHS)
+    t.rgb_basis = wp.array(_rgb_basis_1nm().astype(np.float32), dtype=wp.vec3f, device=dev)
     t.lambda_min = LAMBDA_MIN
     t.lambda_max = LAMBDA_MAX
     t.count = _COUNT
@@ -247,6 +278,16 @@ def illuminant_value(t: SpectralTables, which: int, wavelength: float):
         return 0.0
     j, f = _table_coord(t, wavelength)
     return t.illuminants[which, j] * (1.0 - f) + t.illuminants[which, j + 1] * f
+
+
+@wp.func
+def rgb_spectrum_value(t: SpectralTables, rgb: wp.vec3f, wavelength: float):
+    """Spectral radiance at ``wavelength`` of an emitter of linear-sRGB colour ``rgb``
+    (D65 x Mallett–Yuksel basis; see :func:`rgb_to_spectrum`)."""
+    if wavelength < t.lambda_min or wavelength > t.lambda_max:
+        return 0.0
+    j, f = _table_coord(t, wavelength)
+    return wp.dot(rgb, t.rgb_basis[j] * (1.0 - f) + t.rgb_basis[j + 1] * f)
 
 
 @wp.func

@@ -1,0 +1,270 @@
+"""The standard camera pipeline: Camera -> Trace -> Film -> colour and output.
+
+``render(scene, **overrides) -> Image``.  The pipeline kernel composes the stages' ``@wp.func``s
+per pixel: for each of the pixel's ``spp x wavelengths`` samples it draws a wavelength
+(``spectra.sample_wavelength``), a primary ray (``stages.camera.camera_ray``), traces its path
+tree (``stages.trace.trace_radiance``) and accumulates the Film: XYZ and the Y-weighted Stokes
+vector (S0 = Y) in float64.  Pixels are launched in row chunks (a progress bar) and each chunk in
+tiles from a thread pool; each pixel owns its random sequence (seeded by scene seed, pixel and
+pass), so an image does not depend on the thread count or the tiling.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import warp as wp
+
+from . import color
+from .device import get_device, launch_tiled
+from .errors import InputError
+from .geometry.query import GeometryScene, SceneGeometry
+from .materials.dispersion import MaterialTable
+from .optics.jones import stokes_from_coherency
+from .scene import Scene
+from .spectra import SpectralTables, sample_wavelength, spectral_tables, strategy_id
+from .stages.camera import Camera, CameraParams, camera_ray
+from .stages.environment import Environment, EnvironmentLight
+from .stages.trace import TraceConfig, TraceParams, default_params, trace_radiance
+
+__all__ = ["Image", "render", "Renderer", "FilmParams"]
+
+
+@wp.struct
+class FilmParams:
+    width: int
+    height: int
+    spp: int
+    count: int  # wavelength samples per spp (strata, or 3 for rgb3)
+    strategy: int
+    seed: int
+    pass_index: int
+
+
+@wp.kernel
+def _render_pixels(
+    offset: int,
+    base: int,
+    cam: CameraParams,
+    film: FilmParams,
+    tp: TraceParams,
+    geom: SceneGeometry,
+    mats: MaterialTable,
+    env: Environment,
+    tables: SpectralTables,
+    polarized: int,
+    xyz_out: wp.array(dtype=wp.vec3d),
+    stokes_out: wp.array(dtype=wp.vec4d),
+    alpha_out: wp.array(dtype=wp.float64),
+    rays_out: wp.array(dtype=wp.int64),
+):
+    pix = base + wp.tid() + offset
+    px = pix % film.width
+    py = pix / film.width
+    rng = wp.rand_init(film.seed * 1000003 + film.pass_index, pix)
+    xyz = wp.vec3d(0.0, 0.0, 0.0)
+    stokes = wp.vec4d(0.0, 0.0, 0.0, 0.0)
+    hits = float(0.0)
+    rays = int(0)
+    total = film.spp * film.count
+    for k in range(total):
+        stratum = k % film.count
+        u = wp.randf(rng)
+        wl, w = sample_wavelength(tables, film.strategy, u, stratum, film.count)
+        jx = wp.randf(rng)
+        jy = wp.randf(rng)
+        lu = wp.randf(rng)
+        lv = wp.randf(rng)
+        o, d, b = camera_ray(cam, float(px) + jx, float(py) + jy, lu, lv)
+        coh, hit, nr, rng = trace_radiance(tp, geom, mats, env, tables, polarized, o, d, b, wl, stratum, rng)
+        s = stokes_from_coherency(coh)
+        xyz += wp.vec3d(wp.float64(w[0] * s[0]), wp.float64(w[1] * s[0]), wp.float64(w[2] * s[0]))
+        stokes += wp.vec4d(
+            wp.float64(w[1] * s[0]), wp.float64(w[1] * s[1]), wp.float64(w[1] * s[2]), wp.float64(w[1] * s[3])
+        )
+        hits += float(hit)
+        rays += nr
+    inv = wp.float64(1.0) / wp.float64(film.spp)
+    xyz_out[pix] = xyz_out[pix] + xyz * inv
+    stokes_out[pix] = stokes_out[pix] + stokes * inv
+    alpha_out[pix] = alpha_out[pix] + wp.float64(hits / float(total))
+    rays_out[pix] = rays_out[pix] + wp.int64(rays)
+
+
+@dataclass
+class Image:
+    """A rendered image.  ``xyz`` (H, W, 3) CIE XYZ (Y = 1 is the luminance of a white at the
+    illuminant's level); ``stokes`` (H, W, 4) Y-weighted Stokes vector S0..S3 in the camera frame
+    (x = image right, y = image up; S0 = Y); ``alpha`` (H, W) fraction of samples whose primary ray
+    hit an object."""
+
+    xyz: np.ndarray
+    stokes: np.ndarray
+    alpha: np.ndarray
+    exposure: float = 0.0
+    tone: str = "filmic"
+    stats: dict = field(default_factory=dict)
+
+    @property
+    def rgb(self) -> np.ndarray:
+        """Scene-linear sRGB, Smits–Meyer gamut-clipped (negative components only; HDR kept)."""
+        return color.gamut_clip(self.xyz.reshape(-1, 3), 1.0e30).reshape(self.xyz.shape)
+
+    def display(self) -> np.ndarray:
+        """Display-encoded sRGB in [0, 1]: exposure, tone curve, sRGB transfer function."""
+        mapped = color.tone_map(self.rgb, exposure=self.exposure, curve=self.tone)
+        # the tone curve can push a colour out of gamut again only at 1; clip at constant Y there
+        return color.encode_srgb(mapped)
+
+    def save(self, path: str | Path) -> Path:
+        """EXR: R, G, B (linear sRGB), A, S0..S3 and X, Y, Z layers; PNG/JPEG/TIFF: tone mapped."""
+        from .image import write_exr, write_png
+
+        p = Path(path)
+        ext = p.suffix.lower()
+        if ext == ".exr":
+            data = np.concatenate([self.rgb, self.alpha[..., None], self.stokes, self.xyz], axis=-1)
+            names = ["R", "G", "B", "A", "S0", "S1", "S2", "S3", "X", "Y", "Z"]
+            return write_exr(p, data.astype(np.float32), names)
+        if ext in (".png", ".jpg", ".jpeg", ".tif", ".tiff"):
+            return write_png(p, self.display())
+        raise InputError("unsupported image format", field="output", value=str(path), allowed=".exr, .png, .jpg, .tif")
+
+
+def _build_objects(scene: Scene, device):
+    from . import materials as wo_materials
+    from .geometry import cuts
+
+    meshes, mats, axes = [], [], []
+    for i, ob in enumerate(scene.objects):
+        where = f"object.{i}"
+        try:
+            if ob.shape == "mesh":
+                from .geometry.mesh import load_mesh
+
+                mesh = load_mesh(ob.path, repair=bool(ob.params.get("repair", False)))
+            elif ob.shape == "gemcad":
+                from .geometry.gemcad import read_gemcad, stone_from_design
+
+                mesh = stone_from_design(read_gemcad(ob.path), **ob.params)
+            else:
+                mesh = getattr(cuts, ob.shape)(**ob.params)
+        except InputError as exc:
+            if exc.file is None:
+                exc = InputError(exc.message, file=scene.path, field=f"{where}.{exc.field or 'shape'}",
+                                 value=exc.value, allowed=exc.allowed)
+            raise exc from None
+        except (ValueError, TypeError) as exc:
+            raise InputError(str(exc), file=scene.path, field=f"{where}.shape", value=ob.shape) from None
+        meshes.append((mesh, ob.transform()))
+        try:
+            mat = wo_materials.material_from_spec(ob.material)
+        except InputError as exc:
+            raise InputError(exc.message, file=scene.path, field=f"{where}.material" + (f".{exc.field}" if exc.field and exc.field != "material" else ""),
+                             value=exc.value, allowed=exc.allowed) from None
+        mats.append(mat)
+        axes.append(ob.optic_axis)
+    return meshes, mats, axes
+
+
+class Renderer:
+    """The standard pipeline for a scene; owns every stage's device data.  ``run()`` renders."""
+
+    def __init__(self, scene: Scene, *, device=None):
+        from .materials.dispersion import build_material_table
+
+        self.scene = scene
+        self.device = get_device(device)
+        r = scene.render
+        meshes, mats, _axes = _build_objects(scene, self.device)
+        self.geometry = GeometryScene(meshes, device=self.device)
+        self.materials, ids = build_material_table(mats, self.device)
+        self.camera = Camera(scene.camera)
+        self.environment = EnvironmentLight(scene.lights[0], self.device)
+        self.tables = spectral_tables(self.device)
+        self.trace_config = TraceConfig(max_depth=r.max_depth, split_threshold=r.split_threshold,
+                                        rr_threshold=r.rr_threshold, polarized=r.polarization)
+        self.trace_params = default_params(
+            np.asarray(ids, dtype=np.int32),
+            np.array([ob.absorption_scale for ob in scene.objects], dtype=np.float32),
+            config=self.trace_config, ambient=(r.ambient_index, 0.0), rgb3=r.spectral == "rgb3",
+            device=self.device,
+        )
+        film = FilmParams()
+        film.width, film.height = self.camera.width, self.camera.height
+        film.spp = r.spp
+        film.count = 3 if r.spectral == "rgb3" else (r.wavelengths if r.spectral == "stratified" else 1)
+        film.strategy = strategy_id(r.spectral)
+        film.seed = r.seed
+        film.pass_index = 0
+        if r.spectral in ("uniform", "importance"):
+            # `wavelengths` random wavelengths per pixel sample: fold them into spp
+            film.spp = r.spp * r.wavelengths
+        self.film = film
+        n = film.width * film.height
+        self.xyz = wp.zeros(n, dtype=wp.vec3d, device=self.device)
+        self.stokes = wp.zeros(n, dtype=wp.vec4d, device=self.device)
+        self.alpha = wp.zeros(n, dtype=wp.float64, device=self.device)
+        self.rays = wp.zeros(n, dtype=wp.int64, device=self.device)
+
+    def run(self, *, progress: bool = False, threads: int | None = None, tile_size: int | None = None,
+            rows_per_chunk: int | None = None) -> Image:
+        f = self.film
+        for arr in (self.xyz, self.stokes, self.alpha, self.rays):
+            arr.zero_()
+        if rows_per_chunk is None:
+            rows_per_chunk = max(1, min(f.height, 16384 // max(f.width, 1)))
+        chunks = list(range(0, f.height, rows_per_chunk))
+        bar = None
+        if progress:
+            from tqdm import tqdm
+
+            bar = tqdm(total=f.height, unit="row", desc="render", leave=False, dynamic_ncols=True)
+        t0 = time.perf_counter()
+        polarized = 1 if self.trace_config.polarized else 0
+        inputs_static = [self.camera.params, f, self.trace_params, self.geometry.geometry, self.materials,
+                         self.environment.struct, self.tables, polarized,
+                         self.xyz, self.stokes, self.alpha, self.rays]
+        _render_pixels.module.load(self.device)
+        try:
+            for row0 in chunks:
+                rows = min(rows_per_chunk, f.height - row0)
+                launch_tiled(_render_pixels, rows * f.width, [row0 * f.width, *inputs_static], device=self.device,
+                             threads=threads, tile_size=tile_size)
+                if bar is not None:
+                    bar.update(rows)
+        finally:
+            if bar is not None:
+                bar.close()
+        elapsed = time.perf_counter() - t0
+        h, w = f.height, f.width
+        xyz = self.xyz.numpy().reshape(h, w, 3)
+        stokes = self.stokes.numpy().reshape(h, w, 4)
+        alpha = self.alpha.numpy().reshape(h, w)
+        rays = int(self.rays.numpy().sum())
+        if not (np.isfinite(xyz).all() and np.isfinite(stokes).all()):
+            bad = int((~np.isfinite(xyz)).any(axis=-1).sum())
+            raise FloatingPointError(f"{bad} pixels are not finite: this is a bug, please report the scene")
+        stats = {"seconds": elapsed, "rays": rays, "rays_per_second": rays / elapsed if elapsed > 0 else math.inf,
+                 "width": w, "height": h}
+        r = self.scene.render
+        return Image(xyz=xyz, stokes=stokes, alpha=alpha, exposure=r.exposure, tone=r.tone, stats=stats)
+
+
+def render(scene: Scene | str | Path, *, device=None, progress: bool = False, threads: int | None = None,
+           tile_size: int | None = None, overrides: dict | None = None, **kw) -> Image:
+    """Render a scene (a :class:`Scene` or a path to a TOML file) with the standard pipeline.
+
+    Keyword overrides: ``width``, ``height`` (camera) and any ``[render]`` field (``spp``,
+    ``spectral``, ``wavelengths``, ``polarization``, ``max_depth``, ``seed`` ...); ``overrides``
+    takes dotted paths (``{"object.0.diameter": 5.0}``).
+    """
+    if not isinstance(scene, Scene):
+        scene = Scene.load(scene)
+    if kw or overrides:
+        scene = scene.with_overrides(overrides, **kw)
+    return Renderer(scene, device=device).run(progress=progress, threads=threads, tile_size=tile_size)

@@ -1,0 +1,348 @@
+"""TOML scenes -> validated configuration objects, with errors that name file, field and value.
+
+A scene file has the tables ``[camera]``, ``[render]``, ``[[light]]`` and ``[[object]]`` (see
+DESIGN.md and the files in ``scenes/``).  ``Scene.load(path)`` reads and validates it;
+``scene.with_overrides({"render.spp": 4, "object.0.diameter": 5.0})`` returns a modified copy
+(dotted paths, as the CLI's ``--set`` and the sweep axes use them).
+"""
+
+from __future__ import annotations
+
+import copy
+import difflib
+import inspect
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .errors import InputError
+from .stages.camera import CameraConfig
+from .stages.environment import EnvironmentConfig
+
+__all__ = ["Scene", "RenderConfig", "ObjectConfig", "SHAPES", "SPECTRAL_MODES"]
+
+SPECTRAL_MODES = ("rgb3", "uniform", "importance", "stratified")
+BIREFRINGENCE_MODES = ("exact", "approx")
+TONE_CURVES = ("filmic", "reinhard", "clip")
+
+
+def _suggest(key: str, allowed) -> str:
+    close = difflib.get_close_matches(key, list(allowed), n=1, cutoff=0.6)
+    return f"; did you mean {close[0]!r}?" if close else ""
+
+
+def _check_keys(table: dict, allowed, *, file, prefix: str) -> None:
+    for key in table:
+        if key not in allowed:
+            raise InputError(
+                f"unknown key{_suggest(key, allowed)}", file=file, field=f"{prefix}{key}",
+                allowed=", ".join(sorted(allowed)),
+            )
+
+
+def _number(v, *, file, field_name, lo=-math.inf, hi=math.inf, integer=False, lo_open=False):
+    ok_type = isinstance(v, int) if integer else isinstance(v, (int, float))
+    if isinstance(v, bool) or not ok_type:
+        kind = "an integer" if integer else "a number"
+        raise InputError(f"must be {kind}", file=file, field=field_name, value=v)
+    if not math.isfinite(v) or v < lo or v > hi or (lo_open and v == lo):
+        lo_s = f"> {lo}" if lo_open else f">= {lo}"
+        rng = lo_s if hi == math.inf else f"{lo_s} and <= {hi}"
+        raise InputError("out of range", file=file, field=field_name, value=v, allowed=rng)
+    return v
+
+
+def _vec3(v, *, file, field_name):
+    if not isinstance(v, (list, tuple)) or len(v) != 3:
+        raise InputError("must be a list of three numbers [x, y, z]", file=file, field=field_name, value=v)
+    return tuple(float(_number(c, file=file, field_name=field_name)) for c in v)
+
+
+def _choice(v, allowed, *, file, field_name):
+    if not isinstance(v, str) or v not in allowed:
+        hint = _suggest(v, allowed) if isinstance(v, str) else ""
+        raise InputError(f"unknown value{hint}", file=file, field=field_name, value=v, allowed=", ".join(allowed))
+    return v
+
+
+@dataclass(frozen=True)
+class RenderConfig:
+    """``[render]``: how to render (see DESIGN.md)."""
+
+    spectral: str = "stratified"
+    wavelengths: int = 45
+    polarization: bool = True
+    birefringence: str = "exact"
+    max_depth: int = 12
+    spp: int = 1
+    seed: int = 0
+    split_threshold: float = 0.01
+    rr_threshold: float = 0.05
+    exposure: float = 0.0
+    tone: str = "filmic"
+    ambient_index: float = 1.0
+
+
+_RENDER_FIELDS = {f for f in RenderConfig.__dataclass_fields__}
+
+
+def _render_config(table: dict, file) -> RenderConfig:
+    _check_keys(table, _RENDER_FIELDS, file=file, prefix="render.")
+    t = dict(table)
+    f = lambda k: f"render.{k}"  # noqa: E731
+    if "spectral" in t:
+        _choice(t["spectral"], SPECTRAL_MODES, file=file, field_name=f("spectral"))
+    if "birefringence" in t:
+        _choice(t["birefringence"], BIREFRINGENCE_MODES, file=file, field_name=f("birefringence"))
+    if "tone" in t:
+        _choice(t["tone"], TONE_CURVES, file=file, field_name=f("tone"))
+    if "polarization" in t and not isinstance(t["polarization"], bool):
+        raise InputError("must be true or false", file=file, field=f("polarization"), value=t["polarization"])
+    for k, lo, hi in (("wavelengths", 1, 4096), ("max_depth", 0, 256), ("spp", 1, 1 << 20), ("seed", 0, 2**31 - 1)):
+        if k in t:
+            _number(t[k], file=file, field_name=f(k), lo=lo, hi=hi, integer=True)
+    for k, lo, hi in (("split_threshold", 0.0, 1.0), ("rr_threshold", 0.0, 1.0), ("exposure", -40.0, 40.0),
+                      ("ambient_index", 1.0, 10.0)):
+        if k in t:
+            _number(t[k], file=file, field_name=f(k), lo=lo, hi=hi)
+    cfg = RenderConfig(**t)
+    if cfg.spectral == "rgb3" and "wavelengths" in t and t["wavelengths"] != 3:
+        raise InputError("rgb3 uses exactly 3 wavelengths", file=file, field=f("wavelengths"), value=t["wavelengths"])
+    return cfg
+
+
+def _shape_functions() -> dict:
+    from .geometry import cuts
+
+    names = ["round_brilliant", "oval", "pear", "marquise", "emerald", "princess", "prism", "plate", "cube",
+             "sphere", "step_cut"]
+    return {n: getattr(cuts, n) for n in names if hasattr(cuts, n)}
+
+
+SHAPES = ("round_brilliant", "oval", "pear", "marquise", "emerald", "princess", "prism", "plate", "cube", "sphere",
+          "step_cut", "mesh", "gemcad")
+_OBJECT_COMMON = {"shape", "material", "position", "rotation", "scale", "optic_axis", "absorption_scale", "path",
+                  "name"}
+
+
+@dataclass(frozen=True)
+class ObjectConfig:
+    """``[[object]]``: a solid, its material and its placement."""
+
+    shape: str
+    material: Any = "diamond"
+    params: dict = field(default_factory=dict)  # keyword arguments of the cut function
+    position: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    rotation: tuple[float, float, float] = (0.0, 0.0, 0.0)  # degrees about x, then y, then z
+    scale: float = 1.0
+    optic_axis: tuple[float, float, float] | None = None  # object frame; default the material's
+    absorption_scale: float = 1.0
+    path: str | None = None
+    name: str | None = None
+
+    def transform(self) -> np.ndarray:
+        """4x4 object -> world transform (scale, then rotations x, y, z, then translation)."""
+        rx, ry, rz = (math.radians(a) for a in self.rotation)
+        cx, sx, cy, sy, cz, sz = math.cos(rx), math.sin(rx), math.cos(ry), math.sin(ry), math.cos(rz), math.sin(rz)
+        mx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
+        my = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
+        mz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
+        m = np.eye(4)
+        m[:3, :3] = mz @ my @ mx * self.scale
+        m[:3, 3] = self.position
+        return m
+
+    def rotation_matrix(self) -> np.ndarray:
+        return self.transform()[:3, :3] / self.scale
+
+
+def _object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfig:
+    prefix = f"object.{index}."
+    if "shape" not in table:
+        raise InputError("missing key", file=file, field=prefix + "shape", allowed=", ".join(SHAPES))
+    shape = _choice(table["shape"], SHAPES, file=file, field_name=prefix + "shape")
+    params = {k: v for k, v in table.items() if k not in _OBJECT_COMMON}
+    if shape in ("mesh", "gemcad"):
+        allowed_params = {"diameter"} if shape == "gemcad" else {"repair"}
+    else:
+        fn = _shape_functions()[shape]
+        allowed_params = {p for p in inspect.signature(fn).parameters if p not in ("self",)}
+    _check_keys(params, allowed_params | _OBJECT_COMMON, file=file, prefix=prefix)
+    for k, v in params.items():
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            if not (k == "repair" and isinstance(v, bool)):
+                raise InputError("must be a number", file=file, field=prefix + k, value=v)
+        elif not math.isfinite(v):
+            raise InputError("must be finite", file=file, field=prefix + k, value=v)
+    kw: dict[str, Any] = {"shape": shape, "params": params}
+    if "material" in table:
+        m = table["material"]
+        if not isinstance(m, (str, dict)):
+            raise InputError("must be a material name or an inline table", file=file, field=prefix + "material",
+                             value=m)
+        kw["material"] = m
+    for k in ("position", "rotation"):
+        if k in table:
+            kw[k] = _vec3(table[k], file=file, field_name=prefix + k)
+    if "optic_axis" in table:
+        ax = _vec3(table["optic_axis"], file=file, field_name=prefix + "optic_axis")
+        if np.linalg.norm(ax) == 0:
+            raise InputError("the optic axis must not be zero", file=file, field=prefix + "optic_axis", value=list(ax))
+        kw["optic_axis"] = ax
+    if "scale" in table:
+        kw["scale"] = float(_number(table["scale"], file=file, field_name=prefix + "scale", lo=0.0, lo_open=True))
+    if "absorption_scale" in table:
+        kw["absorption_scale"] = float(
+            _number(table["absorption_scale"], file=file, field_name=prefix + "absorption_scale", lo=0.0)
+        )
+    if shape in ("mesh", "gemcad"):
+        if "path" not in table or not isinstance(table["path"], str):
+            raise InputError("a mesh object needs path = \"file\"", file=file, field=prefix + "path")
+        p = Path(table["path"])
+        if not p.is_absolute():
+            p = base_dir / p
+        if not p.is_file():
+            raise InputError("file not found", file=file, field=prefix + "path", value=table["path"])
+        kw["path"] = str(p)
+    if "name" in table:
+        kw["name"] = str(table["name"])
+    return ObjectConfig(**kw)
+
+
+_LIGHT_KEYS = {"type", "map", "intensity", "tint", "rotation"}
+
+
+def _light_config(table: dict, index: int, file) -> EnvironmentConfig:
+    prefix = f"light.{index}."
+    ltype = table.get("type", "environment")
+    _choice(ltype, ("environment", "constant"), file=file, field_name=prefix + "type")
+    _check_keys(table, _LIGHT_KEYS, file=file, prefix=prefix)
+    kw: dict[str, Any] = {"source": file}
+    if ltype == "constant":
+        kw["map"] = "constant"
+    elif "map" in table:
+        m = table["map"]
+        if not isinstance(m, str):
+            raise InputError("must be a map name or a file path", file=file, field=prefix + "map", value=m)
+        kw["map"] = m
+    if "intensity" in table:
+        kw["intensity"] = float(_number(table["intensity"], file=file, field_name=prefix + "intensity", lo=0.0))
+    if "tint" in table:
+        kw["tint"] = _vec3(table["tint"], file=file, field_name=prefix + "tint")
+        if min(kw["tint"]) < 0:
+            raise InputError("must be >= 0", file=file, field=prefix + "tint", value=list(kw["tint"]))
+    if "rotation" in table:
+        kw["rotation_deg"] = float(_number(table["rotation"], file=file, field_name=prefix + "rotation"))
+    return EnvironmentConfig(**kw)
+
+
+_CAMERA_KEYS = set(CameraConfig.__dataclass_fields__) - {"source"}
+_TOP_KEYS = {"camera", "render", "light", "object"}
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene.  ``data`` keeps the raw TOML tables for overrides and sweeps."""
+
+    camera: CameraConfig
+    render: RenderConfig
+    lights: tuple[EnvironmentConfig, ...]
+    objects: tuple[ObjectConfig, ...]
+    data: dict = field(repr=False, compare=False, default_factory=dict)
+    path: str | None = None
+
+    @classmethod
+    def load(cls, path: str | Path) -> Scene:
+        p = Path(path)
+        if not p.is_file():
+            raise InputError("scene file not found", file=str(p))
+        try:
+            data = tomllib.loads(p.read_text(encoding="utf-8"))
+        except tomllib.TOMLDecodeError as exc:
+            raise InputError(f"not valid TOML ({exc})", file=str(p)) from None
+        except UnicodeDecodeError:
+            raise InputError("not a UTF-8 text file", file=str(p)) from None
+        return cls.from_dict(data, path=str(p))
+
+    @classmethod
+    def from_dict(cls, data: dict, *, path: str | None = None) -> Scene:
+        file = path or "<scene>"
+        base_dir = Path(path).parent if path else Path.cwd()
+        _check_keys(data, _TOP_KEYS, file=file, prefix="")
+        cam_t = data.get("camera", {})
+        if not isinstance(cam_t, dict):
+            raise InputError("must be a table [camera]", file=file, field="camera")
+        _check_keys(cam_t, _CAMERA_KEYS, file=file, prefix="camera.")
+        cam_kw = dict(cam_t)
+        for k in ("position", "look_at", "up"):
+            if k in cam_kw:
+                cam_kw[k] = _vec3(cam_kw[k], file=file, field_name=f"camera.{k}")
+        for k in ("fov", "view_height", "aperture", "focus_distance"):
+            if k in cam_kw:
+                _number(cam_kw[k], file=file, field_name=f"camera.{k}")
+        camera = CameraConfig(**cam_kw, source=file)
+        render = _render_config(data.get("render", {}), file)
+        lights_t = data.get("light", [{"type": "environment", "map": "studio"}])
+        if not isinstance(lights_t, list):
+            raise InputError("must be an array of tables [[light]]", file=file, field="light")
+        lights = tuple(_light_config(t, i, file) for i, t in enumerate(lights_t))
+        if len(lights) != 1:
+            raise InputError("exactly one environment light is supported", file=file, field="light",
+                             value=len(lights))
+        objs_t = data.get("object", [])
+        if not isinstance(objs_t, list) or not objs_t:
+            raise InputError("a scene needs at least one [[object]]", file=file, field="object")
+        objects = tuple(_object_config(t, i, file, base_dir) for i, t in enumerate(objs_t))
+        return cls(camera=camera, render=render, lights=lights, objects=objects, data=copy.deepcopy(data), path=path)
+
+    def with_overrides(self, overrides: dict[str, Any] | None = None, **kw) -> Scene:
+        """A copy with dotted-path overrides applied, e.g. ``{"render.spp": 4,
+        "object.0.pavilion_angle": 41.0}``; keyword ``width=...`` etc. go to ``[camera]`` for
+        width/height and to ``[render]`` otherwise."""
+        data = copy.deepcopy(self.data)
+        items = dict(overrides or {})
+        for k, v in kw.items():
+            if v is None:
+                continue
+            items[f"camera.{k}" if k in _CAMERA_KEYS else f"render.{k}"] = v
+        file = self.path or "<scene>"
+        for dotted, value in items.items():
+            set_dotted(data, dotted, value, file=file)
+        return Scene.from_dict(data, path=self.path)
+
+
+def set_dotted(data: dict, dotted: str, value, *, file: str = "<scene>") -> None:
+    """Set ``data[a][b]...`` from ``"a.b.c"``; integers index arrays of tables (``object.0``)."""
+    parts = dotted.split(".")
+    if len(parts) < 2:
+        raise InputError("expected a dotted path like render.spp or object.0.diameter", file=file, field=dotted)
+    node: Any = data
+    for i, part in enumerate(parts[:-1]):
+        if isinstance(node, list):
+            try:
+                node = node[int(part)]
+            except (ValueError, IndexError):
+                raise InputError(f"no element {part!r} (there are {len(node)})", file=file,
+                                 field=".".join(parts[: i + 1])) from None
+        else:
+            if part not in node:
+                if part in ("object", "light"):
+                    raise InputError("no such array of tables", file=file, field=".".join(parts[: i + 1]))
+                node[part] = {}
+            node = node[part]
+    last = parts[-1]
+    if isinstance(node, list):
+        raise InputError("cannot replace a whole table", file=file, field=dotted)
+    node[last] = value
+
+
+def parse_value(text: str):
+    """A ``--set key=value`` value: TOML syntax (numbers, true/false, "strings", [lists]) or a bare string."""
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text

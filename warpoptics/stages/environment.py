@@ -1,0 +1,209 @@
+"""The environment light: spectral radiance arriving from every direction at infinity.
+
+Kinds (``Environment.kind``):
+- ``constant``: the same radiance everywhere, a flat spectrum (CIE E) times ``intensity`` — the
+  white furnace;
+- ``dome``: uniform white (D65, Y = intensity) over the upper hemisphere, black below — the
+  standard lighting of the light-return metrics;
+- ``studio``: dark surroundings with soft boxes overhead and at the sides, like the light boxes
+  over a plane of seed 001;
+- ``sky``: a smooth blue sky over a grey ground;
+- ``latlong``: an equirectangular RGB map (EXR/HDR through OpenImageIO), z up, u = 0.5 + atan2(y,
+  x) / 2 pi, v = acos(z) / pi (row 0 at the zenith).
+
+RGB radiance (maps, procedural colours) becomes a spectrum through D65 x the Mallett–Yuksel sRGB
+basis (``spectra.rgb_spectrum_value``), so an RGB-white environment is D65.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import warp as wp
+
+from ..device import get_device
+from ..errors import InputError
+from ..spectra import SpectralTables, illuminant_value, rgb_spectrum_value
+
+__all__ = ["Environment", "EnvironmentConfig", "EnvironmentLight", "environment_radiance", "ENV_KINDS"]
+
+ENV_KINDS = {"constant": 0, "dome": 1, "studio": 2, "sky": 3, "latlong": 4}
+_CONSTANT = wp.constant(0)
+_DOME = wp.constant(1)
+_STUDIO = wp.constant(2)
+_SKY = wp.constant(3)
+_LATLONG = wp.constant(4)
+
+
+@wp.struct
+class Environment:
+    kind: int
+    intensity: float
+    tint: wp.vec3f  # linear-sRGB multiplier of procedural maps and lat-long maps
+    rotation: wp.mat33f  # world -> map frame
+    texture: wp.array2d(dtype=wp.vec3f)  # lat-long map (height, width), linear sRGB
+    width: int
+    height: int
+
+
+@wp.func
+def _soft_box(d: wp.vec3f, centre: wp.vec3f, cos_radius: float, softness: float):
+    # smooth-edged disc on the sphere: 1 inside, 0 outside, a smoothstep over `softness` in cos
+    c = wp.dot(d, centre)
+    return wp.smoothstep(cos_radius - softness, cos_radius + softness, c)
+
+
+@wp.func
+def _studio_rgb(d: wp.vec3f):
+    base = wp.vec3f(0.02, 0.02, 0.022)
+    if d[2] < 0.0:
+        base = wp.vec3f(0.01, 0.01, 0.01)
+    # overhead box (40 deg radius), two side boxes and a back rim box
+    top = _soft_box(d, wp.vec3f(0.0, 0.0, 1.0), 0.77, 0.04) * 6.0
+    left = _soft_box(d, wp.normalize(wp.vec3f(-0.8, -0.5, 0.45)), 0.94, 0.02) * 4.0
+    right = _soft_box(d, wp.normalize(wp.vec3f(0.8, -0.5, 0.45)), 0.94, 0.02) * 4.0
+    back = _soft_box(d, wp.normalize(wp.vec3f(0.0, 1.0, 0.25)), 0.96, 0.015) * 3.0
+    # thin bright strips give sparkle (scintillation) on small facets
+    strip = _soft_box(d, wp.normalize(wp.vec3f(0.3, -0.9, 0.8)), 0.995, 0.002) * 12.0
+    w = top + left + right + back + strip
+    return base + wp.vec3f(w, w, w)
+
+
+@wp.func
+def _sky_rgb(d: wp.vec3f):
+    z = d[2]
+    if z < 0.0:
+        return wp.vec3f(0.18, 0.17, 0.16)
+    horizon = wp.vec3f(1.0, 1.0, 1.0)
+    zenith = wp.vec3f(0.25, 0.45, 1.0)
+    t = wp.sqrt(z)
+    sun = _soft_box(d, wp.normalize(wp.vec3f(0.5, -0.3, 0.8)), 0.9995, 0.0002) * 2000.0
+    return horizon * (1.0 - t) + zenith * t + wp.vec3f(sun, sun, sun * 0.9)
+
+
+@wp.func
+def _latlong_rgb(env: Environment, d: wp.vec3f):
+    u = 0.5 + wp.atan2(d[1], d[0]) / (2.0 * wp.pi)
+    v = wp.acos(wp.clamp(d[2], -1.0, 1.0)) / wp.pi
+    x = u * float(env.width) - 0.5
+    y = v * float(env.height) - 0.5
+    x0 = wp.floor(x)
+    y0 = wp.floor(y)
+    fx = x - x0
+    fy = y - y0
+    ix0 = int(x0)
+    iy0 = int(y0)
+    # wrap in azimuth, clamp in elevation
+    ix0 = ((ix0 % env.width) + env.width) % env.width
+    ix1 = (ix0 + 1) % env.width
+    iy1 = wp.clamp(iy0 + 1, 0, env.height - 1)
+    iy0 = wp.clamp(iy0, 0, env.height - 1)
+    a = env.texture[iy0, ix0] * (1.0 - fx) + env.texture[iy0, ix1] * fx
+    b = env.texture[iy1, ix0] * (1.0 - fx) + env.texture[iy1, ix1] * fx
+    return a * (1.0 - fy) + b * fy
+
+
+@wp.func
+def environment_radiance(env: Environment, t: SpectralTables, direction: wp.vec3f, wavelength: float):
+    """Spectral radiance arriving from ``direction`` (unit, world frame, pointing away from the
+    scene toward the environment) at ``wavelength`` (nm).  Unpolarized."""
+    if env.kind == _CONSTANT:
+        return env.intensity * illuminant_value(t, 0, wavelength)
+    d = env.rotation * direction
+    if env.kind == _DOME:
+        if d[2] < 0.0:
+            return 0.0
+        return env.intensity * illuminant_value(t, 1, wavelength)
+    rgb = wp.vec3f(0.0, 0.0, 0.0)
+    if env.kind == _STUDIO:
+        rgb = _studio_rgb(d)
+    elif env.kind == _SKY:
+        rgb = _sky_rgb(d)
+    else:
+        rgb = _latlong_rgb(env, d)
+    rgb = wp.cw_mul(rgb, env.tint)
+    return env.intensity * rgb_spectrum_value(t, rgb, wavelength)
+
+
+@dataclass(frozen=True)
+class EnvironmentConfig:
+    """Settings of the environment light (scene ``[[light]] type = "environment"`` or
+    ``"constant"``).  ``map`` is a built-in name or a path to an .exr/.hdr lat-long image."""
+
+    map: str = "studio"
+    intensity: float = 1.0
+    tint: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    rotation_deg: float = 0.0  # rotation of the map about z
+    source: str | None = field(default=None, compare=False)  # scene file, for messages
+
+    def __post_init__(self):
+        if not (math.isfinite(self.intensity) and self.intensity >= 0):
+            raise InputError("must be a finite number >= 0", file=self.source, field="light.intensity",
+                             value=self.intensity)
+        if len(self.tint) != 3 or not all(math.isfinite(c) and c >= 0 for c in self.tint):
+            raise InputError("must be three finite numbers >= 0", file=self.source, field="light.tint",
+                             value=self.tint)
+
+
+class EnvironmentLight:
+    """Stage owning the environment struct and its texture on a device."""
+
+    def __init__(self, config: EnvironmentConfig, device=None):
+        self.config = config
+        self.device = get_device(device)
+        env = Environment()
+        name = config.map
+        tex = np.zeros((1, 1, 3), dtype=np.float32)
+        if name in ENV_KINDS and name != "latlong":
+            env.kind = ENV_KINDS[name]
+        else:
+            env.kind = ENV_KINDS["latlong"]
+            tex = self._load_map(name)
+        env.intensity = float(config.intensity)
+        env.tint = wp.vec3f(*config.tint)
+        a = math.radians(config.rotation_deg)
+        c, s = math.cos(a), math.sin(a)
+        # world -> map: rotate by -angle about z
+        env.rotation = wp.mat33f(c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0)
+        env.texture = wp.array(tex, dtype=wp.vec3f, device=self.device)
+        env.height, env.width = tex.shape[0], tex.shape[1]
+        self.struct = env
+        self.texture = tex
+
+    def _load_map(self, path: str) -> np.ndarray:
+        from ..image import read_image
+
+        field_name = "light.map"
+        allowed = ", ".join(k for k in ENV_KINDS if k != "latlong") + ", or an .exr/.hdr/.png path"
+        from pathlib import Path
+
+        p = Path(path)
+        if not p.suffix:
+            raise InputError("unknown environment map", file=self.config.source, field=field_name, value=path,
+                             allowed=allowed)
+        if not p.is_file():
+            raise InputError("environment map file not found", file=self.config.source, field=field_name,
+                             value=path, allowed=allowed)
+        try:
+            pixels, _names = read_image(p)
+        except InputError as exc:
+            raise InputError(f"unreadable environment map ({exc.message})", file=self.config.source,
+                             field=field_name, value=path) from None
+        h, w, c = pixels.shape
+        if c < 3:
+            pixels = np.repeat(pixels[..., :1], 3, axis=2)
+        pixels = pixels[..., :3]
+        if w != 2 * h:
+            raise InputError(f"a lat-long map must be twice as wide as high, got {w}x{h}",
+                             file=self.config.source, field=field_name, value=path)
+        if not np.isfinite(pixels).all() or pixels.min() < 0:
+            raise InputError("the map has negative or non-finite pixels", file=self.config.source,
+                             field=field_name, value=path)
+        if p.suffix.lower() not in (".exr", ".hdr"):
+            # display-encoded 8-bit image: decode sRGB to linear
+            from colour import cctf_decoding
+
+            pixels = np.asarray(cctf_decoding(pixels, function="sRGB"), dtype=np.float32)
+        return np.ascontiguousarray(pixels, dtype=np.float32)
