@@ -83,7 +83,7 @@ __all__ = [
     "InterfaceSolution",
     "InterfaceJones",
     "uniaxial_medium",
-    "extraordinary_index",
+    "n_e_theta",
     "oe_frame_x",
     "mode_field",
     "ordinary_wave",
@@ -94,7 +94,7 @@ __all__ = [
     "kappa_extraordinary",
     "attenuation_oe",
     # NumPy wrappers
-    "extraordinary_index_np",
+    "extraordinary_index",
     "refract_extraordinary",
     "reflect_extraordinary",
     "oe_polarizations",
@@ -173,7 +173,7 @@ def uniaxial_medium(no: float, ne: float, axis: wp.vec3):
 
 
 @wp.func
-def extraordinary_index(cos_theta: float, no: float, ne: float):
+def n_e_theta(cos_theta: float, no: float, ne: float):
     """n_e(theta): 1/n^2 = cos^2/no^2 + sin^2/ne^2, theta between wave normal and optic axis."""
     c2 = wp.min(cos_theta * cos_theta, 1.0)
     return no * ne / wp.sqrt(ne * ne * c2 + no * no * (1.0 - c2))
@@ -336,7 +336,7 @@ def _incident_wave(d: wp.vec3, extraordinary: int, med: UniaxialMedium, normal: 
     w = PlaneWave()
     n = med.no
     if extraordinary == 1:
-        n = extraordinary_index(wp.dot(d, a), med.no, med.ne)
+        n = n_e_theta(wp.dot(d, a), med.no, med.ne)
     w.k_re = d * n
     w.k_im = wp.vec3(0.0)
     w.wave_normal = d
@@ -612,7 +612,7 @@ def _n_e_kernel(
     out_att: wp.array(dtype=wp.vec2f),
 ):
     i = wp.tid() + offset
-    out_n[i] = extraordinary_index(cos_theta[i], no[i], ne[i])
+    out_n[i] = n_e_theta(cos_theta[i], no[i], ne[i])
     ke = kappa_extraordinary(cos_theta[i], k_o[i], k_e[i], no[i], ne[i])
     out_kappa[i] = ke
     a = attenuation_oe(k_o[i], ke, length[i])
@@ -813,8 +813,8 @@ def _medium(m, name: str):
     return n, n, np.zeros(3)
 
 
-def extraordinary_index_np(cos_theta, no, ne, *, device=None) -> np.ndarray:
-    """n_e(theta) for cos(theta) = wave normal . optic axis (see ``extraordinary_index``)."""
+def extraordinary_index(cos_theta, no, ne, *, device=None) -> np.ndarray:
+    """n_e(theta) for cos(theta) = wave normal . optic axis (see ``n_e_theta``)."""
     n, _, _ = _pleo(cos_theta, no, ne, 0.0, 0.0, 0.0, device)
     return n
 
