@@ -1,23 +1,58 @@
 """Optics kernels: complex algebra, Fresnel, Jones and coherency matrices, birefringence, thin films.
 
-Each physical law is a ``@wp.func`` in its module (called per ray by the renderer's kernels) with
-a NumPy wrapper re-exported here.
+Each physical law is a ``@wp.func`` in its module (``fresnel``, ``jones``, ``birefringence``),
+called per ray by the renderer's kernels; the NumPy wrappers re-exported here launch exactly
+those functions.
 """
 
-from . import complex  # noqa: F401  (the complex helpers other physics modules build on)
-from . import fresnel as _fresnel_module
-from . import jones  # noqa: F401
+from . import birefringence, complex, jones  # noqa: F401
+from .birefringence import (
+    GeneralizedFresnelResult,
+    attenuation,
+    extraordinary_index,
+    fresnel_matrices,
+    generalized_fresnel_coefficients,
+    kappa_e,
+    oe_polarizations,
+    reflect_extraordinary,
+    refract_extraordinary,
+)
 from .fresnel import fresnel, fresnel_power
-from .jones import coherency_apply, coherency_from_stokes, dop, jones_product, stokes
+from .jones import (
+    coherency_apply,
+    coherency_from_stokes,
+    dop,
+    frame_change_matrix,
+    jones_product,
+    s_vectors,
+    stokes,
+    transport_bases,
+)
 
 __all__ = [
+    "birefringence",
     "complex",
     "jones",
+    # Fresnel (isotropic)
     "fresnel",
     "fresnel_power",
+    # Jones / coherency / Stokes
     "jones_product",
     "coherency_apply",
     "stokes",
     "coherency_from_stokes",
     "dop",
+    "frame_change_matrix",
+    "s_vectors",
+    "transport_bases",
+    # uniaxial crystals
+    "extraordinary_index",
+    "refract_extraordinary",
+    "reflect_extraordinary",
+    "oe_polarizations",
+    "generalized_fresnel_coefficients",
+    "GeneralizedFresnelResult",
+    "fresnel_matrices",
+    "kappa_e",
+    "attenuation",
 ]
