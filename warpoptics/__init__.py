@@ -9,6 +9,6 @@ try:
 except _metadata.PackageNotFoundError:  # running from a source tree without install
     __version__ = "0.0.0+unknown"
 
-from . import device
+from . import device, materials
 
-__all__ = ["__version__", "device"]
+__all__ = ["__version__", "device", "materials"]
