@@ -294,8 +294,8 @@ def get(name: str) -> Material:
         key = ALIASES.get(key2, key2)
     if key not in _BUILDERS:
         close = difflib.get_close_matches(key, list(_BUILDERS) + list(ALIASES), n=3, cutoff=0.5)
-        hint = f"did you mean {' or '.join(repr(c) for c in close)}? " if close else ""
-        raise InputError(f"unknown material; {hint}", field="material", value=name,
+        hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+        raise InputError(f"unknown material{hint}", field="material", value=name,
                          allowed=", ".join(_BUILDERS))
     if key not in _cache:
         _cache[key] = _BUILDERS[key]()
