@@ -1,4 +1,13 @@
-"""warpoptics: spectral, polarized light transport in gemstones, prisms and thin films (NVIDIA Warp)."""
+"""warpoptics: spectral, polarized light transport in gemstones, prisms and thin films (NVIDIA Warp).
+
+Public API (see DESIGN.md)::
+
+    import warpoptics as wo
+    wo.materials.get("diamond").n(589.3)
+    wo.optics.fresnel(cos_i, n1, n2)
+    wo.cuts.round_brilliant(diameter=6.5)
+    image = wo.render(wo.Scene.load("scenes/diamond.toml"))
+"""
 
 from __future__ import annotations
 
@@ -9,6 +18,24 @@ try:
 except _metadata.PackageNotFoundError:  # running from a source tree without install
     __version__ = "0.0.0+unknown"
 
-from . import device, optics
+from . import color, device, image, materials, optics, spectra
+from .errors import InputError
+from .geometry import cuts
+from .render import Image, Renderer, render
+from .scene import Scene
 
-__all__ = ["__version__", "device", "optics"]
+__all__ = [
+    "__version__",
+    "color",
+    "cuts",
+    "device",
+    "image",
+    "materials",
+    "optics",
+    "spectra",
+    "InputError",
+    "Image",
+    "Renderer",
+    "Scene",
+    "render",
+]

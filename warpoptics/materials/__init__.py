@@ -1,0 +1,93 @@
+"""Materials: dispersion models, refractiveindex.info, the gem library, absorption, Kramers–Kronig.
+
+Public API (DESIGN.md): ``get(name)``, ``mat.n(wavelength_nm)``, ``Sellmeier(B, C)``,
+``Cauchy(...)``, ``Tabulated(wavelength_nm, n, k=None)``, ``from_refractiveindex("main/C/Peter")``,
+``dispersion_bg(mat)``, ``kramers_kronig(wavelength_nm, k, n_background)``.  The renderer's
+device-side interface (``MaterialTable``, ``build_material_table``, ``material_eval``,
+``material_alpha``) is documented in :mod:`warpoptics.materials.dispersion`.
+"""
+
+from __future__ import annotations
+
+from .absorption import (
+    SEED002_GEMS,
+    AbsorptionSpectrum,
+    Band,
+    absorbance_per_cm_from_alpha,
+    alpha_from_absorbance_per_cm,
+    alpha_from_k,
+    k_from_alpha,
+    pleochroic_alpha,
+    pleochroic_alpha_func,
+    rgb3_alpha_of,
+    rgb_absorbance,
+    seed002_spectra,
+    spectrum_from_rgb,
+    with_absorption,
+)
+from .dispersion import (
+    RGB3_WAVELENGTHS_NM,
+    Cauchy,
+    Formula,
+    Isotropic,
+    Material,
+    MaterialTable,
+    Sellmeier,
+    Tabulated,
+    Uniaxial,
+    abbe_number,
+    build_material_table,
+    dispersion_bg,
+    material_alpha,
+    material_eval,
+    material_eval_channel,
+)
+from .kramers_kronig import (
+    anomalous,
+    fuchsine_solution,
+    kramers_kronig,
+    rose_bengal_absorption,
+    rose_bengal_solution,
+)
+from .library import get, names
+from .refractiveindex import from_refractiveindex
+
+__all__ = [
+    "get",
+    "names",
+    "Material",
+    "Isotropic",
+    "Uniaxial",
+    "Sellmeier",
+    "Cauchy",
+    "Tabulated",
+    "Formula",
+    "from_refractiveindex",
+    "dispersion_bg",
+    "abbe_number",
+    "kramers_kronig",
+    "anomalous",
+    "rose_bengal_absorption",
+    "rose_bengal_solution",
+    "fuchsine_solution",
+    "AbsorptionSpectrum",
+    "Band",
+    "alpha_from_k",
+    "k_from_alpha",
+    "alpha_from_absorbance_per_cm",
+    "absorbance_per_cm_from_alpha",
+    "pleochroic_alpha",
+    "pleochroic_alpha_func",
+    "rgb_absorbance",
+    "spectrum_from_rgb",
+    "rgb3_alpha_of",
+    "with_absorption",
+    "seed002_spectra",
+    "SEED002_GEMS",
+    "RGB3_WAVELENGTHS_NM",
+    "MaterialTable",
+    "build_material_table",
+    "material_eval",
+    "material_eval_channel",
+    "material_alpha",
+]

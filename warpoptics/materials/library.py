@@ -1,0 +1,302 @@
+"""The gem library: ``get(name)`` -> :class:`Isotropic` | :class:`Uniaxial`.
+
+Dispersion comes from a refractiveindex.info page where one exists (read offline with
+:func:`from_refractiveindex`); otherwise a two-term Cauchy formula n = A + B/λ² (λ in µm) is fitted
+exactly through a published index and dispersion (values cited per entry below).  Biaxial
+stones (peridot, andalusite, topaz) are treated as uniaxial, as Guy & Soler 2004 do for
+peridot and andalusite (§3.2: "behave visually as if they were uniaxial because two of the three
+absorbance spectra are nearly identical"); their n_o / n_e are the two distinct principal
+indices named per entry.  The optic axis defaults to +z (object frame).
+
+Formula pages whose range stops short of the colour range 360–830 nm are *extrapolated* to it
+(their Sellmeier poles are far in the UV/IR); the ``source`` string says so.  Colour: the six gems
+of Guy & Soler §6.1 (garnet, tourmaline, peridot, diamond, sapphire, andalusite) carry the eq. 9
+inversion of that table's absorbances as K^o(λ), K^e(λ), and the table's triplets themselves as
+``rgb3_alpha``; ruby and emerald carry Cr³⁺ bands (positions from the literature, amplitudes
+illustrative); the others are colourless (k = 0).
+
+References (gemological constants)
+----------------------------------
+- GIA Gem Reference Guide (1995) and R. Webster, *Gems*, 5th ed. (1994), property tables:
+  zircon (high) n_o 1.925, n_e 1.984, dispersion 0.039; emerald n_o 1.583, n_e 1.577, 0.014;
+  topaz n_α 1.619, n_γ 1.627, 0.014; diamond 2.417, 0.044; sapphire 1.768/1.760, 0.018;
+  calcite 1.658/1.486; moissanite (6H-SiC) 2.648/2.691, 0.104; cubic zirconia 2.15–2.18, 0.060.
+- S. Guy, C. Soler, ACM TOG 23(3) 2004, §6.1 table (garnet, tourmaline, peridot, andalusite).
+- D. S. McClure, J. Chem. Phys. 36, 2757 (1962): Cr³⁺ in corundum, E⊥c bands 556/407 nm,
+  E∥c 570/400 nm.  D. L. Wood, K. Nassau, Am. Mineral. 53, 777 (1968): Cr³⁺ in beryl, E⊥c
+  430/600 nm, E∥c 420/640 nm.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Callable
+
+import numpy as np
+
+from ..errors import InputError
+from .absorption import (
+    SEED002_ALPHA_PER_MM,
+    SEED002_GEMS,
+    AbsorptionSpectrum,
+    Band,
+    seed002_spectra,
+    with_absorption,
+)
+from .dispersion import VISIBLE_RANGE_NM, Cauchy, Isotropic, Material, Uniaxial
+from .refractiveindex import from_refractiveindex
+
+__all__ = ["get", "names", "cauchy_from_gem_constants", "ALIASES"]
+
+_FRAUNHOFER_D = 589.3
+_BG = (430.8, 686.7)
+_RGB = (435.8, 700.0)
+
+
+def cauchy_from_gem_constants(
+    n_ref: float,
+    dispersion: float,
+    *,
+    ref_nm: float = _FRAUNHOFER_D,
+    pair_nm: tuple[float, float] = _BG,
+    name: str = "gem",
+    source: str = "",
+) -> Isotropic:
+    """Cauchy n = A + B/λ² through n(ref_nm) = n_ref and n(pair[0]) − n(pair[1]) = dispersion."""
+    for v, f in ((n_ref, "n_ref"), (dispersion, "dispersion")):
+        if not np.isfinite(v):
+            raise InputError("must be finite", field=f, value=v)
+    if n_ref < 1.0:
+        raise InputError("refractive index must be >= 1", field="n_ref", value=n_ref)
+    if dispersion < 0:
+        raise InputError("dispersion must be >= 0", field="dispersion", value=dispersion)
+    s, lg = pair_nm[0] * 1e-3, pair_nm[1] * 1e-3
+    B = dispersion / (1.0 / s**2 - 1.0 / lg**2)
+    A = n_ref - B / (ref_nm * 1e-3) ** 2
+    return Cauchy(A, B, wavelength_range_nm=VISIBLE_RANGE_NM, name=name,
+                  source=source or f"Cauchy fit: n({ref_nm:g} nm) = {n_ref}, n({pair_nm[0]:g})−n({pair_nm[1]:g}) = {dispersion}")
+
+
+def _page(page: str, name: str, *, extend: bool = True) -> Isotropic:
+    m = from_refractiveindex(page, name=name)
+    lo, hi = m.wavelength_range_nm
+    if extend and m.channel.formula_kind and (lo > VISIBLE_RANGE_NM[0] or hi < VISIBLE_RANGE_NM[1]):
+        new = (min(lo, VISIBLE_RANGE_NM[0]), max(hi, VISIBLE_RANGE_NM[1]))
+        m = Isotropic(m.channel, wavelength_range_nm=new, name=name,
+                      source=f"{m.source}; formula extrapolated from its {lo:g}–{hi:g} nm range to {new[0]:g}–{new[1]:g} nm")
+    return m
+
+
+def _uniaxial(o: Isotropic, e: Isotropic, name: str, source: str, rgb3=None) -> Uniaxial:
+    return Uniaxial(o, e, optic_axis=(0.0, 0.0, 1.0), name=name, source=source, rgb3_alpha=rgb3)
+
+
+def _seed002(name: str, mat: Material) -> Material:
+    """Attach the §6.1 absorbances: spectra by eq. 9 inversion, the triplets for rgb3."""
+    row = SEED002_GEMS[name]
+    so, se = seed002_spectra(name)
+    ko = tuple(float(v) * SEED002_ALPHA_PER_MM for v in row["K_o"])
+    ke = tuple(float(v) * SEED002_ALPHA_PER_MM for v in (row["K_e"] or row["K_o"]))
+    src = mat.source + "; absorbance: Guy & Soler 2004 §6.1 (eq. 9 inversion)"
+    if isinstance(mat, Uniaxial):
+        out = with_absorption(mat, (so, se), source=src)
+        out.rgb3_alpha = (ko, ke)
+    else:
+        out = with_absorption(mat, so, source=src)
+        out.rgb3_alpha = (ko, ko)
+    return out
+
+
+def _seed002_indices(name: str) -> Material:
+    """Cauchy fits to the §6.1 indices: n(546.1) = table value, n(435.8) − n(700) = 2 ± value."""
+    row = SEED002_GEMS[name]
+    disp = 2.0 * row["half_dispersion"]
+    kw = dict(ref_nm=546.1, pair_nm=_RGB)
+    src = f"Guy & Soler 2004 §6.1: n_o {row['n_o']}" + (f", n_e {row['n_e']}" if row["n_e"] else "") + \
+        f" ± {row['half_dispersion']} (green ± half dispersion), Cauchy fit"
+    o = cauchy_from_gem_constants(row["n_o"], disp, name=f"{name} (o)", source=src, **kw)
+    if row["n_e"] is None:
+        o.name, o.source = name, src
+        return o
+    e = cauchy_from_gem_constants(row["n_e"], disp, name=f"{name} (e)", source=src, **kw)
+    if row["type"] == "B":
+        src += " (biaxial, treated as uniaxial as in the source)"
+    return _uniaxial(o, e, name, src)
+
+
+def _bands(bands, name) -> AbsorptionSpectrum:
+    return AbsorptionSpectrum.from_bands(bands, wavelength_range_nm=(300.0, 900.0), name=name,
+                                         source="Cr3+ bands (positions: literature; amplitudes illustrative)")
+
+
+def _diamond() -> Material:
+    return _seed002("diamond", _page("main/C/Peter", "diamond"))
+
+
+def _sapphire() -> Material:
+    o = _page("main/Al2O3/Malitson-o", "sapphire (o)")
+    e = _page("main/Al2O3/Malitson-e", "sapphire (e)")
+    return _seed002("sapphire", _uniaxial(o, e, "sapphire", "refractiveindex.info main/Al2O3/Malitson-o/-e"))
+
+
+def _ruby() -> Material:
+    o = _page("main/Al2O3/Malitson-o", "ruby (o)")
+    e = _page("main/Al2O3/Malitson-e", "ruby (e)")
+    base = _uniaxial(o, e, "ruby", "refractiveindex.info main/Al2O3/Malitson-o/-e")
+    ko = _bands([Band(556.0, 30.0, 0.25), Band(407.0, 25.0, 0.30)], "ruby K^o")
+    ke = _bands([Band(570.0, 30.0, 0.20), Band(400.0, 25.0, 0.22)], "ruby K^e")
+    return with_absorption(base, (ko, ke), source=base.source + "; Cr3+ bands after McClure 1962 (illustrative strength)")
+
+
+def _calcite() -> Material:
+    o = _page("main/CaCO3/Ghosh-o", "calcite (o)")
+    e = _page("main/CaCO3/Ghosh-e", "calcite (e)")
+    return _uniaxial(o, e, "calcite", "refractiveindex.info main/CaCO3/Ghosh-o/-e")
+
+
+def _quartz() -> Material:
+    o = _page("main/SiO2/Ghosh-o", "quartz (o)")
+    e = _page("main/SiO2/Ghosh-e", "quartz (e)")
+    return _uniaxial(o, e, "quartz", "refractiveindex.info main/SiO2/Ghosh-o/-e")
+
+
+def _zircon() -> Material:
+    src = "high zircon, GIA: n_o 1.925, n_e 1.984 (nD), dispersion 0.039; Cauchy fit"
+    o = cauchy_from_gem_constants(1.925, 0.039, name="zircon (o)", source=src)
+    e = cauchy_from_gem_constants(1.984, 0.039, name="zircon (e)", source=src)
+    return _uniaxial(o, e, "zircon", src)
+
+
+def _tourmaline() -> Material:
+    return _seed002("tourmaline", _seed002_indices("tourmaline"))
+
+
+def _emerald() -> Material:
+    src = "emerald (beryl), GIA: n_o 1.583, n_e 1.577 (nD), dispersion 0.014; Cauchy fit"
+    o = cauchy_from_gem_constants(1.583, 0.014, name="emerald (o)", source=src)
+    e = cauchy_from_gem_constants(1.577, 0.014, name="emerald (e)", source=src)
+    base = _uniaxial(o, e, "emerald", src)
+    ko = _bands([Band(600.0, 35.0, 0.15), Band(430.0, 25.0, 0.20)], "emerald K^o")
+    ke = _bands([Band(640.0, 35.0, 0.12), Band(420.0, 25.0, 0.15)], "emerald K^e")
+    return with_absorption(base, (ko, ke), source=src + "; Cr3+ bands after Wood & Nassau 1968 (illustrative strength)")
+
+
+def _peridot() -> Material:
+    return _seed002("peridot", _seed002_indices("peridot"))
+
+
+def _garnet() -> Material:
+    return _seed002("garnet", _seed002_indices("garnet"))
+
+
+def _andalusite() -> Material:
+    return _seed002("andalusite", _seed002_indices("andalusite"))
+
+
+def _spinel() -> Material:
+    return _page("main/MgAl2O4/Tropf", "spinel")
+
+
+def _topaz() -> Material:
+    src = "topaz (biaxial, treated as uniaxial): n_alpha 1.619 -> o, n_gamma 1.627 -> e (nD), dispersion 0.014 (GIA); Cauchy fit"
+    o = cauchy_from_gem_constants(1.619, 0.014, name="topaz (o)", source=src)
+    e = cauchy_from_gem_constants(1.627, 0.014, name="topaz (e)", source=src)
+    return _uniaxial(o, e, "topaz", src)
+
+
+def _cubic_zirconia() -> Material:
+    # Wood & Nassau 1982, cubic zirconia stabilised with 12 mol % yttria
+    return _page("main/ZrO2/Wood", "cubic_zirconia")
+
+
+def _moissanite() -> Material:
+    o = _page("main/SiC/Wang-6H-o", "moissanite (o)")
+    e = _page("main/SiC/Wang-6H-e", "moissanite (e)")
+    return _uniaxial(o, e, "moissanite", "refractiveindex.info main/SiC/Wang-6H-o/-e (6H-SiC), extrapolated below 435.8 nm")
+
+
+def _water() -> Material:
+    return _page("main/H2O/Daimon-20.0C", "water")
+
+
+def _bk7() -> Material:
+    return _page("specs/SCHOTT-optical/N-BK7", "bk7")
+
+
+def _fused_silica() -> Material:
+    return _page("main/SiO2/Malitson", "fused_silica")
+
+
+def _dye(kind: str, percent: float) -> Callable[[], Material]:
+    def build() -> Material:
+        from .kramers_kronig import fuchsine_solution, rose_bengal_solution
+
+        return rose_bengal_solution(percent) if kind == "rose_bengal" else fuchsine_solution(percent)
+
+    return build
+
+
+_BUILDERS: dict[str, Callable[[], Material]] = {
+    "diamond": _diamond,
+    "sapphire": _sapphire,
+    "ruby": _ruby,
+    "calcite": _calcite,
+    "quartz": _quartz,
+    "zircon": _zircon,
+    "tourmaline": _tourmaline,
+    "emerald": _emerald,
+    "peridot": _peridot,
+    "garnet": _garnet,
+    "spinel": _spinel,
+    "topaz": _topaz,
+    "cubic_zirconia": _cubic_zirconia,
+    "moissanite": _moissanite,
+    "andalusite": _andalusite,
+    "water": _water,
+    "bk7": _bk7,
+    "fused_silica": _fused_silica,
+    "rose_bengal_10": _dye("rose_bengal", 10.0),
+    "rose_bengal_3.3": _dye("rose_bengal", 3.3),
+    "rose_bengal_1": _dye("rose_bengal", 1.0),
+    "fuchsine": _dye("fuchsine", 1.0),
+}
+
+#: other accepted spellings
+ALIASES = {
+    "beryl": "emerald",
+    "corundum": "sapphire",
+    "cz": "cubic_zirconia",
+    "n-bk7": "bk7",
+    "silica": "fused_silica",
+    "olivine": "peridot",
+    "h2o": "water",
+}
+
+_cache: dict[str, Material] = {}
+
+
+def names() -> list[str]:
+    """All library names (aliases excluded)."""
+    return list(_BUILDERS)
+
+
+def get(name: str) -> Material:
+    """The library material ``name`` (case-insensitive; "-" and " " read as "_").
+
+    Raises :class:`~warpoptics.errors.InputError` with the closest names for an unknown one.
+    """
+    if not isinstance(name, str):
+        raise InputError("material name must be a string", field="material", value=name)
+    key = name.strip().lower().replace(" ", "_")
+    key = ALIASES.get(key, key)
+    if key not in _BUILDERS:
+        key2 = key.replace("-", "_")
+        key = ALIASES.get(key2, key2)
+    if key not in _BUILDERS:
+        close = difflib.get_close_matches(key, list(_BUILDERS) + list(ALIASES), n=3, cutoff=0.5)
+        hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+        raise InputError(f"unknown material{hint}", field="material", value=name,
+                         allowed=", ".join(_BUILDERS))
+    if key not in _cache:
+        _cache[key] = _BUILDERS[key]()
+    return _cache[key]
