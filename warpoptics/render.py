@@ -65,7 +65,11 @@ def _render_pixels(
     pix = base + wp.tid() + offset
     px = pix % film.width
     py = pix / film.width
+    # two streams per pixel: camera samples (wavelength, jitter, lens) and trace decisions, so the
+    # samples a pixel draws do not depend on what its paths met (an empty scene sees the same ones)
+    n_pix = film.width * film.height
     rng = wp.rand_init(film.seed * 1000003 + film.pass_index, pix)
+    rng_trace = wp.rand_init(film.seed * 1000003 + film.pass_index, pix + n_pix)
     xyz = wp.vec3d(0.0, 0.0, 0.0)
     stokes = wp.vec4d(0.0, 0.0, 0.0, 0.0)
     hits = float(0.0)
@@ -80,7 +84,9 @@ def _render_pixels(
         lu = wp.randf(rng)
         lv = wp.randf(rng)
         o, d, b = camera_ray(cam, float(px) + jx, float(py) + jy, lu, lv)
-        coh, hit, nr, rng = trace_radiance(tp, geom, mats, env, tables, polarized, o, d, b, wl, stratum, rng)
+        coh, hit, nr, rng_trace = trace_radiance(
+            tp, geom, mats, env, tables, polarized, o, d, b, wl, stratum, rng_trace
+        )
         s = stokes_from_coherency(coh)
         xyz += wp.vec3d(wp.float64(w[0] * s[0]), wp.float64(w[1] * s[0]), wp.float64(w[2] * s[0]))
         stokes += wp.vec4d(

@@ -80,8 +80,8 @@ class RenderConfig:
     max_depth: int = 12
     spp: int = 1
     seed: int = 0
-    split_threshold: float = 0.01
-    rr_threshold: float = 0.05
+    split_threshold: float = 0.002
+    rr_threshold: float = 1.0e-4
     exposure: float = 0.0
     tone: str = "filmic"
     ambient_index: float = 1.0

@@ -51,8 +51,10 @@ from .kramers_kronig import (
 )
 from .library import get, names
 from .refractiveindex import from_refractiveindex
+from .spec import material_from_spec
 
 __all__ = [
+    "material_from_spec",
     "get",
     "names",
     "Material",

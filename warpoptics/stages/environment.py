@@ -60,13 +60,14 @@ def _studio_rgb(d: wp.vec3f):
     base = wp.vec3f(0.02, 0.02, 0.022)
     if d[2] < 0.0:
         base = wp.vec3f(0.01, 0.01, 0.01)
-    # overhead box (40 deg radius), two side boxes and a back rim box
-    top = _soft_box(d, wp.vec3f(0.0, 0.0, 1.0), 0.77, 0.04) * 6.0
-    left = _soft_box(d, wp.normalize(wp.vec3f(-0.8, -0.5, 0.45)), 0.94, 0.02) * 4.0
-    right = _soft_box(d, wp.normalize(wp.vec3f(0.8, -0.5, 0.45)), 0.94, 0.02) * 4.0
-    back = _soft_box(d, wp.normalize(wp.vec3f(0.0, 1.0, 0.25)), 0.96, 0.015) * 3.0
+    # overhead box (25 deg radius), two side boxes, a back rim box: bright sources on a dark
+    # surround, so facets alternate between lit and dark (contrast) as in gem photography
+    top = _soft_box(d, wp.vec3f(0.0, 0.0, 1.0), 0.906, 0.02) * 2.5
+    left = _soft_box(d, wp.normalize(wp.vec3f(-0.8, -0.5, 0.45)), 0.97, 0.01) * 3.0
+    right = _soft_box(d, wp.normalize(wp.vec3f(0.8, -0.5, 0.45)), 0.97, 0.01) * 3.0
+    back = _soft_box(d, wp.normalize(wp.vec3f(0.0, 1.0, 0.25)), 0.97, 0.01) * 2.0
     # thin bright strips give sparkle (scintillation) on small facets
-    strip = _soft_box(d, wp.normalize(wp.vec3f(0.3, -0.9, 0.8)), 0.995, 0.002) * 12.0
+    strip = _soft_box(d, wp.normalize(wp.vec3f(0.3, -0.9, 0.8)), 0.997, 0.001) * 8.0
     w = top + left + right + back + strip
     return base + wp.vec3f(w, w, w)
 

@@ -89,8 +89,8 @@ class TraceParams:
 @dataclass(frozen=True)
 class TraceConfig:
     max_depth: int = 12
-    split_threshold: float = 0.01
-    rr_threshold: float = 0.05
+    split_threshold: float = 0.002
+    rr_threshold: float = 1.0e-4
     polarized: bool = True
 
 
@@ -184,9 +184,8 @@ def trace_radiance(
     """Coherency matrix (camera frame) of the light arriving along a primary ray, at one
     wavelength (nm).  Returns (J, hit_any, rays_traced, rng)."""
     st = _Stack()
-    n = int(0)
-    st = _push(st, n, origin, direction, basis_x, jones_identity(), 1.0, -1, 0)
-    n = 1
+    st = _push(st, 0, origin, direction, basis_x, jones_identity(), 1.0, -1, 0)
+    n = int(1)
     acc = jones_zero()
     acc_scalar = float(0.0)
     hit_any = int(0)

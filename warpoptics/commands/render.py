@@ -1,0 +1,48 @@
+"""`warpoptics render SCENE.toml -o OUT.{exr,png}`: render a scene with the standard pipeline."""
+
+from __future__ import annotations
+
+import sys
+
+
+def run(args) -> int:
+    from ..errors import InputError
+    from ..render import Renderer
+    from ..scene import Scene, parse_value
+
+    scene = Scene.load(args.scene)
+    overrides = {}
+    for item in args.set or []:
+        if "=" not in item:
+            raise InputError("expected KEY=VALUE", field="--set", value=item)
+        key, value = item.split("=", 1)
+        overrides[key.strip()] = parse_value(value.strip())
+    kw = {k: getattr(args, k) for k in ("width", "height", "spp") if getattr(args, k) is not None}
+    out = args.output
+    if not out.lower().endswith((".exr", ".png", ".jpg", ".jpeg", ".tif", ".tiff")):
+        raise InputError("unsupported output format", field="-o", value=out, allowed=".exr, .png, .jpg, .tif")
+    if overrides or kw:
+        scene = scene.with_overrides(overrides, **kw)
+    renderer = Renderer(scene, device=args.device)
+    image = renderer.run(progress=not args.quiet and sys.stderr.isatty() or args.progress)
+    image.save(out)
+    s = image.stats
+    print(
+        f"{out}: {s['width']}x{s['height']}, {s['seconds']:.2f} s, {s['rays'] / 1e6:.2f} M rays, "
+        f"{s['rays_per_second'] / 1e6:.2f} M rays/s"
+    )
+    return 0
+
+
+def register(sub) -> None:
+    p = sub.add_parser("render", help="render a scene (TOML) to an EXR or PNG image")
+    p.add_argument("scene", help="scene file (.toml)")
+    p.add_argument("-o", "--output", required=True, help="output image: .exr (RGB, A, S0..S3, XYZ) or .png")
+    p.add_argument("--width", type=int, help="override camera.width")
+    p.add_argument("--height", type=int, help="override camera.height")
+    p.add_argument("--spp", type=int, help="override render.spp")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="override any scene value by dotted path, e.g. --set object.0.pavilion_angle=41")
+    p.add_argument("--progress", action="store_true", help="show a progress bar even when not on a terminal")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=run)

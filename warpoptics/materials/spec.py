@@ -1,0 +1,91 @@
+"""Materials from scene files: a library name, or an inline table built on one.
+
+```toml
+material = "sapphire"
+material = { base = "spinel", absorption_rgb = [0.9, 0.6, 0.05], kramers_kronig = true }
+material = { base = "diamond", bands = [{ center_nm = 560, width_nm = 25, peak_alpha_per_mm = 2.0 }] }
+```
+
+Keys of an inline table: ``base`` (library name, required); ``bands`` (Gaussian/Lorentzian
+absorption bands, alpha in 1/mm base e); ``absorption_rgb`` (an eq. 9 RGB absorbance triplet in
+1/mm, inverted onto a smooth spectrum, Guy & Soler 2004); ``kramers_kronig`` (add the anomalous
+dispersion of the absorption, Weidlich & Wilkie 2009); ``optic_axis`` (unit vector, uniaxial).
+"""
+
+from __future__ import annotations
+
+import difflib
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError
+from .absorption import AbsorptionSpectrum, Band, spectrum_from_rgb, with_absorption
+from .dispersion import Material, Uniaxial
+from .kramers_kronig import anomalous
+from .library import get
+
+__all__ = ["material_from_spec"]
+
+_KEYS = {"base", "bands", "absorption_rgb", "kramers_kronig", "optic_axis"}
+_BAND_KEYS = {"center_nm", "width_nm", "peak_alpha_per_mm", "shape"}
+
+
+def material_from_spec(spec: Any) -> Material:
+    """A :class:`Material` from a scene's ``material`` value (see the module docstring)."""
+    if isinstance(spec, Material):
+        return spec
+    if isinstance(spec, str):
+        return get(spec)
+    if not isinstance(spec, dict):
+        raise InputError("must be a material name or an inline table", field="material", value=spec)
+    for k in spec:
+        if k not in _KEYS:
+            close = difflib.get_close_matches(k, list(_KEYS), n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            raise InputError(f"unknown key{hint}", field=k, allowed=", ".join(sorted(_KEYS)))
+    if "base" not in spec:
+        raise InputError("an inline material needs base = \"<library name>\"", field="base")
+    mat = get(spec["base"])
+    absorption = None
+    if "bands" in spec:
+        bands = spec["bands"]
+        if not isinstance(bands, list):
+            raise InputError("must be an array of band tables", field="bands", value=bands)
+        parsed = []
+        for i, b in enumerate(bands):
+            if not isinstance(b, dict):
+                raise InputError("must be a table", field=f"bands.{i}", value=b)
+            for k in b:
+                if k not in _BAND_KEYS:
+                    raise InputError("unknown key", field=f"bands.{i}.{k}", allowed=", ".join(sorted(_BAND_KEYS)))
+            try:
+                parsed.append(Band(float(b["center_nm"]), float(b["width_nm"]), float(b["peak_alpha_per_mm"]),
+                                   b.get("shape", "gaussian")))
+            except KeyError as exc:
+                raise InputError("missing key", field=f"bands.{i}.{exc.args[0]}") from None
+            except InputError as exc:
+                raise InputError(exc.message, field=f"bands.{i}.{exc.field}", value=exc.value,
+                                 allowed=exc.allowed) from None
+        absorption = AbsorptionSpectrum.from_bands(parsed, wavelength_range_nm=(300.0, 900.0), name="bands")
+    if "absorption_rgb" in spec:
+        if absorption is not None:
+            raise InputError("give either bands or absorption_rgb, not both", field="absorption_rgb")
+        absorption = spectrum_from_rgb(spec["absorption_rgb"])
+    kk = spec.get("kramers_kronig", False)
+    if not isinstance(kk, bool):
+        raise InputError("must be true or false", field="kramers_kronig", value=kk)
+    if kk and absorption is None:
+        raise InputError("kramers_kronig needs an absorption (bands or absorption_rgb)", field="kramers_kronig")
+    if absorption is not None:
+        mat = anomalous(mat, absorption) if kk else with_absorption(mat, absorption)
+    if "optic_axis" in spec:
+        ax = np.asarray(spec["optic_axis"], dtype=float)
+        if ax.shape != (3,) or not np.isfinite(ax).all() or np.linalg.norm(ax) == 0:
+            raise InputError("must be a non-zero vector [x, y, z]", field="optic_axis", value=spec["optic_axis"])
+        if not isinstance(mat, Uniaxial):
+            raise InputError("an optic axis needs a uniaxial base material", field="optic_axis",
+                             value=spec["base"])
+        mat = Uniaxial(mat.ordinary, mat.extraordinary, optic_axis=tuple(ax / np.linalg.norm(ax)), name=mat.name,
+                       source=mat.source)
+    return mat
