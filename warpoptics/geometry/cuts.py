@@ -143,13 +143,16 @@ def convex_from_planes(
     *,
     proportions: Proportions | None = None,
     source: str | None = None,
+    merge_tol: float = 1e-7,
 ) -> trimesh.Trimesh:
     """The convex polyhedron ``{x : n_i . x <= d_i for all i}`` as a watertight triangle mesh.
 
     ``normals`` (K, 3) need not be unit length (they are normalised, ``offsets`` with them).
     Each plane that bounds a face of positive area becomes one facet; redundant planes are
     dropped (their names with them).  Raises :class:`InputError` if the intersection is empty,
-    flat or unbounded.  ``source`` names the input in error messages (a file name).
+    flat or unbounded.  ``source`` names the input in error messages (a file name).  Vertices
+    closer than ``merge_tol`` times the largest plane distance are merged (facets smaller than
+    that vanish).
     """
     n = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
     d = np.asarray(offsets, dtype=np.float64).reshape(-1)
@@ -195,9 +198,12 @@ def convex_from_planes(
     if len(keep) < 4:
         raise InputError("the facet planes enclose no solid", file=source)
 
-    # Merge the vertices that adjacent facets computed independently.
+    # Merge the vertices that adjacent facets computed independently.  A vertex where more than
+    # three planes meet (a brilliant's star tips) comes out of rounded input (a .asc file's six
+    # decimals) as a cluster of nearly coincident points: they merge into one, and facets that
+    # shrink below the tolerance disappear, consistently on every facet that shares them.
     allv = np.concatenate(polys)
-    tol = 1e-9 * scale
+    tol = merge_tol * scale
     from scipy.spatial import cKDTree
 
     tree = cKDTree(allv)
@@ -242,7 +248,7 @@ def convex_from_planes(
         crosses = [
             np.linalg.norm(np.cross(pts[(a + 1) % m] - pts[a], pts[(a - 1) % m] - pts[a])) for a in range(m)
         ]
-        if min(crosses) < 1e-10 * scale * scale:
+        if min(crosses) < 1e-9 * scale * scale:
             vertices.append(pts.mean(axis=0))
             c = len(vertices) - 1
             for a in range(m):
