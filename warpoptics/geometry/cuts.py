@@ -223,6 +223,21 @@ def convex_from_planes(
     uniq, inverse = np.unique(roots, return_inverse=True)
     vertices = [allv[roots == r].mean(axis=0) for r in uniq]
 
+    # Polish each vertex: the least-squares point of the planes that meet there (the clipped
+    # coordinates carry the round-off of the huge starting polygons, ~1e-12 relative).
+    owner_planes: list[list[int]] = [[] for _ in vertices]
+    start = 0
+    for poly, i in zip(polys, keep, strict=True):
+        for x in set(int(y) for y in inverse[start : start + len(poly)]):
+            owner_planes[x].append(i)
+        start += len(poly)
+    for x, ps in enumerate(owner_planes):
+        if len(ps) >= 3:
+            A, b = n[ps], d[ps]
+            sol, _, rank, _ = np.linalg.lstsq(A, b, rcond=None)
+            if rank == 3 and np.linalg.norm(sol - vertices[x]) < 10 * tol + 1e-9 * scale:
+                vertices[x] = sol
+
     faces: list[list[int]] = []
     face_facet: list[int] = []
     planes: list[np.ndarray] = []
