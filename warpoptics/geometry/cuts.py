@@ -526,7 +526,9 @@ def round_brilliant(
         from the table edge to the girdle (GIA definition, typically 0.45-0.55).
     lower_girdle_length : radial extent of the lower girdle facets from the girdle, as a fraction
         of the girdle radius (typically 0.75-0.80).
-    girdle : girdle thickness at the thin points / diameter (0 = knife edge).
+    girdle : girdle thickness / diameter at the 16 points where the bezels, mains and girdle
+        facets meet the girdle (0 = knife edge).  With more than 16 girdle facets the girdle is
+        scalloped: thinner between those points, as on polished stones.
     culet : culet size / diameter (0 = pointed).
     girdle_facets : number of vertical girdle facets (16, 32, 64 or 128).
     """

@@ -98,16 +98,16 @@ class Design:
         """Facet planes ``(normals (K,3), distances (K,), names)`` in design units (see module doc)."""
         normals, dist, names = [], [], []
         for t, tier in enumerate(self.tiers):
-            base = tier.names.get(0) or f"tier {t + 1}"
+            base = next(iter(tier.names.values()), f"tier {t + 1}")  # a tier's (first) name
             if tier.angle == 0:
                 if tier.is_culet:
                     normals.append((0.0, 0.0, -1.0))
                     dist.append(abs(tier.distance))
-                    names.append(tier.names.get(0) or "culet")
+                    names.append(next(iter(tier.names.values()), "culet"))
                 else:
                     normals.append((0.0, 0.0, 1.0))
                     dist.append(tier.distance)
-                    names.append(tier.names.get(0) or "table")
+                    names.append(next(iter(tier.names.values()), "table"))
                 continue
             th = math.radians(abs(tier.angle))
             sz = 1.0 if tier.angle > 0 else -1.0
