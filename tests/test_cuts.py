@@ -44,8 +44,10 @@ def check_closed_convex(mesh):
     # convexity from the triangles: every vertex on the inner side of every face plane
     v = mesh.vertices
     scale = np.max(mesh.extents)
-    s = np.einsum("fk,vk->fv", mesh.face_normals, v) - np.einsum("fk,fk->f", mesh.face_normals,
-                                                                  mesh.triangles[:, 0])[:, None]
+    s = (
+        np.einsum("fk,vk->fv", mesh.face_normals, v)
+        - np.einsum("fk,fk->f", mesh.face_normals, mesh.triangles[:, 0])[:, None]
+    )
     assert s.max() < 1e-9 * scale
     # no degenerate triangles
     assert mesh.area_faces.min() > 1e-12 * scale**2
@@ -60,8 +62,11 @@ def test_every_shape_closed_convex_outward(name):
     ff = mesh.metadata["face_facet"]
     # the recorded facet planes are the planes of their triangles
     np.testing.assert_allclose(planes[ff, :3], mesh.face_normals, atol=1e-9)
-    np.testing.assert_allclose(planes[ff, 3], np.einsum("ij,ij->i", mesh.face_normals, mesh.triangles_center),
-                               atol=1e-9 * np.max(mesh.extents))
+    np.testing.assert_allclose(
+        planes[ff, 3],
+        np.einsum("ij,ij->i", mesh.face_normals, mesh.triangles_center),
+        atol=1e-9 * np.max(mesh.extents),
+    )
 
 
 def brilliant_facets(mesh):
@@ -76,14 +81,30 @@ def brilliant_facets(mesh):
     [
         {},  # Tolkowsky
         {"pavilion_angle": 41.0, "crown_angle": 33.0, "table": 0.57},
-        {"pavilion_angle": 42.5, "crown_angle": 36.0, "table": 0.60, "star_length": 0.45,
-         "lower_girdle_length": 0.8, "girdle": 0.035, "culet": 0.015, "girdle_facets": 64},
+        {
+            "pavilion_angle": 42.5,
+            "crown_angle": 36.0,
+            "table": 0.60,
+            "star_length": 0.45,
+            "lower_girdle_length": 0.8,
+            "girdle": 0.035,
+            "culet": 0.015,
+            "girdle_facets": 64,
+        },
     ],
 )
 def test_brilliant_angles_and_proportions(params):
     D = 6.5
-    p = dict(table=0.53, crown_angle=34.5, pavilion_angle=40.75, star_length=0.5, lower_girdle_length=0.75,
-             girdle=0.02, culet=0.0, girdle_facets=16)
+    p = dict(
+        table=0.53,
+        crown_angle=34.5,
+        pavilion_angle=40.75,
+        star_length=0.5,
+        lower_girdle_length=0.75,
+        girdle=0.02,
+        culet=0.0,
+        girdle_facets=16,
+    )
     p.update(params)
     mesh = cuts.round_brilliant(D, **p)
     check_closed_convex(mesh)
@@ -119,15 +140,26 @@ def test_brilliant_angles_and_proportions(params):
     np.testing.assert_allclose(table, p["table"], atol=1e-12)
     crown_h = (zmax - g_top) / D
     # crown height = (1 - table)/2 tan(crown angle)  (GIA; Tolkowsky's profile)
-    np.testing.assert_allclose(crown_h, (1 - p["table"]) / 2 * math.tan(math.radians(p["crown_angle"])),
-                               rtol=1e-12)
+    np.testing.assert_allclose(
+        crown_h, (1 - p["table"]) / 2 * math.tan(math.radians(p["crown_angle"])), rtol=1e-12
+    )
     pav_d = (g_bot - zmin) / D
     culet_drop = p["culet"] / 2 * math.tan(math.radians(p["pavilion_angle"]))
-    np.testing.assert_allclose(pav_d, 0.5 * math.tan(math.radians(p["pavilion_angle"])) - culet_drop, rtol=1e-12)
+    np.testing.assert_allclose(
+        pav_d, 0.5 * math.tan(math.radians(p["pavilion_angle"])) - culet_drop, rtol=1e-12
+    )
     reported = mesh.metadata["proportions"]
-    np.testing.assert_allclose([reported.crown_height, reported.pavilion_depth, reported.total_depth,
-                                reported.table, reported.girdle],
-                               [crown_h, pav_d, (zmax - zmin) / D, table, p["girdle"]], atol=1e-12)
+    np.testing.assert_allclose(
+        [
+            reported.crown_height,
+            reported.pavilion_depth,
+            reported.total_depth,
+            reported.table,
+            reported.girdle,
+        ],
+        [crown_h, pav_d, (zmax - zmin) / D, table, p["girdle"]],
+        atol=1e-12,
+    )
     # star length: radial reach of the stars from the table edge, towards the girdle
     star = np.flatnonzero(np.isin(np.round(mesh.face_normals, 9), n[crown & on225]).all(axis=1))
     rs = r[np.unique(mesh.faces[star])].max()
@@ -152,7 +184,9 @@ def test_tolkowsky_published_proportions():
     assert len(facet_normals(mesh)) == 57  # knife-edge girdle: exactly the 57 facets
 
 
-@pytest.mark.parametrize("fn,length,width", [(cuts.oval, 8.0, 6.0), (cuts.pear, 9.0, 6.0), (cuts.marquise, 12.0, 6.0)])
+@pytest.mark.parametrize(
+    "fn,length,width", [(cuts.oval, 8.0, 6.0), (cuts.pear, 9.0, 6.0), (cuts.marquise, 12.0, 6.0)]
+)
 def test_fancy_brilliants(fn, length, width):
     mesh = fn(length, width)
     check_closed_convex(mesh)
@@ -173,7 +207,9 @@ def test_fancy_brilliants(fn, length, width):
 
 def test_step_cuts():
     crown, pav = (45.0, 30.0), (50.0, 43.0, 38.0)
-    mesh = cuts.emerald(8.0, 6.0, corner=0.15, table=0.6, crown_angles=crown, pavilion_angles=pav, girdle=0.02)
+    mesh = cuts.emerald(
+        8.0, 6.0, corner=0.15, table=0.6, crown_angles=crown, pavilion_angles=pav, girdle=0.02
+    )
     check_closed_convex(mesh)
     n = facet_normals(mesh)
     tilts = np.round(tilt_deg(n), 6)
@@ -212,8 +248,16 @@ def test_prism_plate_cube_sphere_ground():
     assert g.bounds[1][2] == pytest.approx(-3.0) and g.bounds[0][2] == pytest.approx(-5.0)
 
 
-@pytest.mark.parametrize("kw", [{"pavilion_angle": 80.0}, {"table": 1.2}, {"diameter": -1.0},
-                                {"girdle_facets": 20}, {"crown_angle": float("nan")}])
+@pytest.mark.parametrize(
+    "kw",
+    [
+        {"pavilion_angle": 80.0},
+        {"table": 1.2},
+        {"diameter": -1.0},
+        {"girdle_facets": 20},
+        {"crown_angle": float("nan")},
+    ],
+)
 def test_bad_parameters(kw):
     with pytest.raises(InputError):
         cuts.round_brilliant(**kw)
@@ -224,8 +268,9 @@ def test_convex_from_planes_errors():
         # an open pyramid: no base
         cuts.convex_from_planes([[1, 0, 1], [-1, 0, 1], [0, 1, 1], [0, -1, 1]], [1, 1, 1, 1])
     with pytest.raises(InputError):
-        cuts.convex_from_planes([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]],
-                                [1, -2, 1, 1, 1, 1])  # x <= 1 and x >= 2: empty
+        cuts.convex_from_planes(
+            [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], [1, -2, 1, 1, 1, 1]
+        )  # x <= 1 and x >= 2: empty
 
 
 def test_wo_cuts_reexport():
@@ -234,12 +279,20 @@ def test_wo_cuts_reexport():
 
 def _cli(*args, cwd):
     env = dict(os.environ, PYTHONPATH=REPO)
-    return subprocess.run([sys.executable, "-m", "warpoptics.cli", *args], cwd=cwd, env=env,
-                          capture_output=True, text=True, timeout=120)
+    return subprocess.run(
+        [sys.executable, "-m", "warpoptics.cli", *args],
+        cwd=cwd,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
 
 
 def test_cli_cut(tmp_path):
-    r = _cli("cut", "round_brilliant", "--pavilion-angle", "41", "--diameter", "6.5", "-o", "gem.ply", cwd=tmp_path)
+    r = _cli(
+        "cut", "round_brilliant", "--pavilion-angle", "41", "--diameter", "6.5", "-o", "gem.ply", cwd=tmp_path
+    )
     assert r.returncode == 0, r.stderr
     assert "pavilion depth   43.5 %" in r.stdout and "crown height     16.2 %" in r.stdout
     m = trimesh.load(tmp_path / "gem.ply")

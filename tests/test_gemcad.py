@@ -52,8 +52,12 @@ def _design(*tiers):
 
 def test_hand_made_square_design(tmp_path):
     # girdle square |x|, |y| <= 1; crown and pavilion pyramids at 45 deg, mast 1; table at z = 0.5
-    text = _design("a -45.000000 1.0 96 24 48 72 n P", "a 90.000000 1.0 96 24 48 72 n G",
-                   "a 45.000000 1.0 96 24 48 72 n C", "a 0.000000 0.5 96 n T")
+    text = _design(
+        "a -45.000000 1.0 96 24 48 72 n P",
+        "a 90.000000 1.0 96 24 48 72 n G",
+        "a 45.000000 1.0 96 24 48 72 n C",
+        "a 0.000000 0.5 96 n T",
+    )
     path = tmp_path / "square.asc"
     path.write_bytes(text.encode("cp1252"))
     mesh = gemcad.read(path, diameter=2.0)  # width 2 = design units
@@ -80,8 +84,13 @@ def test_hand_made_square_design(tmp_path):
 
 def test_hand_made_triangle_design_measured_angles(tmp_path):
     # a trilliant-like stone: 3-fold, girdle triangle, two pavilion tiers and a crown tier
-    text = _design("a -43.0 0.8 96 32 64 n P1", "a -60.0 0.95 16 48 80 n P2", "a 90 1.0 96 32 64 n G",
-                   "a 30.0 0.75 96 32 64 n C", "a 0 0.4 96 n T")
+    text = _design(
+        "a -43.0 0.8 96 32 64 n P1",
+        "a -60.0 0.95 16 48 80 n P2",
+        "a 90 1.0 96 32 64 n G",
+        "a 30.0 0.75 96 32 64 n C",
+        "a 0 0.4 96 n T",
+    )
     path = tmp_path / "tri.asc"
     path.write_bytes(text.encode("cp1252"))
     mesh = gemcad.read(path, diameter=5.0)
@@ -95,12 +104,26 @@ def test_hand_made_triangle_design_measured_angles(tmp_path):
 
 
 def test_parser_details(tmp_path):
-    text = "\r\n".join([
-        "GemCad 5.0", "g96 0.0", "y 8 y", "I 2.417", "H Round \xb0 test", "H second line",
-        "a -40.75 0.65 96 n P1 12 24 36", "48 60 72 84 G Cut to center", "point", "a 90 1 3 9 15 21 27 33 39 45",
-        "51 57 63 69 75 81 87 93 n G", "a 34.5 0.6 96 12 24 36 48 60 72 84 n C1", "a 0.000000 -0.02 96 n Cu",
-        "a 0 0.36 96 n T", "F a footnote", "",
-    ])
+    text = "\r\n".join(
+        [
+            "GemCad 5.0",
+            "g96 0.0",
+            "y 8 y",
+            "I 2.417",
+            "H Round \xb0 test",
+            "H second line",
+            "a -40.75 0.65 96 n P1 12 24 36",
+            "48 60 72 84 G Cut to center",
+            "point",
+            "a 90 1 3 9 15 21 27 33 39 45",
+            "51 57 63 69 75 81 87 93 n G",
+            "a 34.5 0.6 96 12 24 36 48 60 72 84 n C1",
+            "a 0.000000 -0.02 96 n Cu",
+            "a 0 0.36 96 n T",
+            "F a footnote",
+            "",
+        ]
+    )
     path = tmp_path / "d.asc"
     path.write_bytes(text.encode("cp1252"))
     d = gemcad.read_design(path)
@@ -115,17 +138,22 @@ def test_parser_details(tmp_path):
     assert mesh.is_watertight and np.isclose(mesh.extents[0], 1.0)
     # writer -> reader keeps tiers
     d2 = gemcad.parse(gemcad.dumps(d))
-    assert [(t.angle, t.distance, t.indices) for t in d2.tiers] == [(t.angle, t.distance, t.indices) for t in d.tiers]
+    assert [(t.angle, t.distance, t.indices) for t in d2.tiers] == [
+        (t.angle, t.distance, t.indices) for t in d.tiers
+    ]
 
 
-@pytest.mark.parametrize("text,match", [
-    ("hello\r\n", "not a GemCAD"),
-    ("GemCad 5.0\r\ng 96 0\r\n", "no facet tiers"),
-    ("GemCad 5.0\r\ng 96 0\r\na 45 1.0 96 24 48 72\r\na 0 0.5 96\r\n", "bounded"),
-    ("GemCad 5.0\r\ng 96 0\r\na 45 x 96\r\n", "distance"),
-    ("GemCad 5.0\r\ng 0 0\r\n", "gear"),
-    ("GemCad 5.0\r\na 120 1 3\r\n", "angle"),
-])
+@pytest.mark.parametrize(
+    "text,match",
+    [
+        ("hello\r\n", "not a GemCAD"),
+        ("GemCad 5.0\r\ng 96 0\r\n", "no facet tiers"),
+        ("GemCad 5.0\r\ng 96 0\r\na 45 1.0 96 24 48 72\r\na 0 0.5 96\r\n", "bounded"),
+        ("GemCad 5.0\r\ng 96 0\r\na 45 x 96\r\n", "distance"),
+        ("GemCad 5.0\r\ng 0 0\r\n", "gear"),
+        ("GemCad 5.0\r\na 120 1 3\r\n", "angle"),
+    ],
+)
 def test_bad_designs(tmp_path, text, match):
     path = tmp_path / "bad.asc"
     path.write_bytes(text.encode("cp1252"))

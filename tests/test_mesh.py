@@ -30,7 +30,14 @@ def test_facet_planes_of_a_box():
     planes, face_facet = facet_planes(m)
     assert len(planes) == 6
     assert np.all(np.bincount(face_facet) == 2)
-    expect = {(1, 0, 0, 1.0), (-1, 0, 0, 1.0), (0, 1, 0, 1.5), (0, -1, 0, 1.5), (0, 0, 1, 2.0), (0, 0, -1, 2.0)}
+    expect = {
+        (1, 0, 0, 1.0),
+        (-1, 0, 0, 1.0),
+        (0, 1, 0, 1.5),
+        (0, -1, 0, 1.5),
+        (0, 0, 1, 2.0),
+        (0, 0, -1, 2.0),
+    }
     assert {tuple(np.round(p, 9) + 0.0) for p in planes} == expect
 
 

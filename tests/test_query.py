@@ -9,10 +9,11 @@ carries a round-off of a few float32 ulps of the coordinates (|o| + size), and d
 next to a facet) it is large.  So we require ``|dt| <= 1e-5 t`` (the issue's criterion) wherever
 ``cos >= 0.05`` and ``t >= 0.1`` of the stone's size (there the worst case, 3 eps32 * 10 mm /
 0.05 / 0.65 mm = 1.1e-5, is just at the criterion; measured: 4.4e-6), and
-``|dt| <= 1e-5 t + 4 eps32 (|o| + size) / cos`` everywhere (measured: at most 1.1 eps32 units).  Facets must agree except where
-the hit point lies within 1e-4 mm (1.5e-5 of the stone's size) of another facet's plane, i.e.
-near an edge, where float32 rounding legitimately picks either neighbour; hit/miss may differ
-only for rays that graze the solid (a float64 chord shorter than 1e-4 mm).
+``|dt| <= 1e-5 t + 4 eps32 (|o| + size) / cos`` everywhere (measured: at most 1.1 eps32 units).
+Facets must agree except where the hit point lies within 1e-4 mm (1.5e-5 of the stone's size)
+of another facet's plane, i.e. near an edge, where float32 rounding legitimately picks either
+neighbour; hit/miss may differ only for rays that graze the solid (a float64 chord shorter than
+1e-4 mm).
 """
 
 import numpy as np
@@ -192,8 +193,11 @@ def test_multi_object_scene_with_instance_transforms(device):
         return trimesh.transformations.rotation_matrix(np.radians(deg), axis)
 
     xf_a = trimesh.transformations.translation_matrix([-6.0, 0.0, 0.0])
-    xf_b = (trimesh.transformations.translation_matrix([6.0, 1.0, 0.5]) @ rot([1, 1, 0], 35.0)
-            @ np.diag([1.5, 1.0, 0.8, 1.0]))  # non-uniform scale: normals need the inverse transpose
+    xf_b = (
+        trimesh.transformations.translation_matrix([6.0, 1.0, 0.5])
+        @ rot([1, 1, 0], 35.0)
+        @ np.diag([1.5, 1.0, 0.8, 1.0])
+    )  # non-uniform scale: normals need the inverse transpose
     xf_c = trimesh.transformations.translation_matrix([0.0, 0.0, 1.0]) @ rot([0, 0, 1], 20.0)
     scene = query.GeometryScene([(gem, xf_a), (gem, xf_b), (dented, xf_c)], device=device)
     assert scene.convex_flags == [True, True, False]
@@ -249,3 +253,27 @@ def test_mode_errors(device):
         scene.with_mode("fast")
     with pytest.raises(ValueError, match="convex"):
         query.GeometryScene([dented], convex=True, device=device)
+
+
+def test_bench_script_runs():
+    import os
+    import subprocess
+    import sys
+
+    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    r = subprocess.run(
+        [
+            sys.executable,
+            os.path.join(repo, "scripts", "bench", "bench_ray_queries.py"),
+            "--rays",
+            "2000",
+            "--repeat",
+            "1",
+        ],
+        env=dict(os.environ, PYTHONPATH=repo),
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert r.returncode == 0, r.stderr
+    assert "Mrays/s" in r.stdout and "agreement: hit/miss 1.000000" in r.stdout

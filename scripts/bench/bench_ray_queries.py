@@ -63,15 +63,22 @@ def main(argv=None) -> int:
     origins = wp.array(o_np, dtype=wp.vec3f, device=dev)
     dirs = wp.array(d_np, dtype=wp.vec3f, device=dev)
     tmax = wp.full(n, 1e30, dtype=wp.float32, device=dev)
-    out = [wp.zeros(n, dtype=wp.float32, device=dev), wp.zeros(n, dtype=wp.int32, device=dev),
-           wp.zeros(n, dtype=wp.int32, device=dev), wp.zeros(n, dtype=wp.int32, device=dev),
-           wp.zeros(n, dtype=wp.vec3f, device=dev)]
+    out = [
+        wp.zeros(n, dtype=wp.float32, device=dev),
+        wp.zeros(n, dtype=wp.int32, device=dev),
+        wp.zeros(n, dtype=wp.int32, device=dev),
+        wp.zeros(n, dtype=wp.int32, device=dev),
+        wp.zeros(n, dtype=wp.vec3f, device=dev),
+    ]
     scene.launch_closest_hit(origins[:1], dirs[:1], tmax[:1], [a[:1] for a in out], threads=1)
     wp.synchronize_device(dev)
     setup = time.perf_counter() - t0
     cores = wo.device.cpu_threads()
-    print(f"round brilliant {args.diameter} mm: {len(mesh.faces)} triangles, {len(mesh.metadata['planes'])} facet "
-          f"planes; {n} rays (half outside, half inside); device {dev.alias}, {cores} threads")
+    print(
+        f"round brilliant {args.diameter} mm: {len(mesh.faces)} triangles, "
+        f"{len(mesh.metadata['planes'])} facet "
+        f"planes; {n} rays (half outside, half inside); device {dev.alias}, {cores} threads"
+    )
     print(f"scene build + kernel load/compile: {setup:.2f} s")
     results = {}
     threads_list = [1] if not dev.is_cpu or cores == 1 else [1, cores]
@@ -88,11 +95,17 @@ def main(argv=None) -> int:
     tb, fb = results[("bvh", 1)][1:]
     tc, fc = results[("convex", 1)][1:]
     hit = (fb >= 0) & (fc >= 0)
-    print(f"  agreement: hit/miss {np.mean((fb >= 0) == (fc >= 0)):.6f}, facet {np.mean(fb[hit] == fc[hit]):.6f}, "
-          f"max |dt|/t {np.max(np.abs(tb[hit] - tc[hit]) / tc[hit]):.2e}")
+    print(
+        f"  agreement: hit/miss {np.mean((fb >= 0) == (fc >= 0)):.6f}, "
+        f"facet {np.mean(fb[hit] == fc[hit]):.6f}, "
+        f"max |dt|/t {np.max(np.abs(tb[hit] - tc[hit]) / tc[hit]):.2e}"
+    )
     for threads in threads_list[1:]:
-        print(f"  speed-up on {threads} threads: bvh {results[('bvh', threads)][0] / results[('bvh', 1)][0]:.2f}x, "
-              f"convex {results[('convex', threads)][0] / results[('convex', 1)][0]:.2f}x")
+        print(
+            f"  speed-up on {threads} threads: "
+            f"bvh {results[('bvh', threads)][0] / results[('bvh', 1)][0]:.2f}x, "
+            f"convex {results[('convex', threads)][0] / results[('convex', 1)][0]:.2f}x"
+        )
     print(f"  convex / bvh (1 thread): {results[('convex', 1)][0] / results[('bvh', 1)][0]:.2f}x")
     if not args.no_embree:
         try:
@@ -102,8 +115,11 @@ def main(argv=None) -> int:
             print("  embree: not installed (pip install embreex)")
             return 0
         es = rtcore_scene.EmbreeScene()
-        TriangleMesh(scene=es, vertices=np.asarray(mesh.vertices, dtype=np.float32),
-                     indices=np.asarray(mesh.faces, dtype=np.int32))
+        TriangleMesh(
+            scene=es,
+            vertices=np.asarray(mesh.vertices, dtype=np.float32),
+            indices=np.asarray(mesh.faces, dtype=np.int32),
+        )
         best = np.inf
         for _ in range(args.repeat):
             t0 = time.perf_counter()
@@ -114,11 +130,16 @@ def main(argv=None) -> int:
         eh = prim >= 0
         face_facet = mesh.metadata["face_facet"]
         both = eh & (fb >= 0)
-        print(f"  embree   1 thread(s): {n / best / 1e6:8.2f} Mrays/s  ({best * 1e3:.1f} ms, incl. Python/NumPy "
-              f"overhead of embreex)")
-        print(f"  embree vs bvh: hit/miss {np.mean(eh == (fb >= 0)):.6f}, facet "
-              f"{np.mean(face_facet[prim[both]] == fb[both]):.6f}, max |dt|/t "
-              f"{np.max(np.abs(tfar[both] - tb[both]) / tb[both]):.2e}")
+        print(
+            f"  embree   1 thread(s): {n / best / 1e6:8.2f} Mrays/s  "
+            f"({best * 1e3:.1f} ms, incl. Python/NumPy "
+            f"overhead of embreex)"
+        )
+        print(
+            f"  embree vs bvh: hit/miss {np.mean(eh == (fb >= 0)):.6f}, facet "
+            f"{np.mean(face_facet[prim[both]] == fb[both]):.6f}, max |dt|/t "
+            f"{np.max(np.abs(tfar[both] - tb[both]) / tb[both]):.2e}"
+        )
     return 0
 
 

@@ -88,7 +88,8 @@ class Proportions:
         """One human-readable block, percentages of the width."""
         lines = [
             f"shape            {self.shape}",
-            f"length x width   {self.length:.4g} x {self.width:.4g} mm (ratio {self.length / self.width:.3f})",
+            f"length x width   {self.length:.4g} x {self.width:.4g} mm "
+            f"(ratio {self.length / self.width:.3f})",
             f"table            {100 * self.table:.1f} %",
             f"crown height     {100 * self.crown_height:.1f} %",
             f"girdle           {100 * self.girdle:.1f} %",
@@ -179,7 +180,9 @@ def convex_from_planes(
     for i in range(len(n)):
         u, v = _plane_basis(n[i])
         c = n[i] * d[i]
-        poly = np.array([c - big * u - big * v, c + big * u - big * v, c + big * u + big * v, c - big * u + big * v])
+        poly = np.array(
+            [c - big * u - big * v, c + big * u - big * v, c + big * u + big * v, c - big * u + big * v]
+        )
         for j in range(len(n)):
             if j != i:
                 poly = _clip(poly, n[j], d[j], eps)
@@ -310,9 +313,16 @@ def measure_proportions(mesh: trimesh.Trimesh, shape: str = "mesh") -> Proportio
     g_top = float(v[crown_v, 2].min()) if len(crown_v) else ztop
     g_bot = float(v[pav_v, 2].max()) if len(pav_v) else zbot
     table = float(np.ptp(v[table_v, axis])) / width if len(table_v) else 0.0
-    return Proportions(shape=shape, length=length, width=width, table=table,
-                       crown_height=(ztop - g_top) / width, pavilion_depth=(g_bot - zbot) / width,
-                       girdle=max(g_top - g_bot, 0.0) / width, total_depth=(ztop - zbot) / width)
+    return Proportions(
+        shape=shape,
+        length=length,
+        width=width,
+        table=table,
+        crown_height=(ztop - g_top) / width,
+        pavilion_depth=(g_bot - zbot) / width,
+        girdle=max(g_top - g_bot, 0.0) / width,
+        total_depth=(ztop - zbot) / width,
+    )
 
 
 def _plane_through(p0, p1, p2) -> tuple[np.ndarray, float]:
@@ -415,8 +425,12 @@ def _brilliant(
     girdle = _check("girdle", girdle, 0.0, 0.2)
     culet = _check("culet", culet, 0.0, 0.3)
     if girdle_facets not in (16, 32, 64, 128):
-        raise InputError("unsupported girdle facet count", field="girdle_facets", value=girdle_facets,
-                         allowed="16, 32, 64, 128")
+        raise InputError(
+            "unsupported girdle facet count",
+            field="girdle_facets",
+            value=girdle_facets,
+            allowed="16, 32, 64, 128",
+        )
     a = math.radians(crown_angle)
     p = math.radians(pavilion_angle)
     c225 = math.cos(math.radians(22.5))
@@ -469,8 +483,12 @@ def _brilliant(
         th = np.radians(np.arange(girdle_facets) * 360.0 / girdle_facets)
         pts = [warp_pt(1.0, t, 0.0) for t in th]
         for j in range(girdle_facets):
-            add(_plane_from_point_dirs(pts[j], pts[(j + 1) % girdle_facets] - pts[j], np.array([0.0, 0.0, 1.0])),
-                f"girdle {j}")
+            add(
+                _plane_from_point_dirs(
+                    pts[j], pts[(j + 1) % girdle_facets] - pts[j], np.array([0.0, 0.0, 1.0])
+                ),
+                f"girdle {j}",
+            )
 
     s = half_width
     mesh = convex_from_planes(np.array(normals), np.array(offsets) * s, names)
@@ -533,8 +551,19 @@ def round_brilliant(
     girdle_facets : number of vertical girdle facets (16, 32, 64 or 128).
     """
     diameter = _check("diameter", diameter, 0.0, 1e4, lo_open=True, unit=" mm")
-    return _brilliant("round_brilliant", _outline_round, diameter / 2, table, crown_angle, pavilion_angle,
-                      star_length, lower_girdle_length, girdle, culet, girdle_facets)
+    return _brilliant(
+        "round_brilliant",
+        _outline_round,
+        diameter / 2,
+        table,
+        crown_angle,
+        pavilion_angle,
+        star_length,
+        lower_girdle_length,
+        girdle,
+        culet,
+        girdle_facets,
+    )
 
 
 def _fancy(shape, outline_factory, length, width, kw) -> trimesh.Trimesh:
@@ -543,8 +572,16 @@ def _fancy(shape, outline_factory, length, width, kw) -> trimesh.Trimesh:
     ratio = length / width
     if shape != "oval" and ratio < 1.05:
         raise InputError(f"a {shape} needs length/width >= 1.05", field="length", value=length)
-    defaults = dict(table=0.53, crown_angle=34.5, pavilion_angle=40.75, star_length=0.5,
-                    lower_girdle_length=0.75, girdle=0.02, culet=0.0, girdle_facets=16)
+    defaults = dict(
+        table=0.53,
+        crown_angle=34.5,
+        pavilion_angle=40.75,
+        star_length=0.5,
+        lower_girdle_length=0.75,
+        girdle=0.02,
+        culet=0.0,
+        girdle_facets=16,
+    )
     unknown = set(kw) - set(defaults)
     if unknown:
         raise TypeError(f"unexpected argument(s) {sorted(unknown)}")
@@ -615,13 +652,21 @@ def step_cut(
             raise InputError("tier angles must decrease from the girdle inwards", field=nm, value=tuple(seq))
     W, Lh = width / 2, length / 2
     c = corner * width
-    edges = [((1.0, 0.0), Lh, "side +x"), ((0.0, 1.0), W, "side +y"), ((-1.0, 0.0), Lh, "side -x"),
-             ((0.0, -1.0), W, "side -y")]
+    edges = [
+        ((1.0, 0.0), Lh, "side +x"),
+        ((0.0, 1.0), W, "side +y"),
+        ((-1.0, 0.0), Lh, "side -x"),
+        ((0.0, -1.0), W, "side -y"),
+    ]
     if c > 0:
         r2 = 1 / math.sqrt(2)
         hc = (Lh + W - c) * r2
-        edges += [((r2, r2), hc, "corner +x+y"), ((-r2, r2), hc, "corner -x+y"), ((-r2, -r2), hc, "corner -x-y"),
-                  ((r2, -r2), hc, "corner +x-y")]
+        edges += [
+            ((r2, r2), hc, "corner +x+y"),
+            ((-r2, r2), hc, "corner -x+y"),
+            ((-r2, -r2), hc, "corner -x-y"),
+            ((r2, -r2), hc, "corner +x-y"),
+        ]
     g2 = girdle * width / 2
     normals, offsets, names = [], [], []
     for (ex, ey), h, nm in edges:
@@ -651,8 +696,14 @@ def step_cut(
     names.append("table")
     mesh = convex_from_planes(np.array(normals), np.array(offsets), names)
     mesh.metadata["proportions"] = Proportions(
-        shape=shape, length=length, width=width, table=table, crown_height=(zt - g2) / width,
-        pavilion_depth=(-g2 - zk) / width, girdle=2 * g2 / width, total_depth=(zt - zk) / width,
+        shape=shape,
+        length=length,
+        width=width,
+        table=table,
+        crown_height=(zt - g2) / width,
+        pavilion_depth=(-g2 - zk) / width,
+        girdle=2 * g2 / width,
+        total_depth=(zt - zk) / width,
         crown_angle=crown_angles[0] if len(crown_angles) == 1 else None,
         pavilion_angle=pavilion_angles[-1] if len(pavilion_angles) == 1 else None,
     )
@@ -672,8 +723,16 @@ def emerald(
     girdle: float = 0.02,
 ) -> trimesh.Trimesh:
     """Emerald cut: rectangular step cut with cut corners (see :func:`step_cut`)."""
-    return step_cut(length, width, corner=corner, table=table, crown_angles=crown_angles,
-                    pavilion_angles=pavilion_angles, girdle=girdle, shape="emerald")
+    return step_cut(
+        length,
+        width,
+        corner=corner,
+        table=table,
+        crown_angles=crown_angles,
+        pavilion_angles=pavilion_angles,
+        girdle=girdle,
+        shape="emerald",
+    )
 
 
 def princess(
@@ -688,8 +747,16 @@ def princess(
 
     A simplification of the commercial princess, whose pavilion chevrons are split further.
     """
-    return step_cut(width, width, corner=0.0, table=table, crown_angles=(crown_angle,),
-                    pavilion_angles=pavilion_angles, girdle=girdle, shape="princess")
+    return step_cut(
+        width,
+        width,
+        corner=0.0,
+        table=table,
+        crown_angles=(crown_angle,),
+        pavilion_angles=pavilion_angles,
+        girdle=girdle,
+        shape="princess",
+    )
 
 
 # ---------------------------------------------------------------------------------------------
@@ -723,8 +790,9 @@ def prism(apex_angle: float = 60.0, size: float = 10.0, length: float = 10.0) ->
     apex = np.array([0.0, 0.0, z_apex])
     normals = [n_r, n_l, (0, 0, -1), (0, 1, 0), (0, -1, 0)]
     offsets = [n_r @ apex, n_l @ apex, -z_base, length / 2, length / 2]
-    m = convex_from_planes(np.array(normals, dtype=float), np.array(offsets),
-                           ["face +x", "face -x", "base", "end +y", "end -y"])
+    m = convex_from_planes(
+        np.array(normals, dtype=float), np.array(offsets), ["face +x", "face -x", "base", "end +y", "end -y"]
+    )
     m.metadata["shape"] = "prism"
     m.metadata["apex_angle"] = math.degrees(A)
     m.metadata["base_width"] = 2 * half_base

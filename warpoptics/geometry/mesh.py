@@ -48,8 +48,12 @@ def load_mesh(
     path = os.fspath(path)
     ext = os.path.splitext(path)[1].lower()
     if ext not in SUPPORTED_EXTENSIONS:
-        raise InputError("unsupported mesh format", file=path, value=ext or "(none)",
-                         allowed=", ".join(SUPPORTED_EXTENSIONS))
+        raise InputError(
+            "unsupported mesh format",
+            file=path,
+            value=ext or "(none)",
+            allowed=", ".join(SUPPORTED_EXTENSIONS),
+        )
     if not os.path.isfile(path):
         raise InputError("no such file", file=path)
     try:
@@ -85,7 +89,9 @@ def validate_mesh(
         raise InputError(
             f"absurd scale: largest extent {size:.4g} mm (lengths are in mm; pass scale=1000 for metres, "
             "scale=10 for cm)",
-            file=name, field="scale", allowed=f"[{min_size:g}, {max_size:g}] mm",
+            file=name,
+            field="scale",
+            allowed=f"[{min_size:g}, {max_size:g}] mm",
         )
     if repair:
         mesh = mesh.copy()
@@ -94,19 +100,26 @@ def validate_mesh(
     degenerate = mesh.area_faces <= area_tol
     if np.any(degenerate):
         if not repair:
-            raise InputError(f"{int(degenerate.sum())} degenerate (zero-area) face(s), e.g. face "
-                             f"{int(np.flatnonzero(degenerate)[0])} (use repair to drop them)", file=name)
+            raise InputError(
+                f"{int(degenerate.sum())} degenerate (zero-area) face(s), e.g. face "
+                f"{int(np.flatnonzero(degenerate)[0])} (use repair to drop them)",
+                file=name,
+            )
         mesh.update_faces(~degenerate)
         mesh.remove_unreferenced_vertices()
     if not mesh.is_winding_consistent:
         if not repair:
-            raise InputError("inconsistent winding: adjacent faces are oriented oppositely (use repair)",
-                             file=name)
+            raise InputError(
+                "inconsistent winding: adjacent faces are oriented oppositely (use repair)", file=name
+            )
         mesh = _fix_winding(mesh)
     if not mesh.is_watertight:
         if not repair:
-            raise InputError("not watertight: the surface has open or non-manifold edges; a refracting "
-                             "solid must be closed (use repair to fill small holes)", file=name)
+            raise InputError(
+                "not watertight: the surface has open or non-manifold edges; a refracting "
+                "solid must be closed (use repair to fill small holes)",
+                file=name,
+            )
         mesh = _fill_holes(mesh)
         if not mesh.is_watertight:
             raise InputError("not watertight, and repair could not close it", file=name)
@@ -114,8 +127,9 @@ def validate_mesh(
             mesh = _fix_winding(mesh)
     if mesh.volume < 0:
         if not repair:
-            raise InputError("inverted: the normals point into the solid (negative volume; use repair)",
-                             file=name)
+            raise InputError(
+                "inverted: the normals point into the solid (negative volume; use repair)", file=name
+            )
         mesh.invert()
     if not repair and not mesh.is_winding_consistent:  # pragma: no cover - defensive
         raise InputError("inconsistent winding", file=name)
@@ -221,8 +235,9 @@ def facet_planes(mesh: trimesh.Trimesh, *, angle_tol: float = 1e-5) -> tuple[np.
     # d: area-weighted mean of n . centroid over the facet's faces
     dsum = np.zeros(k)
     asum = np.zeros(k)
-    np.add.at(dsum, face_facet,
-              np.einsum("ij,ij->i", normals[face_facet], mesh.triangles_center) * mesh.area_faces)
+    np.add.at(
+        dsum, face_facet, np.einsum("ij,ij->i", normals[face_facet], mesh.triangles_center) * mesh.area_faces
+    )
     np.add.at(asum, face_facet, mesh.area_faces)
     asum[asum == 0] = 1.0
     planes = np.column_stack([normals, dsum / asum])
