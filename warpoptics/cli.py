@@ -20,6 +20,7 @@ SUBCOMMAND_MODULES = [
     "warpoptics.commands.info",
     "warpoptics.commands.spectrum",
     "warpoptics.commands.material",
+    "warpoptics.commands.cut",
 ]
 
 

@@ -88,7 +88,8 @@ class Proportions:
         """One human-readable block, percentages of the width."""
         lines = [
             f"shape            {self.shape}",
-            f"length x width   {self.length:.4g} x {self.width:.4g} mm (ratio {self.length / self.width:.3f})",
+            f"length x width   {self.length:.4g} x {self.width:.4g} mm "
+            f"(ratio {self.length / self.width:.3f})",
             f"table            {100 * self.table:.1f} %",
             f"crown height     {100 * self.crown_height:.1f} %",
             f"girdle           {100 * self.girdle:.1f} %",
@@ -143,13 +144,16 @@ def convex_from_planes(
     *,
     proportions: Proportions | None = None,
     source: str | None = None,
+    merge_tol: float = 1e-7,
 ) -> trimesh.Trimesh:
     """The convex polyhedron ``{x : n_i . x <= d_i for all i}`` as a watertight triangle mesh.
 
     ``normals`` (K, 3) need not be unit length (they are normalised, ``offsets`` with them).
     Each plane that bounds a face of positive area becomes one facet; redundant planes are
     dropped (their names with them).  Raises :class:`InputError` if the intersection is empty,
-    flat or unbounded.  ``source`` names the input in error messages (a file name).
+    flat or unbounded.  ``source`` names the input in error messages (a file name).  Vertices
+    closer than ``merge_tol`` times the largest plane distance are merged (facets smaller than
+    that vanish).
     """
     n = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
     d = np.asarray(offsets, dtype=np.float64).reshape(-1)
@@ -176,7 +180,9 @@ def convex_from_planes(
     for i in range(len(n)):
         u, v = _plane_basis(n[i])
         c = n[i] * d[i]
-        poly = np.array([c - big * u - big * v, c + big * u - big * v, c + big * u + big * v, c - big * u + big * v])
+        poly = np.array(
+            [c - big * u - big * v, c + big * u - big * v, c + big * u + big * v, c - big * u + big * v]
+        )
         for j in range(len(n)):
             if j != i:
                 poly = _clip(poly, n[j], d[j], eps)
@@ -195,9 +201,12 @@ def convex_from_planes(
     if len(keep) < 4:
         raise InputError("the facet planes enclose no solid", file=source)
 
-    # Merge the vertices that adjacent facets computed independently.
+    # Merge the vertices that adjacent facets computed independently.  A vertex where more than
+    # three planes meet (a brilliant's star tips) comes out of rounded input (a .asc file's six
+    # decimals) as a cluster of nearly coincident points: they merge into one, and facets that
+    # shrink below the tolerance disappear, consistently on every facet that shares them.
     allv = np.concatenate(polys)
-    tol = 1e-9 * scale
+    tol = merge_tol * scale
     from scipy.spatial import cKDTree
 
     tree = cKDTree(allv)
@@ -216,6 +225,21 @@ def convex_from_planes(
     roots = np.array([find(a) for a in range(len(allv))])
     uniq, inverse = np.unique(roots, return_inverse=True)
     vertices = [allv[roots == r].mean(axis=0) for r in uniq]
+
+    # Polish each vertex: the least-squares point of the planes that meet there (the clipped
+    # coordinates carry the round-off of the huge starting polygons, ~1e-12 relative).
+    owner_planes: list[list[int]] = [[] for _ in vertices]
+    start = 0
+    for poly, i in zip(polys, keep, strict=True):
+        for x in set(int(y) for y in inverse[start : start + len(poly)]):
+            owner_planes[x].append(i)
+        start += len(poly)
+    for x, ps in enumerate(owner_planes):
+        if len(ps) >= 3:
+            A, b = n[ps], d[ps]
+            sol, _, rank, _ = np.linalg.lstsq(A, b, rcond=None)
+            if rank == 3 and np.linalg.norm(sol - vertices[x]) < 10 * tol + 1e-9 * scale:
+                vertices[x] = sol
 
     faces: list[list[int]] = []
     face_facet: list[int] = []
@@ -242,7 +266,7 @@ def convex_from_planes(
         crosses = [
             np.linalg.norm(np.cross(pts[(a + 1) % m] - pts[a], pts[(a - 1) % m] - pts[a])) for a in range(m)
         ]
-        if min(crosses) < 1e-10 * scale * scale:
+        if min(crosses) < 1e-9 * scale * scale:
             vertices.append(pts.mean(axis=0))
             c = len(vertices) - 1
             for a in range(m):
@@ -289,9 +313,16 @@ def measure_proportions(mesh: trimesh.Trimesh, shape: str = "mesh") -> Proportio
     g_top = float(v[crown_v, 2].min()) if len(crown_v) else ztop
     g_bot = float(v[pav_v, 2].max()) if len(pav_v) else zbot
     table = float(np.ptp(v[table_v, axis])) / width if len(table_v) else 0.0
-    return Proportions(shape=shape, length=length, width=width, table=table,
-                       crown_height=(ztop - g_top) / width, pavilion_depth=(g_bot - zbot) / width,
-                       girdle=max(g_top - g_bot, 0.0) / width, total_depth=(ztop - zbot) / width)
+    return Proportions(
+        shape=shape,
+        length=length,
+        width=width,
+        table=table,
+        crown_height=(ztop - g_top) / width,
+        pavilion_depth=(g_bot - zbot) / width,
+        girdle=max(g_top - g_bot, 0.0) / width,
+        total_depth=(ztop - zbot) / width,
+    )
 
 
 def _plane_through(p0, p1, p2) -> tuple[np.ndarray, float]:
@@ -394,8 +425,12 @@ def _brilliant(
     girdle = _check("girdle", girdle, 0.0, 0.2)
     culet = _check("culet", culet, 0.0, 0.3)
     if girdle_facets not in (16, 32, 64, 128):
-        raise InputError("unsupported girdle facet count", field="girdle_facets", value=girdle_facets,
-                         allowed="16, 32, 64, 128")
+        raise InputError(
+            "unsupported girdle facet count",
+            field="girdle_facets",
+            value=girdle_facets,
+            allowed="16, 32, 64, 128",
+        )
     a = math.radians(crown_angle)
     p = math.radians(pavilion_angle)
     c225 = math.cos(math.radians(22.5))
@@ -448,8 +483,12 @@ def _brilliant(
         th = np.radians(np.arange(girdle_facets) * 360.0 / girdle_facets)
         pts = [warp_pt(1.0, t, 0.0) for t in th]
         for j in range(girdle_facets):
-            add(_plane_from_point_dirs(pts[j], pts[(j + 1) % girdle_facets] - pts[j], np.array([0.0, 0.0, 1.0])),
-                f"girdle {j}")
+            add(
+                _plane_from_point_dirs(
+                    pts[j], pts[(j + 1) % girdle_facets] - pts[j], np.array([0.0, 0.0, 1.0])
+                ),
+                f"girdle {j}",
+            )
 
     s = half_width
     mesh = convex_from_planes(np.array(normals), np.array(offsets) * s, names)
@@ -505,13 +544,26 @@ def round_brilliant(
         from the table edge to the girdle (GIA definition, typically 0.45-0.55).
     lower_girdle_length : radial extent of the lower girdle facets from the girdle, as a fraction
         of the girdle radius (typically 0.75-0.80).
-    girdle : girdle thickness at the thin points / diameter (0 = knife edge).
+    girdle : girdle thickness / diameter at the 16 points where the bezels, mains and girdle
+        facets meet the girdle (0 = knife edge).  With more than 16 girdle facets the girdle is
+        scalloped: thinner between those points, as on polished stones.
     culet : culet size / diameter (0 = pointed).
     girdle_facets : number of vertical girdle facets (16, 32, 64 or 128).
     """
     diameter = _check("diameter", diameter, 0.0, 1e4, lo_open=True, unit=" mm")
-    return _brilliant("round_brilliant", _outline_round, diameter / 2, table, crown_angle, pavilion_angle,
-                      star_length, lower_girdle_length, girdle, culet, girdle_facets)
+    return _brilliant(
+        "round_brilliant",
+        _outline_round,
+        diameter / 2,
+        table,
+        crown_angle,
+        pavilion_angle,
+        star_length,
+        lower_girdle_length,
+        girdle,
+        culet,
+        girdle_facets,
+    )
 
 
 def _fancy(shape, outline_factory, length, width, kw) -> trimesh.Trimesh:
@@ -520,8 +572,16 @@ def _fancy(shape, outline_factory, length, width, kw) -> trimesh.Trimesh:
     ratio = length / width
     if shape != "oval" and ratio < 1.05:
         raise InputError(f"a {shape} needs length/width >= 1.05", field="length", value=length)
-    defaults = dict(table=0.53, crown_angle=34.5, pavilion_angle=40.75, star_length=0.5,
-                    lower_girdle_length=0.75, girdle=0.02, culet=0.0, girdle_facets=16)
+    defaults = dict(
+        table=0.53,
+        crown_angle=34.5,
+        pavilion_angle=40.75,
+        star_length=0.5,
+        lower_girdle_length=0.75,
+        girdle=0.02,
+        culet=0.0,
+        girdle_facets=16,
+    )
     unknown = set(kw) - set(defaults)
     if unknown:
         raise TypeError(f"unexpected argument(s) {sorted(unknown)}")
@@ -592,13 +652,21 @@ def step_cut(
             raise InputError("tier angles must decrease from the girdle inwards", field=nm, value=tuple(seq))
     W, Lh = width / 2, length / 2
     c = corner * width
-    edges = [((1.0, 0.0), Lh, "side +x"), ((0.0, 1.0), W, "side +y"), ((-1.0, 0.0), Lh, "side -x"),
-             ((0.0, -1.0), W, "side -y")]
+    edges = [
+        ((1.0, 0.0), Lh, "side +x"),
+        ((0.0, 1.0), W, "side +y"),
+        ((-1.0, 0.0), Lh, "side -x"),
+        ((0.0, -1.0), W, "side -y"),
+    ]
     if c > 0:
         r2 = 1 / math.sqrt(2)
         hc = (Lh + W - c) * r2
-        edges += [((r2, r2), hc, "corner +x+y"), ((-r2, r2), hc, "corner -x+y"), ((-r2, -r2), hc, "corner -x-y"),
-                  ((r2, -r2), hc, "corner +x-y")]
+        edges += [
+            ((r2, r2), hc, "corner +x+y"),
+            ((-r2, r2), hc, "corner -x+y"),
+            ((-r2, -r2), hc, "corner -x-y"),
+            ((r2, -r2), hc, "corner +x-y"),
+        ]
     g2 = girdle * width / 2
     normals, offsets, names = [], [], []
     for (ex, ey), h, nm in edges:
@@ -628,8 +696,14 @@ def step_cut(
     names.append("table")
     mesh = convex_from_planes(np.array(normals), np.array(offsets), names)
     mesh.metadata["proportions"] = Proportions(
-        shape=shape, length=length, width=width, table=table, crown_height=(zt - g2) / width,
-        pavilion_depth=(-g2 - zk) / width, girdle=2 * g2 / width, total_depth=(zt - zk) / width,
+        shape=shape,
+        length=length,
+        width=width,
+        table=table,
+        crown_height=(zt - g2) / width,
+        pavilion_depth=(-g2 - zk) / width,
+        girdle=2 * g2 / width,
+        total_depth=(zt - zk) / width,
         crown_angle=crown_angles[0] if len(crown_angles) == 1 else None,
         pavilion_angle=pavilion_angles[-1] if len(pavilion_angles) == 1 else None,
     )
@@ -649,8 +723,16 @@ def emerald(
     girdle: float = 0.02,
 ) -> trimesh.Trimesh:
     """Emerald cut: rectangular step cut with cut corners (see :func:`step_cut`)."""
-    return step_cut(length, width, corner=corner, table=table, crown_angles=crown_angles,
-                    pavilion_angles=pavilion_angles, girdle=girdle, shape="emerald")
+    return step_cut(
+        length,
+        width,
+        corner=corner,
+        table=table,
+        crown_angles=crown_angles,
+        pavilion_angles=pavilion_angles,
+        girdle=girdle,
+        shape="emerald",
+    )
 
 
 def princess(
@@ -665,8 +747,16 @@ def princess(
 
     A simplification of the commercial princess, whose pavilion chevrons are split further.
     """
-    return step_cut(width, width, corner=0.0, table=table, crown_angles=(crown_angle,),
-                    pavilion_angles=pavilion_angles, girdle=girdle, shape="princess")
+    return step_cut(
+        width,
+        width,
+        corner=0.0,
+        table=table,
+        crown_angles=(crown_angle,),
+        pavilion_angles=pavilion_angles,
+        girdle=girdle,
+        shape="princess",
+    )
 
 
 # ---------------------------------------------------------------------------------------------
@@ -700,8 +790,9 @@ def prism(apex_angle: float = 60.0, size: float = 10.0, length: float = 10.0) ->
     apex = np.array([0.0, 0.0, z_apex])
     normals = [n_r, n_l, (0, 0, -1), (0, 1, 0), (0, -1, 0)]
     offsets = [n_r @ apex, n_l @ apex, -z_base, length / 2, length / 2]
-    m = convex_from_planes(np.array(normals, dtype=float), np.array(offsets),
-                           ["face +x", "face -x", "base", "end +y", "end -y"])
+    m = convex_from_planes(
+        np.array(normals, dtype=float), np.array(offsets), ["face +x", "face -x", "base", "end +y", "end -y"]
+    )
     m.metadata["shape"] = "prism"
     m.metadata["apex_angle"] = math.degrees(A)
     m.metadata["base_width"] = 2 * half_base

@@ -98,22 +98,24 @@ class Design:
         """Facet planes ``(normals (K,3), distances (K,), names)`` in design units (see module doc)."""
         normals, dist, names = [], [], []
         for t, tier in enumerate(self.tiers):
-            base = tier.names.get(0) or f"tier {t + 1}"
+            base = next(iter(tier.names.values()), f"tier {t + 1}")  # a tier's (first) name
             if tier.angle == 0:
                 if tier.is_culet:
                     normals.append((0.0, 0.0, -1.0))
                     dist.append(abs(tier.distance))
-                    names.append(tier.names.get(0) or "culet")
+                    names.append(next(iter(tier.names.values()), "culet"))
                 else:
                     normals.append((0.0, 0.0, 1.0))
                     dist.append(tier.distance)
-                    names.append(tier.names.get(0) or "table")
+                    names.append(next(iter(tier.names.values()), "table"))
                 continue
             th = math.radians(abs(tier.angle))
             sz = 1.0 if tier.angle > 0 else -1.0
             for j, idx in enumerate(tier.indices):
                 phi = math.radians(90.0 - (360.0 * idx / self.gear + self.reference_angle))
-                normals.append((math.sin(th) * math.cos(phi), math.sin(th) * math.sin(phi), sz * math.cos(th)))
+                normals.append(
+                    (math.sin(th) * math.cos(phi), math.sin(th) * math.sin(phi), sz * math.cos(th))
+                )
                 dist.append(tier.distance)
                 names.append(f"{tier.names.get(j, base)} @{_fmt_index(idx)}")
         return np.array(normals, dtype=np.float64).reshape(-1, 3), np.array(dist, dtype=np.float64), names
@@ -145,15 +147,18 @@ def parse(text: str, *, source: str | None = None) -> Design:
             continue
         m = _KEY.match(line)
         key = m.group(1) if m else None
-        rest = line[m.end():].strip() if m else line
+        rest = line[m.end() :].strip() if m else line
         if key == "GemCad":
             design.version = rest or design.version
             seen_header = True
             open_tier = None
             continue
         if not seen_header:
-            raise InputError(f"line {lineno}: not a GemCAD .asc file (expected 'GemCad <version>' first)",
-                             file=source, value=line[:40])
+            raise InputError(
+                f"line {lineno}: not a GemCAD .asc file (expected 'GemCad <version>' first)",
+                file=source,
+                value=line[:40],
+            )
         if key == "H":
             design.headers.append(rest)
             open_tier = None
@@ -166,10 +171,16 @@ def parse(text: str, *, source: str | None = None) -> Design:
                 raise InputError(f"line {lineno}: 'g' needs the gear tooth count", file=source)
             gear = _num(tok[0], source, lineno, "the gear tooth count")
             if gear == 0 or gear != int(gear) or abs(gear) > 720:
-                raise InputError(f"line {lineno}: bad index gear", file=source, value=tok[0],
-                                 allowed="a non-zero integer up to 720")
+                raise InputError(
+                    f"line {lineno}: bad index gear",
+                    file=source,
+                    value=tok[0],
+                    allowed="a non-zero integer up to 720",
+                )
             design.gear = abs(int(gear))
-            design.reference_angle = _num(tok[1], source, lineno, "the reference angle") if len(tok) > 1 else 0.0
+            design.reference_angle = (
+                _num(tok[1], source, lineno, "the reference angle") if len(tok) > 1 else 0.0
+            )
             open_tier = None
         elif key == "y":
             tok = rest.split()
@@ -186,22 +197,34 @@ def parse(text: str, *, source: str | None = None) -> Design:
         elif key == "a":
             tok = rest.split()
             if len(tok) < 2:
-                raise InputError(f"line {lineno}: a tier needs an angle and a distance", file=source,
-                                 value=line)
+                raise InputError(
+                    f"line {lineno}: a tier needs an angle and a distance", file=source, value=line
+                )
             angle = _num(tok[0], source, lineno, "the facet angle")
             if abs(angle) > 90:
-                raise InputError(f"line {lineno}: facet angle out of range", file=source, value=angle,
-                                 allowed="[-90, 90] deg")
+                raise InputError(
+                    f"line {lineno}: facet angle out of range",
+                    file=source,
+                    value=angle,
+                    allowed="[-90, 90] deg",
+                )
             dist = _num(tok[1], source, lineno, "the facet distance")
-            open_tier = Tier(angle=angle if angle != 0 else 0.0,
-                             distance=dist, indices=[],
-                             pavilion_zero=angle == 0 and tok[0].lstrip().startswith("-"))
+            open_tier = Tier(
+                angle=angle if angle != 0 else 0.0,
+                distance=dist,
+                indices=[],
+                pavilion_zero=angle == 0 and tok[0].lstrip().startswith("-"),
+            )
             design.tiers.append(open_tier)
             in_instruction = _parse_tail(open_tier, tok[2:], source, lineno)
         else:
             if open_tier is None:
-                raise InputError(f"line {lineno}: unrecognised record", file=source, value=line[:40],
-                                 allowed="GemCad, g, y, I, H, F, a")
+                raise InputError(
+                    f"line {lineno}: unrecognised record",
+                    file=source,
+                    value=line[:40],
+                    allowed="GemCad, g, y, I, H, F, a",
+                )
             if in_instruction:
                 open_tier.instruction = f"{open_tier.instruction} {line}".strip()
             else:
@@ -219,7 +242,7 @@ def _parse_tail(tier: Tier, tok: list[str], source, lineno: int) -> bool:
     while k < len(tok):
         t = tok[k]
         if t == "G":
-            extra = " ".join(tok[k + 1:])
+            extra = " ".join(tok[k + 1 :])
             tier.instruction = f"{tier.instruction} {extra}".strip()
             return True
         if t == "n":
@@ -257,7 +280,9 @@ def design_to_mesh(design: Design, diameter: float = 1.0, *, source: str | None 
     ext = mesh.extents
     s = diameter / float(min(ext[0], ext[1]))
     mesh.apply_scale(s)
-    mesh.metadata["planes"] = np.column_stack([mesh.metadata["planes"][:, :3], mesh.metadata["planes"][:, 3] * s])
+    mesh.metadata["planes"] = np.column_stack(
+        [mesh.metadata["planes"][:, :3], mesh.metadata["planes"][:, 3] * s]
+    )
     mesh.metadata["proportions"] = measure_proportions(mesh, shape="gemcad")
     mesh.metadata["symmetry"] = (design.symmetry, design.mirror)
     mesh.metadata["refractive_index"] = design.refractive_index
@@ -340,14 +365,24 @@ def design_from_mesh(
         t.indices.sort()
     sym, mirror = mesh.metadata.get("symmetry", (1, False))
     headers = [title or f"warpoptics {mesh.metadata.get('shape', 'design')}"]
-    return Design(tiers=tier_list, gear=gear, symmetry=int(sym), mirror=bool(mirror),
-                  refractive_index=refractive_index, headers=headers)
+    return Design(
+        tiers=tier_list,
+        gear=gear,
+        symmetry=int(sym),
+        mirror=bool(mirror),
+        refractive_index=refractive_index,
+        headers=headers,
+    )
 
 
 def dumps(design: Design) -> str:
     """The ``.asc`` text of a design (LF line ends; :func:`write` converts to CRLF)."""
-    out = [f"GemCad {design.version}", f"g {design.gear} {design.reference_angle:.1f}",
-           f"y {design.symmetry} {'y' if design.mirror else 'n'}", f"I {design.refractive_index:.6f}"]
+    out = [
+        f"GemCad {design.version}",
+        f"g {design.gear} {design.reference_angle:.1f}",
+        f"y {design.symmetry} {'y' if design.mirror else 'n'}",
+        f"I {design.refractive_index:.6f}",
+    ]
     out += [f"H {h}" for h in design.headers]
     for t in design.tiers:
         angle = "-0.000000" if t.pavilion_zero and t.angle == 0 else f"{t.angle:.6f}"

@@ -10,8 +10,9 @@ rejects, with an :class:`~warpoptics.errors.InputError` naming the file and what
 - inverted (consistent winding, but the normals point inwards: negative volume);
 - an absurd scale (largest extent outside ``[min_size, max_size]`` mm, e.g. a model in metres).
 
-``repair=True`` opts in to trimesh's fixes (drop degenerate faces, merge duplicate vertices,
-fix winding and inversion, fill small holes); anything still wrong is an error.  Scale is never
+``repair=True`` opts in to fixes (merge duplicate vertices, drop degenerate faces, make the
+winding consistent, fan-fill boundary loops, invert an inside-out mesh); anything still wrong is
+an error.  Scale is never
 guessed: pass ``scale`` (e.g. 1000 for a model in metres).
 
 :func:`facet_planes` groups coplanar faces into facets (planes ``[n, d]``, outward ``n``), which
@@ -47,8 +48,12 @@ def load_mesh(
     path = os.fspath(path)
     ext = os.path.splitext(path)[1].lower()
     if ext not in SUPPORTED_EXTENSIONS:
-        raise InputError("unsupported mesh format", file=path, value=ext or "(none)",
-                         allowed=", ".join(SUPPORTED_EXTENSIONS))
+        raise InputError(
+            "unsupported mesh format",
+            file=path,
+            value=ext or "(none)",
+            allowed=", ".join(SUPPORTED_EXTENSIONS),
+        )
     if not os.path.isfile(path):
         raise InputError("no such file", file=path)
     try:
@@ -84,7 +89,9 @@ def validate_mesh(
         raise InputError(
             f"absurd scale: largest extent {size:.4g} mm (lengths are in mm; pass scale=1000 for metres, "
             "scale=10 for cm)",
-            file=name, field="scale", allowed=f"[{min_size:g}, {max_size:g}] mm",
+            file=name,
+            field="scale",
+            allowed=f"[{min_size:g}, {max_size:g}] mm",
         )
     if repair:
         mesh = mesh.copy()
@@ -93,56 +100,133 @@ def validate_mesh(
     degenerate = mesh.area_faces <= area_tol
     if np.any(degenerate):
         if not repair:
-            raise InputError(f"{int(degenerate.sum())} degenerate (zero-area) face(s), e.g. face "
-                             f"{int(np.flatnonzero(degenerate)[0])} (use repair to drop them)", file=name)
+            raise InputError(
+                f"{int(degenerate.sum())} degenerate (zero-area) face(s), e.g. face "
+                f"{int(np.flatnonzero(degenerate)[0])} (use repair to drop them)",
+                file=name,
+            )
         mesh.update_faces(~degenerate)
         mesh.remove_unreferenced_vertices()
     if not mesh.is_winding_consistent:
         if not repair:
-            raise InputError("inconsistent winding: adjacent faces are oriented oppositely (use repair)",
-                             file=name)
-        trimesh.repair.fix_winding(mesh)
+            raise InputError(
+                "inconsistent winding: adjacent faces are oriented oppositely (use repair)", file=name
+            )
+        mesh = _fix_winding(mesh)
     if not mesh.is_watertight:
         if not repair:
-            raise InputError("not watertight: the surface has open or non-manifold edges; a refracting "
-                             "solid must be closed (use repair to fill small holes)", file=name)
-        trimesh.repair.fill_holes(mesh)
+            raise InputError(
+                "not watertight: the surface has open or non-manifold edges; a refracting "
+                "solid must be closed (use repair to fill small holes)",
+                file=name,
+            )
+        mesh = _fill_holes(mesh)
         if not mesh.is_watertight:
             raise InputError("not watertight, and repair could not close it", file=name)
         if not mesh.is_winding_consistent:
-            trimesh.repair.fix_winding(mesh)
+            mesh = _fix_winding(mesh)
     if mesh.volume < 0:
         if not repair:
-            raise InputError("inverted: the normals point into the solid (negative volume; use repair)",
-                             file=name)
+            raise InputError(
+                "inverted: the normals point into the solid (negative volume; use repair)", file=name
+            )
         mesh.invert()
     if not repair and not mesh.is_winding_consistent:  # pragma: no cover - defensive
         raise InputError("inconsistent winding", file=name)
     return mesh
 
 
-def facet_planes(mesh: trimesh.Trimesh, *, angle_tol: float = 1e-6) -> tuple[np.ndarray, np.ndarray]:
+def _edge_direction(face: np.ndarray, a: int, b: int) -> int:
+    """+1 if the face runs a -> b, -1 if b -> a."""
+    i = int(np.flatnonzero(face == a)[0])
+    return 1 if face[(i + 1) % 3] == b else -1
+
+
+def _fix_winding(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
+    """Flip faces so that every pair of edge-adjacent faces runs their shared edge in opposite
+    directions (breadth-first over each connected component, its first face kept)."""
+    from collections import deque
+
+    faces = np.asarray(mesh.faces).copy()
+    nf = len(faces)
+    neighbours: list[list[tuple[int, int, int]]] = [[] for _ in range(nf)]
+    for (f, g), (a, b) in zip(mesh.face_adjacency, mesh.face_adjacency_edges, strict=True):
+        neighbours[f].append((int(g), int(a), int(b)))
+        neighbours[g].append((int(f), int(a), int(b)))
+    flip = np.zeros(nf, dtype=bool)
+    seen = np.zeros(nf, dtype=bool)
+    for seed in range(nf):
+        if seen[seed]:
+            continue
+        seen[seed] = True
+        queue = deque([seed])
+        while queue:
+            f = queue.popleft()
+            for g, a, b in neighbours[f]:
+                if seen[g]:
+                    continue
+                df = _edge_direction(faces[f], a, b) * (-1 if flip[f] else 1)
+                flip[g] = df * _edge_direction(faces[g], a, b) == 1
+                seen[g] = True
+                queue.append(g)
+    faces[flip] = faces[flip][:, ::-1]
+    return trimesh.Trimesh(mesh.vertices, faces, process=False)
+
+
+def _fill_holes(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
+    """Close each boundary loop with a fan of triangles wound like its neighbours (small holes)."""
+    edges = mesh.edges  # directed, three per face
+    key = np.sort(edges, axis=1)
+    _, inv, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    boundary = edges[counts[inv.ravel()] == 1]
+    nxt: dict[int, int] = {}
+    for a, b in boundary:
+        if int(a) in nxt:  # a vertex starting two boundary edges: non-manifold, leave it
+            return mesh
+        nxt[int(a)] = int(b)
+    new_faces = []
+    seen: set[int] = set()
+    for start in list(nxt):
+        if start in seen:
+            continue
+        loop = [start]
+        seen.add(start)
+        v = nxt[start]
+        while v != start:
+            if v in seen or v not in nxt:
+                return mesh
+            loop.append(v)
+            seen.add(v)
+            v = nxt[v]
+        # existing faces traverse the loop forwards; the patch traverses it backwards
+        for i in range(1, len(loop) - 1):
+            new_faces.append([loop[0], loop[i + 1], loop[i]])
+    if not new_faces:
+        return mesh
+    return trimesh.Trimesh(mesh.vertices, np.vstack([mesh.faces, new_faces]), process=False)
+
+
+def facet_planes(mesh: trimesh.Trimesh, *, angle_tol: float = 1e-5) -> tuple[np.ndarray, np.ndarray]:
     """Facet planes of a mesh and the facet of each face.
 
     Returns ``planes`` (K, 4) float64 rows ``[nx, ny, nz, d]`` (unit outward normal, ``n . x = d``
     on the facet) and ``face_facet`` (F,) int64.  Uses ``mesh.metadata`` when it carries them
-    (cuts and GemCAD designs), else groups adjacent coplanar faces (normals within ``angle_tol``
-    radians) into facets; a face not in a group is its own facet.
+    (cuts and GemCAD designs), else groups edge-adjacent faces whose normals differ by less than
+    ``angle_tol`` radians into facets (1e-5 rad: above float32 round-off of files, far below
+    the degrees between the facets of a gem).
     """
     md = mesh.metadata
     if "planes" in md and "face_facet" in md and len(md["face_facet"]) == len(mesh.faces):
         return np.asarray(md["planes"], dtype=np.float64), np.asarray(md["face_facet"], dtype=np.int64)
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
     nf = len(mesh.faces)
-    face_facet = np.full(nf, -1, dtype=np.int64)
-    k = 0
-    groups = trimesh.graph.facets(mesh, facet_threshold=angle_tol) if nf else []
-    planes = []
-    for g in groups:
-        face_facet[g] = k
-        k += 1
-    singles = np.flatnonzero(face_facet < 0)
-    face_facet[singles] = np.arange(k, k + len(singles))
-    k += len(singles)
+    adj = mesh.face_adjacency
+    same = adj[mesh.face_adjacency_angles < angle_tol]
+    graph = coo_matrix((np.ones(len(same)), (same[:, 0], same[:, 1])), shape=(nf, nf))
+    k, face_facet = connected_components(graph, directed=False)
+    face_facet = face_facet.astype(np.int64)
     normals = np.zeros((k, 3))
     np.add.at(normals, face_facet, mesh.face_normals * mesh.area_faces[:, None])
     length = np.linalg.norm(normals, axis=1)
@@ -151,8 +235,9 @@ def facet_planes(mesh: trimesh.Trimesh, *, angle_tol: float = 1e-6) -> tuple[np.
     # d: area-weighted mean of n . centroid over the facet's faces
     dsum = np.zeros(k)
     asum = np.zeros(k)
-    np.add.at(dsum, face_facet,
-              np.einsum("ij,ij->i", normals[face_facet], mesh.triangles_center) * mesh.area_faces)
+    np.add.at(
+        dsum, face_facet, np.einsum("ij,ij->i", normals[face_facet], mesh.triangles_center) * mesh.area_faces
+    )
     np.add.at(asum, face_facet, mesh.area_faces)
     asum[asum == 0] = 1.0
     planes = np.column_stack([normals, dsum / asum])

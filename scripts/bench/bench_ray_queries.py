@@ -1,0 +1,148 @@
+"""Rays per second of the closest-hit queries on a round brilliant: BVH vs convex facet planes.
+
+Rays: half from outside (origins on a sphere of radius 2 x diameter, aimed at random points of
+the stone's bounding box; about 60 % hit), half from inside (uniform in the stone, random
+directions; all hit), the mix a gem tracer sees.  Timings are the best of ``--repeat`` runs of
+the warm kernel (compile excluded, reported separately) on one thread and on all threads
+(``device.launch_tiled``).  Optionally the same rays through Embree (PyPI ``embreex``, one
+``rtcIntersect1`` per ray on one thread) as a reference for what a CPU BVH can do.
+
+    python scripts/bench/bench_ray_queries.py [--rays 1000000] [--repeat 3] [--no-embree]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+
+import numpy as np
+import warp as wp
+
+import warpoptics as wo
+from warpoptics.geometry import cuts, query
+
+
+def make_rays(mesh, n: int, seed: int = 0):
+    rng = np.random.default_rng(seed)
+    planes = mesh.metadata["planes"]
+    lo, hi = mesh.bounds
+    diam = float(np.max(hi - lo))
+    n_out = n // 2
+    o = rng.normal(size=(n_out, 3))
+    o = o / np.linalg.norm(o, axis=1, keepdims=True) * 2.0 * diam
+    target = rng.uniform(lo, hi, size=(n_out, 3))
+    d = target - o
+    inside = np.empty((0, 3))
+    while len(inside) < n - n_out:
+        p = rng.uniform(lo, hi, size=(2 * (n - n_out), 3))
+        ok = np.all(p @ planes[:, :3].T - planes[:, 3] < -1e-6 * diam, axis=1)
+        inside = np.concatenate([inside, p[ok]])
+    o = np.concatenate([o, inside[: n - n_out]])
+    d = np.concatenate([d, rng.normal(size=(n - n_out, 3))])
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    return o.astype(np.float32), d.astype(np.float32)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--rays", type=int, default=1_000_000)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--diameter", type=float, default=6.5)
+    ap.add_argument("--girdle-facets", type=int, default=16)
+    ap.add_argument("--no-embree", action="store_true")
+    ap.add_argument("--device", default=None)
+    args = ap.parse_args(argv)
+
+    dev = wo.device.get_device(args.device)
+    mesh = cuts.round_brilliant(args.diameter, girdle_facets=args.girdle_facets)
+    o_np, d_np = make_rays(mesh, args.rays)
+    n = len(o_np)
+    t0 = time.perf_counter()
+    scene = query.GeometryScene([mesh], device=dev)
+    origins = wp.array(o_np, dtype=wp.vec3f, device=dev)
+    dirs = wp.array(d_np, dtype=wp.vec3f, device=dev)
+    tmax = wp.full(n, 1e30, dtype=wp.float32, device=dev)
+    out = [
+        wp.zeros(n, dtype=wp.float32, device=dev),
+        wp.zeros(n, dtype=wp.int32, device=dev),
+        wp.zeros(n, dtype=wp.int32, device=dev),
+        wp.zeros(n, dtype=wp.int32, device=dev),
+        wp.zeros(n, dtype=wp.vec3f, device=dev),
+    ]
+    scene.launch_closest_hit(origins[:1], dirs[:1], tmax[:1], [a[:1] for a in out], threads=1)
+    wp.synchronize_device(dev)
+    setup = time.perf_counter() - t0
+    cores = wo.device.cpu_threads()
+    print(
+        f"round brilliant {args.diameter} mm: {len(mesh.faces)} triangles, "
+        f"{len(mesh.metadata['planes'])} facet "
+        f"planes; {n} rays (half outside, half inside); device {dev.alias}, {cores} threads"
+    )
+    print(f"scene build + kernel load/compile: {setup:.2f} s")
+    results = {}
+    threads_list = [1] if not dev.is_cpu or cores == 1 else [1, cores]
+    for mode in ("bvh", "convex"):
+        for threads in threads_list:
+            best = np.inf
+            for _ in range(args.repeat):
+                t0 = time.perf_counter()
+                scene.launch_closest_hit(origins, dirs, tmax, out, mode=mode, threads=threads)
+                wp.synchronize_device(dev)
+                best = min(best, time.perf_counter() - t0)
+            results[(mode, threads)] = (n / best, out[0].numpy().copy(), out[2].numpy().copy())
+            print(f"  {mode:7s} {threads:2d} thread(s): {n / best / 1e6:8.2f} Mrays/s  ({best * 1e3:.1f} ms)")
+    tb, fb = results[("bvh", 1)][1:]
+    tc, fc = results[("convex", 1)][1:]
+    hit = (fb >= 0) & (fc >= 0)
+    print(
+        f"  agreement: hit/miss {np.mean((fb >= 0) == (fc >= 0)):.6f}, "
+        f"facet {np.mean(fb[hit] == fc[hit]):.6f}, "
+        f"max |dt|/t {np.max(np.abs(tb[hit] - tc[hit]) / tc[hit]):.2e}"
+    )
+    for threads in threads_list[1:]:
+        print(
+            f"  speed-up on {threads} threads: "
+            f"bvh {results[('bvh', threads)][0] / results[('bvh', 1)][0]:.2f}x, "
+            f"convex {results[('convex', threads)][0] / results[('convex', 1)][0]:.2f}x"
+        )
+    print(f"  convex / bvh (1 thread): {results[('convex', 1)][0] / results[('bvh', 1)][0]:.2f}x")
+    if not args.no_embree:
+        try:
+            from embreex import rtcore_scene
+            from embreex.mesh_construction import TriangleMesh
+        except ImportError:
+            print("  embree: not installed (pip install embreex)")
+            return 0
+        es = rtcore_scene.EmbreeScene()
+        TriangleMesh(
+            scene=es,
+            vertices=np.asarray(mesh.vertices, dtype=np.float32),
+            indices=np.asarray(mesh.faces, dtype=np.int32),
+        )
+        best = np.inf
+        for _ in range(args.repeat):
+            t0 = time.perf_counter()
+            res = es.run(o_np, d_np, output=1)
+            best = min(best, time.perf_counter() - t0)
+        prim = np.asarray(res["primID"])
+        tfar = np.asarray(res["tfar"])
+        eh = prim >= 0
+        face_facet = mesh.metadata["face_facet"]
+        both = eh & (fb >= 0)
+        print(
+            f"  embree   1 thread(s): {n / best / 1e6:8.2f} Mrays/s  "
+            f"({best * 1e3:.1f} ms, incl. Python/NumPy "
+            f"overhead of embreex)"
+        )
+        print(
+            f"  embree vs bvh: hit/miss {np.mean(eh == (fb >= 0)):.6f}, facet "
+            f"{np.mean(face_facet[prim[both]] == fb[both]):.6f}, max |dt|/t "
+            f"{np.max(np.abs(tfar[both] - tb[both]) / tb[both]):.2e}"
+        )
+    return 0
+
+
+if __name__ == "__main__":
+    os.environ.setdefault("PYTHONWARNINGS", "ignore")
+    raise SystemExit(main())
