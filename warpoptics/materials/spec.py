@@ -4,9 +4,11 @@
 material = "sapphire"
 material = { base = "spinel", absorption_rgb = [0.9, 0.6, 0.05], kramers_kronig = true }
 material = { base = "diamond", bands = [{ center_nm = 560, width_nm = 25, peak_alpha_per_mm = 2.0 }] }
+material = { cauchy = [1.5, 0.0042] }    # n = A + B / lambda^2 (lambda in um); [2.0] is non-dispersive
 ```
 
-Keys of an inline table: ``base`` (library name, required); ``bands`` (Gaussian/Lorentzian
+Keys of an inline table: ``base`` (library name) or ``cauchy`` (coefficients A, B, ... of a
+Cauchy formula, lambda in micrometres), one of them required; ``bands`` (Gaussian/Lorentzian
 absorption bands, alpha in 1/mm base e); ``absorption_rgb`` (an eq. 9 RGB absorbance triplet in
 1/mm, inverted onto a smooth spectrum, Guy & Soler 2004); ``kramers_kronig`` (add the anomalous
 dispersion of the absorption, Weidlich & Wilkie 2009); ``optic_axis`` (unit vector, uniaxial).
@@ -21,13 +23,13 @@ import numpy as np
 
 from ..errors import InputError
 from .absorption import AbsorptionSpectrum, Band, spectrum_from_rgb, with_absorption
-from .dispersion import Material, Uniaxial
+from .dispersion import Cauchy, Material, Uniaxial
 from .kramers_kronig import anomalous
 from .library import get
 
 __all__ = ["material_from_spec"]
 
-_KEYS = {"base", "bands", "absorption_rgb", "kramers_kronig", "optic_axis"}
+_KEYS = {"base", "cauchy", "bands", "absorption_rgb", "kramers_kronig", "optic_axis"}
 _BAND_KEYS = {"center_nm", "width_nm", "peak_alpha_per_mm", "shape"}
 
 
@@ -44,9 +46,19 @@ def material_from_spec(spec: Any) -> Material:
             close = difflib.get_close_matches(k, list(_KEYS), n=1)
             hint = f"; did you mean {close[0]!r}?" if close else ""
             raise InputError(f"unknown key{hint}", field=k, allowed=", ".join(sorted(_KEYS)))
-    if "base" not in spec:
-        raise InputError("an inline material needs base = \"<library name>\"", field="base")
-    mat = get(spec["base"])
+    if ("base" in spec) == ("cauchy" in spec):
+        raise InputError("an inline material needs exactly one of base = \"<library name>\" or cauchy = [A, B, ...]",
+                         field="base")
+    if "cauchy" in spec:
+        c = spec["cauchy"]
+        if not isinstance(c, list) or not c or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                                       and np.isfinite(v) for v in c):
+            raise InputError("must be a list of numbers [A, B, ...]", field="cauchy", value=c)
+        if c[0] < 1.0:
+            raise InputError("the index must be >= 1", field="cauchy", value=c)
+        mat = Cauchy(*[float(v) for v in c], name="cauchy")
+    else:
+        mat = get(spec["base"])
     absorption = None
     if "bands" in spec:
         bands = spec["bands"]

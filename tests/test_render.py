@@ -1,0 +1,139 @@
+"""The renderer core on the CPU: white furnace, Stokes physics, sampling, determinism, frames.
+
+Small images (16x16 to 24x24) keep this fast; the pipeline kernel is compiled once for all.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import warpoptics as wo
+
+FURNACE = {
+    "camera": {"position": [0.0, -30.0, 20.0], "look_at": [0.0, 0.0, 0.0], "fov": 14.0, "width": 16, "height": 16},
+    "render": {"spectral": "stratified", "wavelengths": 4, "max_depth": 256, "split_threshold": 0.002,
+               "rr_threshold": 1e-4},
+    "light": [{"type": "constant", "intensity": 1.0}],
+    "object": [{"shape": "round_brilliant", "diameter": 6.5, "material": "diamond"}],
+}
+
+
+def scene(data, **over):
+    s = wo.Scene.from_dict(data)
+    return s.with_overrides(over) if over else s
+
+
+def furnace_ratio(data, device):
+    """Y with the stone over Y of the empty furnace, pixel by pixel: the same wavelengths and
+    jitters are drawn in both (separate random streams), so any deviation from 1 is transport."""
+    sc = scene(data)
+    img = wo.render(sc, device=device)
+    empty = wo.render(sc.with_overrides({"object.0.position": [1e4, 1e4, 1e4]}), device=device)
+    assert empty.alpha.max() == 0
+    return img.xyz[..., 1] / empty.xyz[..., 1], img
+
+
+@pytest.mark.parametrize("polarization", [True, False])
+@pytest.mark.parametrize("material", ["diamond", {"cauchy": [2.0]}])
+def test_white_furnace(device, polarization, material):
+    data = {**FURNACE, "render": {**FURNACE["render"], "polarization": polarization},
+            "object": [{**FURNACE["object"][0], "material": material}]}
+    ratio, img = furnace_ratio(data, device)
+    inside = img.alpha > 0
+    assert inside.sum() > 40  # the stone covers part of the view
+    print(f"furnace {material} polarized={polarization}: Y/Y0 min {ratio.min():.4f} max {ratio.max():.4f}")
+    assert ratio.min() > 0.99 and ratio.max() < 1.01
+    # unpolarized light stays unpolarized in a furnace only in total: S0 equals Y
+    np.testing.assert_allclose(img.stokes[..., 0], img.xyz[..., 1], rtol=1e-12)
+
+
+def test_furnace_with_absorption_is_darker(device):
+    data = {**FURNACE, "object": [{**FURNACE["object"][0], "material": {
+        "base": "diamond", "bands": [{"center_nm": 560.0, "width_nm": 40.0, "peak_alpha_per_mm": 1.0}]}}]}
+    ratio, img = furnace_ratio(data, device)
+    inside = img.alpha > 0.99
+    assert ratio[inside].max() < 0.95
+    assert ratio.min() >= 0.0
+
+
+STUDIO = {
+    "camera": {"position": [0.0, -22.0, 30.0], "look_at": [0.0, 0.0, -0.3], "fov": 15.0, "width": 20, "height": 20},
+    "render": {"spectral": "stratified", "wavelengths": 6, "max_depth": 12},
+    "light": [{"type": "environment", "map": "studio"}],
+    "object": [{"shape": "round_brilliant", "diameter": 6.5, "material": "diamond"}],
+}
+
+
+def test_stokes_images_are_physical(device):
+    img = wo.render(scene(STUDIO), device=device)
+    s = img.stokes
+    pol = np.linalg.norm(s[..., 1:], axis=-1)
+    assert np.all(s[..., 0] >= -1e-12)
+    assert np.all(pol <= s[..., 0] * (1 + 1e-5) + 1e-12)
+    dop = pol / np.maximum(s[..., 0], 1e-12)
+    assert dop[img.alpha > 0.5].max() > 0.05  # a gem polarizes what it reflects
+
+
+def test_brewster_reflection_is_horizontally_polarized(device):
+    """A glass plate seen at Brewster's angle under a sky dome: the reflection is s-polarized,
+    i.e. perpendicular to the plane of incidence = horizontal in the image -> S1/S0 -> +1 (camera
+    frame x = image right).  Checks the whole frame chain against Brewster's law."""
+    n = 1.5
+    theta = math.atan(n)  # Brewster angle from the normal
+    d = 40.0
+    data = {
+        "camera": {"type": "orthographic", "position": [0.0, -d * math.sin(theta), d * math.cos(theta)],
+                   "look_at": [0.0, 0.0, 0.0], "view_height": 2.0, "width": 8, "height": 8},
+        "render": {"spectral": "rgb3", "max_depth": 32},
+        "light": [{"type": "environment", "map": "dome"}],
+        "object": [{"shape": "plate", "width": 200.0, "length": 200.0, "thickness": 2.0,
+                    "material": {"cauchy": [n]}, "position": [0.0, 0.0, -1.0]}],
+    }
+    img = wo.render(scene(data), device=device)
+    s1 = img.stokes[..., 1] / img.stokes[..., 0]
+    # the top surface reflects only s at Brewster; the light reflected inside at the bottom meets
+    # it again at the internal Brewster angle: s too; so the sum is fully s-polarized
+    assert s1.min() > 0.98, s1
+    assert np.abs(img.stokes[..., 3]).max() < 1e-6 * img.stokes[..., 0].max()
+
+
+def test_importance_and_uniform_converge_to_the_same_image(device):
+    base = {**STUDIO, "camera": {**STUDIO["camera"], "width": 12, "height": 12}}
+    imgs = {}
+    for mode in ("uniform", "importance"):
+        data = {**base, "render": {**base["render"], "spectral": mode, "wavelengths": 64, "seed": 3}}
+        imgs[mode] = wo.render(scene(data), device=device)
+    a, b = imgs["uniform"].xyz, imgs["importance"].xyz
+    mean_a, mean_b = a.reshape(-1, 3).mean(0), b.reshape(-1, 3).mean(0)
+    print("image mean XYZ uniform", mean_a, "importance", mean_b)
+    np.testing.assert_allclose(mean_a, mean_b, rtol=0.03)
+
+
+def test_same_seed_same_image_for_any_threads_and_tiles(device, tmp_path):
+    sc = scene(STUDIO)
+    r = wo.Renderer(sc, device=device)
+    a = r.run(threads=1)
+    b = r.run(threads=2, tile_size=7, rows_per_chunk=3)
+    c = r.run(threads=3, tile_size=64)
+    for img in (b, c):
+        assert np.array_equal(a.xyz, img.xyz) and np.array_equal(a.stokes, img.stokes)
+        assert np.array_equal(a.alpha, img.alpha)
+    pa, pb = a.save(tmp_path / "a.exr"), b.save(tmp_path / "b.exr")
+    assert pa.read_bytes() == pb.read_bytes()
+    other = wo.render(sc.with_overrides({"render.seed": 1}), device=device)
+    assert not np.array_equal(a.xyz, other.xyz)
+
+
+def test_image_outputs(device, tmp_path):
+    img = wo.render(scene(STUDIO, **{"camera.width": 8, "camera.height": 6}), device=device)
+    assert img.xyz.shape == (6, 8, 3) and img.stokes.shape == (6, 8, 4) and img.alpha.shape == (6, 8)
+    exr = img.save(tmp_path / "x.exr")
+    pixels, names = wo.image.read_image(exr)
+    assert names == ["R", "G", "B", "A", "S0", "S1", "S2", "S3", "X", "Y", "Z"]
+    np.testing.assert_allclose(pixels[..., 9], img.xyz[..., 1].astype(np.float32))
+    png = img.save(tmp_path / "x.png")
+    p8, _ = wo.image.read_image(png)
+    assert p8.shape == (6, 8, 3) and p8.max() <= 1.0
+    with pytest.raises(wo.InputError, match="unsupported image format"):
+        img.save(tmp_path / "x.bmp")
