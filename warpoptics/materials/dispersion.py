@@ -656,11 +656,11 @@ def Sellmeier(
     if len(B) != len(C) or not B:
         raise InputError("Sellmeier needs as many B as C terms (at least one)", field="B, C",
                          value=(len(B), len(C)))
-    lo_um = wavelength_range_nm[0] * 1e-3
+    lo_um, hi_um = wavelength_range_nm[0] * 1e-3, wavelength_range_nm[1] * 1e-3
     for c in C:
-        if c >= 0 and math.sqrt(c) >= lo_um:
+        if c >= 0 and lo_um <= math.sqrt(c) <= hi_um:
             raise InputError("a Sellmeier pole lies inside the wavelength range", field="C", value=c,
-                             allowed=f"sqrt(C) < {lo_um:g} µm")
+                             allowed=f"sqrt(C) outside {lo_um:g}-{hi_um:g} µm")
     coeffs = [float(A) - 1.0]
     for b, c in zip(B, C, strict=True):
         coeffs += [b, c]
