@@ -124,8 +124,10 @@ def launch_tiled(
         for s in starts:
             wp.launch(kernel, dim=min(tile_size, dim - s), inputs=[s, *inputs], device=dev)
         return
-    # Compile/load the module on the calling thread before fanning out.
-    kernel.module.load(dev)
+    # Compile/load the module on the calling thread before fanning out.  On the CPU wp.launch
+    # uses block_dim=1, while Module.load defaults to the module's block_dim (256): a different
+    # module hash, i.e. a second full compile of every module.  Load the variant launch uses.
+    kernel.module.load(dev, 1)
     futures = [
         _pool(threads).submit(
             wp.launch, kernel, dim=min(tile_size, dim - s), inputs=[s, *inputs], device=dev
