@@ -278,10 +278,11 @@ def _material_eval_kernel(
     lam = wavelength_nm[i]
     m = mat_id[i]
     no, ne = material_eval(table, m, lam)
-    ao, ae = material_alpha(table, m, lam)
+    # material_alpha(table, m, lam) without evaluating the channels twice
+    lam_a = wp.max(lam, 1.0e-3)
     out_o[i] = no
     out_e[i] = ne
-    out_alpha[i] = wp.vec2f(ao, ae)
+    out_alpha[i] = wp.vec2f(_alpha_of(no, lam_a), _alpha_of(ne, lam_a))
 
 
 # ----------------------------------------------------------------------------------------------
