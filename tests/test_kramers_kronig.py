@@ -69,8 +69,9 @@ def test_maclaurin_against_quadpack_cauchy(device):
     got = M.kramers_kronig(lam, kfun(lam), 1.0, device=device) - 1.0
     for x in (450.0, 530.0, 551.0, 570.0, 650.0):
         # k/(λ'(λ²−λ'²)) = [−k/(λ'(λ+λ'))] / (λ' − λ)
-        pv, _ = quad(lambda t, x=x: -kfun(t) / (t * (x + t)), lo, hi, weight="cauchy", wvar=x,
-                     limit=400, epsabs=1e-13)
+        pv, _ = quad(
+            lambda t, x=x: -kfun(t) / (t * (x + t)), lo, hi, weight="cauchy", wvar=x, limit=400, epsabs=1e-13
+        )
         ref = 2 * x * x / np.pi * pv
         assert abs(got[int(round(x - lo))] - ref) < 2e-5, (x, got[int(round(x - lo))], ref)
 
@@ -82,7 +83,7 @@ def test_n_rises_on_long_wavelength_side(device):
     i = lambda x: int(x - 300)  # noqa: E731
     assert n[i(570)] > 1.5 + 0.01  # long side: raised
     assert n[i(530)] < 1.5 - 0.01  # short side: lowered
-    assert np.all(np.diff(n[i(540): i(560)]) > 0)  # anomalous: dn/dλ > 0 across the band
+    assert np.all(np.diff(n[i(540) : i(560)]) > 0)  # anomalous: dn/dλ > 0 across the band
     assert abs(n[i(550)] - 1.5) < 5e-3  # the swing is antisymmetric about the centre
     # KK is linear in k
     n2 = M.kramers_kronig(lam, 2 * k, 1.5, device=device)
@@ -148,8 +149,14 @@ def test_anomalous_material_and_dyes(device):
 def test_fig4_script(tmp_path):
     out = tmp_path / "fig4.png"
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    r = subprocess.run([sys.executable, "scripts/reproduce/seed000_fig4_rose_bengal.py", "-o", str(out),
-                        "--step", "5"], capture_output=True, text=True, env=env, cwd=ROOT, timeout=300)
+    r = subprocess.run(
+        [sys.executable, "scripts/reproduce/seed000_fig4_rose_bengal.py", "-o", str(out), "--step", "5"],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=ROOT,
+        timeout=300,
+    )
     assert r.returncode == 0, r.stderr
     assert out.read_bytes()[:4] == b"\x89PNG"
     assert "rose bengal  10 %" in r.stdout

@@ -112,8 +112,19 @@ def test_seed002_indices_and_types(device):
 
 
 def test_library_types_and_all_names_build(device):
-    uni = {"sapphire", "ruby", "calcite", "quartz", "zircon", "tourmaline", "emerald", "peridot",
-           "topaz", "moissanite", "andalusite"}
+    uni = {
+        "sapphire",
+        "ruby",
+        "calcite",
+        "quartz",
+        "zircon",
+        "tourmaline",
+        "emerald",
+        "peridot",
+        "topaz",
+        "moissanite",
+        "andalusite",
+    }
     for name in M.names():
         mat = M.get(name)
         assert isinstance(mat, M.Uniaxial) == (name in uni), name
@@ -250,9 +261,18 @@ def test_material_table_mixed_scene(device):
     mid = np.repeat(np.arange(4), 31).astype(np.int32)
     out = wp.zeros(lam.size, dtype=wp.vec4f, device=device)
     alpha = wp.zeros(lam.size, dtype=wp.vec2f, device=device)
-    wp.launch(_table_probe, dim=lam.size, device=device,
-              inputs=[wp.array(lam, dtype=wp.float32, device=device),
-                      wp.array(mid, dtype=wp.int32, device=device), table, out, alpha])
+    wp.launch(
+        _table_probe,
+        dim=lam.size,
+        device=device,
+        inputs=[
+            wp.array(lam, dtype=wp.float32, device=device),
+            wp.array(mid, dtype=wp.int32, device=device),
+            table,
+            out,
+            alpha,
+        ],
+    )
     o, a = out.numpy(), alpha.numpy()
     for j, mat in enumerate(mats):
         sel = mid == j
@@ -284,9 +304,18 @@ def test_material_eval_clamps_out_of_range(device):
     lam = np.array([100.0, 226.0, 5000.0, 830.0], dtype=np.float32)
     out = wp.zeros(4, dtype=wp.vec4f, device=device)
     alpha = wp.zeros(4, dtype=wp.vec2f, device=device)
-    wp.launch(_table_probe, dim=4, device=device,
-              inputs=[wp.array(lam, dtype=wp.float32, device=device),
-                      wp.zeros(4, dtype=wp.int32, device=device), table, out, alpha])
+    wp.launch(
+        _table_probe,
+        dim=4,
+        device=device,
+        inputs=[
+            wp.array(lam, dtype=wp.float32, device=device),
+            wp.zeros(4, dtype=wp.int32, device=device),
+            table,
+            out,
+            alpha,
+        ],
+    )
     o = out.numpy()
     assert np.all(np.isfinite(o))
     assert o[0, 0] == pytest.approx(o[1, 0]) and o[2, 0] == pytest.approx(o[3, 0])
@@ -316,7 +345,9 @@ def test_unit_conversions_closed_forms(device):
 def test_bands_closed_form(device):
     spec = M.AbsorptionSpectrum.from_bands(
         [M.Band(550.0, 20.0, 2.0), M.Band(450.0, 10.0, 1.0, shape="lorentzian")],
-        wavelength_range_nm=(400.0, 700.0), step_nm=1.0, device=device,
+        wavelength_range_nm=(400.0, 700.0),
+        step_nm=1.0,
+        device=device,
     )
     x = spec.wavelength_nm
     want = 2.0 * np.exp(-0.5 * ((x - 550) / 20) ** 2) + 100.0 / ((x - 450) ** 2 + 100.0)
@@ -353,7 +384,9 @@ def test_rgb_absorbance_eq9_reference():
     spec = M.AbsorptionSpectrum(x, kappa)
     np.testing.assert_allclose(M.rgb_absorbance(spec), _eq9_reference(x, kappa), rtol=1e-10)
     # a flat spectrum has the same absorbance in every channel (eq. 9 is a normalised average)
-    np.testing.assert_allclose(M.rgb_absorbance(M.AbsorptionSpectrum(x, np.full_like(x, 0.7))), 0.7, rtol=1e-12)
+    np.testing.assert_allclose(
+        M.rgb_absorbance(M.AbsorptionSpectrum(x, np.full_like(x, 0.7))), 0.7, rtol=1e-12
+    )
 
 
 @pytest.mark.parametrize("gem", list(M.SEED002_GEMS))
@@ -391,8 +424,9 @@ def test_library_spectra_reproduce_table_through_the_material(device):
 
 def _run(args, **kw):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    return subprocess.run([sys.executable, *args], capture_output=True, text=True, env=env, cwd=ROOT,
-                          timeout=300, **kw)
+    return subprocess.run(
+        [sys.executable, *args], capture_output=True, text=True, env=env, cwd=ROOT, timeout=300, **kw
+    )
 
 
 def test_cli_material(tmp_path):
