@@ -137,7 +137,7 @@ def _bands_kernel(
 ):
     i = wp.tid() + offset
     lam = wavelength_nm[i]
-    s = 0.0
+    s = float(0.0)  # noqa: UP018 (a dynamic Warp variable, mutated in the loop)
     for b in range(center.shape[0]):
         s += peak[b] * band_profile(shape[b], lam, center[b], width[b])
     out[i] = s
