@@ -295,8 +295,13 @@ def test_material_table_mixed_scene(device):
     rgb_o, rgb_e = table.rgb3_alpha_o.numpy(), table.rgb3_alpha_e.numpy()
     assert np.allclose(rgb_o[1], np.array(M.SEED002_GEMS["sapphire"]["K_o"]) * 0.1, rtol=1e-6)
     assert np.allclose(rgb_e[1], np.array(M.SEED002_GEMS["sapphire"]["K_e"]) * 0.1, rtol=1e-6)
+    # the dye: eq. 9 of its alpha, with the red channel (negative r̄ lobe under the 549 nm band,
+    # eq. 9 < 0) clamped at 0 so that rgb3 never amplifies
     dye = M.rose_bengal_absorption(10.0)
-    assert np.allclose(rgb_o[2], M.rgb_absorbance(dye), rtol=2e-3)
+    eq9 = M.rgb_absorbance(dye)
+    assert eq9[0] < 0
+    assert np.allclose(rgb_o[2], np.maximum(eq9, 0.0), rtol=2e-3, atol=1e-6)
+    assert np.all(rgb_o >= 0) and np.all(rgb_e >= 0)
 
 
 def test_material_eval_clamps_out_of_range(device):

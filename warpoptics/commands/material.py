@@ -6,7 +6,7 @@ import numpy as np
 
 
 def _summary(mat) -> list[str]:
-    from ..materials import Uniaxial, abbe_number, dispersion_bg
+    from ..materials import Uniaxial, abbe_number, dispersion_bg, rgb3_alpha_of
 
     lo, hi = mat.wavelength_range_nm
     lines = [f"material       {mat.name}"]
@@ -29,8 +29,8 @@ def _summary(mat) -> list[str]:
         lines.append("birefringence  0 (isotropic)")
         lines.append(f"B-G dispersion {dispersion_bg(mat):.4f}")
         lines.append(f"Abbe V_d       {abbe_number(mat):.1f}")
-    if mat.rgb3_alpha is not None:
-        o, e = mat.rgb3_alpha
+    o, e = mat.rgb3_alpha if mat.rgb3_alpha is not None else rgb3_alpha_of(mat)
+    if max(max(o), max(e)) > 0:
         fo = ", ".join(f"{v:.4g}" for v in o)
         fe = ", ".join(f"{v:.4g}" for v in e)
         lines.append(f"rgb3 alpha     o ({fo}) e ({fe}) 1/mm")

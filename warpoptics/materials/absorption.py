@@ -526,13 +526,20 @@ def _invert_rgb(target: np.ndarray, illuminant: str, wavelength_range_nm, n_basi
 
 
 def rgb3_alpha_of(mat: Material, *, illuminant: str = "E", device=None):
-    """(K^o_rgb, K^e_rgb): eq. 9 applied to the material's alpha(λ) (1/mm), for the rgb3 mode."""
+    """(K^o_rgb, K^e_rgb): eq. 9 applied to the material's alpha(λ) (1/mm), for the rgb3 mode.
+
+    The CIE 1931 RGB matching functions have negative lobes (r̄ below ~545 nm), so eq. 9 of a
+    narrow band there (e.g. rose bengal at 549 nm) can come out negative in a channel; a negative
+    absorbance would amplify light, so each channel is clamped at 0 here (``rgb_absorbance``
+    itself stays the plain eq. 9).
+    """
     lam, w = _rgb_weights(illuminant)
     lo, hi = mat.wavelength_range_nm
     a = mat.alpha(np.clip(lam, lo, hi), device=device)
     if isinstance(mat, Uniaxial):
-        return tuple((w @ a[:, 0]).tolist()), tuple((w @ a[:, 1]).tolist())
-    t = tuple((w @ a).tolist())
+        ko, ke = np.maximum(w @ a[:, 0], 0.0), np.maximum(w @ a[:, 1], 0.0)
+        return tuple(ko.tolist()), tuple(ke.tolist())
+    t = tuple(np.maximum(w @ a, 0.0).tolist())
     return t, t
 
 
