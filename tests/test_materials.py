@@ -295,10 +295,10 @@ def test_material_table_mixed_scene(device):
     rgb_o, rgb_e = table.rgb3_alpha_o.numpy(), table.rgb3_alpha_e.numpy()
     assert np.allclose(rgb_o[1], np.array(M.SEED002_GEMS["sapphire"]["K_o"]) * 0.1, rtol=1e-6)
     assert np.allclose(rgb_e[1], np.array(M.SEED002_GEMS["sapphire"]["K_e"]) * 0.1, rtol=1e-6)
-    # the dye: eq. 9 of its alpha, with the red channel (negative r̄ lobe under the 549 nm band,
-    # eq. 9 < 0) clamped at 0 so that rgb3 never amplifies
+    # the dye: eq. 9 of its alpha with the sRGB CMFs (the renderer's rgb3 channels), the red and
+    # blue channels (negative lobes under the 549 nm band, eq. 9 < 0) clamped at 0: no gain
     dye = M.rose_bengal_absorption(10.0)
-    eq9 = M.rgb_absorbance(dye)
+    eq9 = M.rgb_absorbance(dye, cmfs="srgb")
     assert eq9[0] < 0
     assert np.allclose(rgb_o[2], np.maximum(eq9, 0.0), rtol=2e-3, atol=1e-6)
     assert np.all(rgb_o >= 0) and np.all(rgb_e >= 0)
@@ -383,6 +383,25 @@ def _eq9_reference(lam, kappa):
     return np.array([np.trapezoid(kap * rgb[:, c], x) / np.trapezoid(rgb[:, c], x) for c in range(3)])
 
 
+def test_rgb_absorbance_srgb_reference():
+    # eq. 9 with linear-sRGB CMFs, written independently from colour-science's CIE 1931 XYZ
+    # functions and its sRGB matrix (IEC rounding: 1e-4 relative)
+    import colour
+
+    x = np.linspace(360, 830, 471)
+    kappa = 0.3 + 0.2 * np.sin(x / 40.0) ** 2
+    xyz = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
+    xyz = np.stack([np.interp(x, xyz.wavelengths, xyz.values[:, c]) for c in range(3)], axis=-1)
+    rgb = xyz @ np.asarray(colour.RGB_COLOURSPACES["sRGB"].matrix_XYZ_to_RGB).T
+    want = np.array([np.trapezoid(kappa * rgb[:, c], x) / np.trapezoid(rgb[:, c], x) for c in range(3)])
+    got = M.rgb_absorbance(M.AbsorptionSpectrum(x, kappa), cmfs="srgb")
+    np.testing.assert_allclose(got, want, rtol=1e-3)
+    with pytest.raises(InputError, match="colour-matching"):
+        M.rgb_absorbance(M.AbsorptionSpectrum(x, kappa), cmfs="xyz")
+    with pytest.raises(InputError, match="illuminant"):
+        M.rgb_absorbance(M.AbsorptionSpectrum(x, kappa), illuminant="F99")
+
+
 def test_rgb_absorbance_eq9_reference():
     x = np.linspace(360, 830, 471)
     kappa = 0.3 + 0.2 * np.sin(x / 40.0) ** 2
@@ -412,7 +431,7 @@ def test_eq9_inversion_round_trip(gem):
 def test_library_spectra_reproduce_table_through_the_material(device):
     # the K^o(λ) / K^e(λ) attached to tourmaline give back §6.1's triplets through mat.alpha
     mat = M.get("tourmaline")
-    ko, ke = M.rgb3_alpha_of(mat, device=device)
+    ko, ke = M.rgb3_alpha_of(mat, cmfs="cie1931_rgb", device=device)
     row = M.SEED002_GEMS["tourmaline"]
     np.testing.assert_allclose(ko, np.array(row["K_o"]) * 0.1, rtol=2e-3)
     np.testing.assert_allclose(ke, np.array(row["K_e"]) * 0.1, rtol=2e-3)

@@ -55,6 +55,7 @@ __all__ = [
     "rgb_absorbance",
     "spectrum_from_rgb",
     "rgb3_alpha_of",
+    "RGB_CMFS",
     "with_absorption",
     "SEED002_GEMS",
     "SEED002_ALPHA_PER_MM",
@@ -389,48 +390,61 @@ class AbsorptionSpectrum:
 # ----------------------------------------------------------------------------------------------
 
 _CMF_NAME = "Wright & Guild 1931 2 Degree RGB CMFs"
-_cmf_cache: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+#: colour-matching functions for eq. 9: "cie1931_rgb" (Wright & Guild, primaries 700 / 546.1 /
+#: 435.8 nm, as in the source) or "srgb" (the CIE 1931 XYZ functions through XYZ -> linear sRGB:
+#: the channels of the renderer's rgb3 mode, warpoptics.spectra.RGB3_WAVELENGTHS)
+RGB_CMFS = ("cie1931_rgb", "srgb")
+_cmf_cache: dict[tuple[str, str], tuple[np.ndarray, np.ndarray]] = {}
 
 
-def _rgb_weights(illuminant: str = "E") -> tuple[np.ndarray, np.ndarray]:
+def _rgb_weights(illuminant: str = "E", cmfs: str = "cie1931_rgb") -> tuple[np.ndarray, np.ndarray]:
     """(λ nodes, weights (3, m)) with κ_c = Σ_j w_cj κ(λ_j) = eq. 9 by trapezoid quadrature."""
-    if illuminant in _cmf_cache:
-        return _cmf_cache[illuminant]
-    import colour  # heavy import: only when needed
+    key = (illuminant, cmfs)
+    if key in _cmf_cache:
+        return _cmf_cache[key]
+    from .. import spectra
 
-    cmfs = colour.MSDS_CMFS[_CMF_NAME]
-    lam = np.asarray(cmfs.wavelengths, dtype=np.float64)
-    rgb = np.asarray(cmfs.values, dtype=np.float64).T  # (3, m)
-    if illuminant == "E":
-        s0 = np.ones_like(lam)
+    if cmfs == "cie1931_rgb":
+        import colour  # heavy import: only when needed
+
+        table = colour.MSDS_CMFS[_CMF_NAME]
+        lam = np.asarray(table.wavelengths, dtype=np.float64)  # 380-780 nm, 5 nm
+        rgb = np.asarray(table.values, dtype=np.float64).T  # (3, m)
+    elif cmfs == "srgb":
+        from ..color import XYZ_TO_SRGB
+
+        lam = spectra.grid()  # 360-830 nm, 1 nm
+        rgb = XYZ_TO_SRGB @ spectra.cmf(lam).T  # (3, m)
     else:
-        try:
-            sd = colour.SDS_ILLUMINANTS[illuminant]
-        except KeyError as exc:
-            raise InputError(
-                "unknown illuminant",
-                field="illuminant",
-                value=illuminant,
-                allowed="E, D65, A, ...(colour.SDS_ILLUMINANTS)",
-            ) from exc
-        s0 = np.interp(lam, np.asarray(sd.wavelengths), np.asarray(sd.values))
-    q = np.full_like(lam, lam[1] - lam[0])  # trapezoid weights on the uniform 5 nm grid
+        raise InputError(
+            "unknown colour-matching functions", field="cmfs", value=cmfs, allowed=", ".join(RGB_CMFS)
+        )
+    try:
+        s0 = spectra.illuminant(illuminant, lam)
+    except ValueError as exc:
+        raise InputError(
+            "unknown illuminant", field="illuminant", value=illuminant, allowed=", ".join(spectra.ILLUMINANTS)
+        ) from exc
+    q = np.full_like(lam, lam[1] - lam[0])  # trapezoid weights on the uniform grid
     q[0] *= 0.5
     q[-1] *= 0.5
     w = rgb * s0 * q
     w = w / w.sum(axis=1, keepdims=True)  # divide by R0 = ∫ r̄ S0 dλ (eq. 9)
-    _cmf_cache[illuminant] = (lam, w)
+    _cmf_cache[key] = (lam, w)
     return lam, w
 
 
-def rgb_absorbance(spectrum, *, illuminant: str = "E") -> np.ndarray:
+def rgb_absorbance(spectrum, *, illuminant: str = "E", cmfs: str = "cie1931_rgb") -> np.ndarray:
     """(κ_r, κ_g, κ_b) of Guy & Soler 2004 eq. 9: κ_c = ∫ κ(λ) c̄(λ) S0(λ) dλ / ∫ c̄(λ) S0(λ) dλ.
 
     ``spectrum``: an :class:`AbsorptionSpectrum`, a callable κ(λ_nm), or a pair (λ_nm, κ).
-    c̄ are the CIE 1931 RGB colour matching functions (Wright & Guild; 380–780 nm, 5 nm), S0 the
-    white light (equal-energy "E" by default).  Units are those of κ.
+    c̄: ``cmfs="cie1931_rgb"`` the CIE 1931 RGB colour matching functions (Wright & Guild;
+    380–780 nm, 5 nm), as in the source; ``"srgb"`` the linear-sRGB ones (the renderer's rgb3
+    channels).  S0: the white light, ``illuminant`` "E" (default), "D65" or "A"
+    (warpoptics.spectra).  Units are those of κ.  Both CMF sets have negative lobes, so a narrow
+    band can give a negative channel (see :func:`rgb3_alpha_of`).
     """
-    lam, w = _rgb_weights(illuminant)
+    lam, w = _rgb_weights(illuminant, cmfs)
     if isinstance(spectrum, AbsorptionSpectrum):
         kappa = spectrum.alpha(lam)
     elif callable(spectrum):
@@ -459,6 +473,7 @@ def spectrum_from_rgb(
     rgb,
     *,
     illuminant: str = "E",
+    cmfs: str = "cie1931_rgb",
     wavelength_range_nm: tuple[float, float] = (360.0, 830.0),
     n_basis: int | None = None,
     name: str = "rgb",
@@ -479,7 +494,7 @@ def spectrum_from_rgb(
     tries = (12, 24, 48) if n_basis is None else (int(n_basis),)
     err = float("inf")
     for nb in tries:
-        lam_tab, alpha, err = _invert_rgb(target, illuminant, wavelength_range_nm, nb)
+        lam_tab, alpha, err = _invert_rgb(target, illuminant, cmfs, wavelength_range_nm, nb)
         if err <= 1e-6:
             return AbsorptionSpectrum(
                 lam_tab, alpha, name=name, source=source or f"eq. 9 inversion of {tuple(target.tolist())}"
@@ -491,12 +506,12 @@ def spectrum_from_rgb(
     )
 
 
-def _invert_rgb(target: np.ndarray, illuminant: str, wavelength_range_nm, n_basis: int):
+def _invert_rgb(target: np.ndarray, illuminant: str, cmfs: str, wavelength_range_nm, n_basis: int):
     """(λ table, alpha table, relative residual) of the eq. 9 inversion with ``n_basis`` B-splines."""
     from scipy.optimize import minimize
 
     lo, hi = wavelength_range_nm
-    lam_cmf, w = _rgb_weights(illuminant)
+    lam_cmf, w = _rgb_weights(illuminant, cmfs)
     knots = np.linspace(lo, hi, n_basis - 2)
     lam_tab = np.union1d(np.arange(lo, hi + 1e-9, 5.0), lam_cmf)
     lam_tab = lam_tab[(lam_tab >= lo) & (lam_tab <= hi)]
@@ -525,15 +540,17 @@ def _invert_rgb(target: np.ndarray, illuminant: str, wavelength_range_nm, n_basi
     return lam_tab, np.maximum(basis_tab @ c, 0.0) * scale, err
 
 
-def rgb3_alpha_of(mat: Material, *, illuminant: str = "E", device=None):
-    """(K^o_rgb, K^e_rgb): eq. 9 applied to the material's alpha(λ) (1/mm), for the rgb3 mode.
+def rgb3_alpha_of(mat: Material, *, illuminant: str = "E", cmfs: str = "srgb", device=None):
+    """(K^o_rgb, K^e_rgb) in 1/mm for the renderer's rgb3 mode: eq. 9 of the material's alpha(λ).
 
-    The CIE 1931 RGB matching functions have negative lobes (r̄ below ~545 nm), so eq. 9 of a
-    narrow band there (e.g. rose bengal at 549 nm) can come out negative in a channel; a negative
-    absorbance would amplify light, so each channel is clamped at 0 here (``rgb_absorbance``
-    itself stays the plain eq. 9).
+    The default ``cmfs="srgb"`` matches the rgb3 channels of the renderer (sRGB primaries,
+    warpoptics.spectra.RGB3_WAVELENGTHS).  Both CMF sets have negative lobes (r̄ below ~545 nm),
+    so eq. 9 of a narrow band there (e.g. rose bengal at 549 nm) can come out negative in a
+    channel; a negative absorbance would amplify light, so each channel is clamped at 0 here
+    (``rgb_absorbance`` itself stays the plain eq. 9).  Materials carrying the seed-002 table
+    (``mat.rgb3_alpha``) use those triplets verbatim instead (see build_material_table).
     """
-    lam, w = _rgb_weights(illuminant)
+    lam, w = _rgb_weights(illuminant, cmfs)
     lo, hi = mat.wavelength_range_nm
     a = mat.alpha(np.clip(lam, lo, hi), device=device)
     if isinstance(mat, Uniaxial):

@@ -24,8 +24,13 @@ and inside kernels (all wavelengths in nm, vacuum)::
     a_o, a_e = material_alpha(table, mat_id, wavelength_nm)  # alpha (1/mm, base e) = 4 pi k / lambda_mm
     axis = table.optic_axis[mat_id]                           # unit wp.vec3f (object frame)
     uni  = table.uniaxial[mat_id]                             # 1 for uniaxial, 0 for isotropic
-    K_o  = table.rgb3_alpha_o[mat_id]                         # wp.vec3f alpha (1/mm) for the rgb3
-    K_e  = table.rgb3_alpha_e[mat_id]                         #   mode at R, G, B (seed 002 eq. 9)
+    K_o  = table.rgb3_alpha_o[mat_id]                         # wp.vec3f alpha (1/mm, >= 0) per
+    K_e  = table.rgb3_alpha_e[mat_id]                         #   R, G, B channel of the rgb3 mode
+
+``rgb3_alpha_*``: the seed-002 §6.1 triplets verbatim for the six gems of that table (read as
+1/cm -> 1/mm, see absorption.py), otherwise eq. 9 of the material's alpha(λ) with the linear-sRGB
+colour-matching functions (the channels of warpoptics.spectra.RGB3_WAVELENGTHS), clamped at 0.
+The rgb3 refractive indices are simply ``material_eval`` at those three wavelengths.
 
 ``material_eval`` clamps wavelengths outside a material's range to the range ends (no NaN in a
 kernel); the NumPy API (``mat.n``, ``mat.k``, ``mat.alpha``) refuses them with an ``InputError``.
@@ -74,13 +79,13 @@ __all__ = [
     "Formula",
     "dispersion_bg",
     "abbe_number",
-    "RGB3_WAVELENGTHS_NM",
+    "CIE_RGB_PRIMARIES_NM",
     "VISIBLE_RANGE_NM",
 ]
 
-#: the R, G, B wavelengths of the three-wavelength (rgb3) mode: CIE 1931 RGB primaries
-#: (Guy & Soler 2004 §4.1; Wyszecki & Stiles 1982).
-RGB3_WAVELENGTHS_NM = (700.0, 546.1, 435.8)
+#: the CIE 1931 RGB primaries (nm) behind the seed-002 §6.1 absorbances (Guy & Soler 2004 §4.1;
+#: Wyszecki & Stiles 1982).  The renderer's rgb3 mode samples warpoptics.spectra.RGB3_WAVELENGTHS.
+CIE_RGB_PRIMARIES_NM = (700.0, 546.1, 435.8)
 #: the colour integration range of warpoptics (DESIGN.md).
 VISIBLE_RANGE_NM = (360.0, 830.0)
 
