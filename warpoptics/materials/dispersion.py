@@ -36,8 +36,12 @@ The rgb3 refractive indices are simply ``material_eval`` at those three waveleng
 kernel); the NumPy API (``mat.n``, ``mat.k``, ``mat.alpha``) refuses them with an ``InputError``.
 Those NumPy methods launch :func:`material_eval` itself through ``device.elementwise``: the
 renderer and the tests run the same code.  Absorption along a path is exp(-alpha * length_mm);
-the pleochroic e-ray absorption of Guy & Soler 2004 eq. 7 is
-:func:`warpoptics.materials.absorption.pleochroic_alpha`.
+for the e-ray of a uniaxial crystal, ``a_o``/``a_e`` are the K^o/K^e of Guy & Soler 2004 eq. 7
+and the direction-dependent absorption is the ``@wp.func``
+:func:`warpoptics.materials.absorption.pleochroic_alpha_func` (a_o, a_e, n_o, n_e, cos θ) with
+cos θ = wave normal · optic axis.  A per-object optic axis that differs from the material's is
+made with ``Uniaxial.with_optic_axis`` (a separate table entry).  ``build_material_table`` takes
+``rgb3=False`` to skip the eq. 9 integrals when the rgb3 mode is not used.
 
 Conventions: exp(-i omega t), N = n + i k with k >= 0 absorbing; alpha = 4 pi k / lambda
 (Weidlich & Wilkie 2009, eq. 3).  Float32 throughout (relative precision ~1e-7 in n).
