@@ -28,6 +28,7 @@ __all__ = [
     "launch_tiled",
     "elementwise",
     "to_warp",
+    "load_module",
 ]
 
 _init_lock = threading.Lock()
@@ -125,7 +126,7 @@ def launch_tiled(
             wp.launch(kernel, dim=min(tile_size, dim - s), inputs=[s, *inputs], device=dev)
         return
     # Compile/load the module on the calling thread before fanning out.
-    kernel.module.load(dev)
+    load_module(kernel, dev)
     futures = [
         _pool(threads).submit(
             wp.launch, kernel, dim=min(tile_size, dim - s), inputs=[s, *inputs], device=dev
@@ -134,6 +135,20 @@ def launch_tiled(
     ]
     for f in futures:
         f.result()
+
+
+def load_module(kernel, device=None) -> None:
+    """Compile (or load from the cache) the module of ``kernel`` for ``device`` now.
+
+    On the CPU ``wp.launch`` uses block_dim=1, while ``Module.load`` defaults to the module's
+    block_dim (256): a different module hash, i.e. a second full compile of every module.  Load
+    the variant that launches use.
+    """
+    dev = get_device(device)
+    if dev.is_cpu:
+        kernel.module.load(dev, 1)
+    else:
+        kernel.module.load(dev)
 
 
 def _np_scalar(dtype):

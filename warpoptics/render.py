@@ -20,7 +20,7 @@ import numpy as np
 import warp as wp
 
 from . import color
-from .device import get_device, launch_tiled
+from .device import get_device, launch_tiled, load_module
 from .errors import InputError
 from .geometry.query import GeometryScene, SceneGeometry
 from .materials.dispersion import MaterialTable
@@ -235,7 +235,7 @@ class Renderer:
         inputs_static = [self.camera.params, f, self.trace_params, self.geometry.geometry, self.materials,
                          self.environment.struct, self.tables, polarized,
                          self.xyz, self.stokes, self.alpha, self.rays]
-        _render_pixels.module.load(self.device)
+        load_module(_render_pixels, self.device)
         try:
             for row0 in chunks:
                 rows = min(rows_per_chunk, f.height - row0)

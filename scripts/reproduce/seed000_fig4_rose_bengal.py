@@ -41,8 +41,10 @@ def main(argv: list[str] | None = None) -> int:
         a1.plot(lam, n, color=col, label=f"rose bengal {pct} %")
         a2.plot(lam, k, color=col, label=f"rose bengal {pct} %")
         i_lo, i_hi = int(np.argmin(n)), int(np.argmax(n))
-        print(f"rose bengal {pct:>3s} %: k max {k.max():.4f} at {lam[np.argmax(k)]:.0f} nm; "
-              f"n min {n[i_lo]:.4f} at {lam[i_lo]:.0f} nm, n max {n[i_hi]:.4f} at {lam[i_hi]:.0f} nm")
+        print(
+            f"rose bengal {pct:>3s} %: k max {k.max():.4f} at {lam[np.argmax(k)]:.0f} nm; "
+            f"n min {n[i_lo]:.4f} at {lam[i_lo]:.0f} nm, n max {n[i_hi]:.4f} at {lam[i_hi]:.0f} nm"
+        )
     a1.plot(lam, water.n(lam), "k:", label="water")
     a1.set_title("(a) refractive index n")
     a2.set_title("(b) extinction coefficient k")

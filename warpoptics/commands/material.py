@@ -6,7 +6,7 @@ import numpy as np
 
 
 def _summary(mat) -> list[str]:
-    from ..materials import Uniaxial, abbe_number, dispersion_bg
+    from ..materials import Uniaxial, abbe_number, dispersion_bg, rgb3_alpha_of
 
     lo, hi = mat.wavelength_range_nm
     lines = [f"material       {mat.name}"]
@@ -16,8 +16,12 @@ def _summary(mat) -> list[str]:
         n = mat.n(589.3)
         lines.append(f"nD (589.3 nm)  o {n[0]:.4f}  e {n[1]:.4f}")
         lines.append(f"birefringence  {n[1] - n[0]:+.4f} (n_e - n_o at 589.3 nm)")
-        lines.append(f"B-G dispersion o {dispersion_bg(mat, channel='o'):.4f}  e {dispersion_bg(mat, channel='e'):.4f}")
-        lines.append(f"Abbe V_d       o {abbe_number(mat, channel='o'):.1f}  e {abbe_number(mat, channel='e'):.1f}")
+        lines.append(
+            f"B-G dispersion o {dispersion_bg(mat, channel='o'):.4f}  e {dispersion_bg(mat, channel='e'):.4f}"
+        )
+        lines.append(
+            f"Abbe V_d       o {abbe_number(mat, channel='o'):.1f}  e {abbe_number(mat, channel='e'):.1f}"
+        )
         ax = mat.optic_axis
         lines.append(f"optic axis     ({ax[0]:.3f}, {ax[1]:.3f}, {ax[2]:.3f})")
     else:
@@ -25,9 +29,11 @@ def _summary(mat) -> list[str]:
         lines.append("birefringence  0 (isotropic)")
         lines.append(f"B-G dispersion {dispersion_bg(mat):.4f}")
         lines.append(f"Abbe V_d       {abbe_number(mat):.1f}")
-    if mat.rgb3_alpha is not None:
-        o, e = mat.rgb3_alpha
-        lines.append(f"rgb3 alpha     o ({o[0]:.4g}, {o[1]:.4g}, {o[2]:.4g}) e ({e[0]:.4g}, {e[1]:.4g}, {e[2]:.4g}) 1/mm")
+    o, e = mat.rgb3_alpha if mat.rgb3_alpha is not None else rgb3_alpha_of(mat)
+    if max(max(o), max(e)) > 0:
+        fo = ", ".join(f"{v:.4g}" for v in o)
+        fe = ", ".join(f"{v:.4g}" for v in e)
+        lines.append(f"rgb3 alpha     o ({fo}) e ({fe}) 1/mm")
     lines.append(f"source         {mat.source}")
     return lines
 
@@ -77,7 +83,9 @@ def run(args) -> int:
 
 
 def register(sub) -> None:
-    p = sub.add_parser("material", help="print a library material's indices, dispersion and source; plot n and alpha")
+    p = sub.add_parser(
+        "material", help="print a library material's indices, dispersion and source; plot n and alpha"
+    )
     p.add_argument("name", help='library name, e.g. "diamond", "sapphire", "rose_bengal_10"')
     p.add_argument("--plot", metavar="FILE", default=None, help="write a plot of n(λ) and alpha(λ) (PNG)")
     p.set_defaults(func=run)

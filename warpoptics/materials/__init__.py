@@ -10,6 +10,7 @@ device-side interface (``MaterialTable``, ``build_material_table``, ``material_e
 from __future__ import annotations
 
 from .absorption import (
+    RGB_CMFS,
     SEED002_GEMS,
     AbsorptionSpectrum,
     Band,
@@ -26,7 +27,7 @@ from .absorption import (
     with_absorption,
 )
 from .dispersion import (
-    RGB3_WAVELENGTHS_NM,
+    CIE_RGB_PRIMARIES_NM,
     Cauchy,
     Formula,
     Isotropic,
@@ -83,10 +84,11 @@ __all__ = [
     "rgb_absorbance",
     "spectrum_from_rgb",
     "rgb3_alpha_of",
+    "RGB_CMFS",
     "with_absorption",
     "seed002_spectra",
     "SEED002_GEMS",
-    "RGB3_WAVELENGTHS_NM",
+    "CIE_RGB_PRIMARIES_NM",
     "MaterialTable",
     "build_material_table",
     "material_eval",

@@ -55,6 +55,7 @@ __all__ = [
     "rgb_absorbance",
     "spectrum_from_rgb",
     "rgb3_alpha_of",
+    "RGB_CMFS",
     "with_absorption",
     "SEED002_GEMS",
     "SEED002_ALPHA_PER_MM",
@@ -137,7 +138,7 @@ def _bands_kernel(
 ):
     i = wp.tid() + offset
     lam = wavelength_nm[i]
-    s = float(0.0)
+    s = float(0.0)  # noqa: UP018 (a dynamic Warp variable, mutated in the loop)
     for b in range(center.shape[0]):
         s += peak[b] * band_profile(shape[b], lam, center[b], width[b])
     out[i] = s
@@ -172,8 +173,9 @@ def _finite(name: str, value) -> np.ndarray:
 def _nonneg(name: str, value) -> np.ndarray:
     a = _finite(name, value)
     if np.any(a < 0):
-        raise InputError("must be >= 0 (negative absorption would amplify light)", field=name,
-                         value=float(a.min()))
+        raise InputError(
+            "must be >= 0 (negative absorption would amplify light)", field=name, value=float(a.min())
+        )
     return a
 
 
@@ -186,8 +188,11 @@ def _wavelength(value) -> np.ndarray:
 
 def _unit(value, wavelength_nm, mode: int, device=None) -> np.ndarray:
     (out,) = _device.elementwise(
-        _unit_kernel, [(value, wp.float32), (wavelength_nm, wp.float32)], [wp.float32],
-        extra=(mode,), device=device,
+        _unit_kernel,
+        [(value, wp.float32), (wavelength_nm, wp.float32)],
+        [wp.float32],
+        extra=(mode,),
+        device=device,
     )
     return out
 
@@ -218,10 +223,15 @@ def pleochroic_alpha(alpha_o, alpha_e, n_o, n_e, cos_theta, *, device=None) -> n
     """e-ray absorption (Guy & Soler 2004 eq. 7); see :func:`pleochroic_alpha_func`."""
     (out,) = _device.elementwise(
         _pleochroic_kernel,
-        [(_nonneg("alpha_o", alpha_o), wp.float32), (_nonneg("alpha_e", alpha_e), wp.float32),
-         (_finite("n_o", n_o), wp.float32), (_finite("n_e", n_e), wp.float32),
-         (_finite("cos_theta", cos_theta), wp.float32)],
-        [wp.float32], device=device,
+        [
+            (_nonneg("alpha_o", alpha_o), wp.float32),
+            (_nonneg("alpha_e", alpha_e), wp.float32),
+            (_finite("n_o", n_o), wp.float32),
+            (_finite("n_e", n_e), wp.float32),
+            (_finite("cos_theta", cos_theta), wp.float32),
+        ],
+        [wp.float32],
+        device=device,
     )
     return out
 
@@ -245,17 +255,25 @@ class Band:
 
     def __post_init__(self):
         if self.shape not in _SHAPES:
-            raise InputError("unknown band shape", field="shape", value=self.shape, allowed="gaussian, lorentzian")
+            raise InputError(
+                "unknown band shape", field="shape", value=self.shape, allowed="gaussian, lorentzian"
+            )
         for name in ("center_nm", "width_nm", "peak_alpha_per_mm"):
             v = getattr(self, name)
             if not math.isfinite(v):
                 raise InputError("must be finite", field=name, value=v)
         if self.center_nm <= 0 or self.width_nm <= 0:
-            raise InputError("band centre and width must be > 0 nm", field="center_nm/width_nm",
-                             value=(self.center_nm, self.width_nm))
+            raise InputError(
+                "band centre and width must be > 0 nm",
+                field="center_nm/width_nm",
+                value=(self.center_nm, self.width_nm),
+            )
         if self.peak_alpha_per_mm < 0:
-            raise InputError("band peak must be >= 0 (negative absorption)", field="peak_alpha_per_mm",
-                             value=self.peak_alpha_per_mm)
+            raise InputError(
+                "band peak must be >= 0 (negative absorption)",
+                field="peak_alpha_per_mm",
+                value=self.peak_alpha_per_mm,
+            )
 
 
 class AbsorptionSpectrum:
@@ -266,8 +284,11 @@ class AbsorptionSpectrum:
         lam = _wavelength(wavelength_nm).reshape(-1)
         a = _nonneg("alpha", alpha_per_mm).reshape(-1)
         if lam.shape != a.shape or lam.size < 2:
-            raise InputError("absorption table needs >= 2 wavelengths and as many values",
-                             field="alpha", value=(lam.size, a.size))
+            raise InputError(
+                "absorption table needs >= 2 wavelengths and as many values",
+                field="alpha",
+                value=(lam.size, a.size),
+            )
         order = np.argsort(lam)
         lam, a = lam[order], a[order]
         if np.any(np.diff(lam) <= 0):
@@ -301,14 +322,19 @@ class AbsorptionSpectrum:
             wp.array(np.array([_SHAPES[b.shape] for b in bands], np.int32), dtype=wp.int32, device=dev),
             wp.array(np.array([b.center_nm for b in bands], np.float32), dtype=wp.float32, device=dev),
             wp.array(np.array([b.width_nm for b in bands], np.float32), dtype=wp.float32, device=dev),
-            wp.array(np.array([b.peak_alpha_per_mm for b in bands], np.float32), dtype=wp.float32, device=dev),
+            wp.array(
+                np.array([b.peak_alpha_per_mm for b in bands], np.float32), dtype=wp.float32, device=dev
+            ),
         )
-        (alpha,) = _device.elementwise(_bands_kernel, [(lam, wp.float32)], [wp.float32], extra=arrs, device=dev)
+        (alpha,) = _device.elementwise(
+            _bands_kernel, [(lam, wp.float32)], [wp.float32], extra=arrs, device=dev
+        )
         return cls(lam, np.maximum(alpha, 0.0), name=name, source=source)
 
     @classmethod
-    def from_table(cls, wavelength_nm, values, *, unit: str = "alpha_per_mm", name: str = "table",
-                   source: str = "") -> AbsorptionSpectrum:
+    def from_table(
+        cls, wavelength_nm, values, *, unit: str = "alpha_per_mm", name: str = "table", source: str = ""
+    ) -> AbsorptionSpectrum:
         """From a table in ``unit``: "alpha_per_mm" (base e), "k" (extinction coefficient),
         "absorbance_per_cm" (decadic) or "alpha_per_cm" (base e)."""
         lam = _wavelength(wavelength_nm)
@@ -322,14 +348,23 @@ class AbsorptionSpectrum:
         elif unit == "absorbance_per_cm":
             a = alpha_from_absorbance_per_cm(v)
         else:
-            raise InputError("unknown absorption unit", field="unit", value=unit,
-                             allowed="alpha_per_mm, alpha_per_cm, k, absorbance_per_cm")
+            raise InputError(
+                "unknown absorption unit",
+                field="unit",
+                value=unit,
+                allowed="alpha_per_mm, alpha_per_cm, k, absorbance_per_cm",
+            )
         return cls(lam, a, name=name, source=source)
 
     def alpha(self, wavelength_nm) -> np.ndarray:
         """alpha (1/mm) at ``wavelength_nm`` (linear interpolation, 0 outside the table)."""
-        return np.interp(np.asarray(wavelength_nm, dtype=np.float64), self.wavelength_nm, self.alpha_per_mm,
-                         left=0.0, right=0.0)
+        return np.interp(
+            np.asarray(wavelength_nm, dtype=np.float64),
+            self.wavelength_nm,
+            self.alpha_per_mm,
+            left=0.0,
+            right=0.0,
+        )
 
     def k(self, wavelength_nm=None, *, device=None) -> np.ndarray:
         """Extinction coefficient k = alpha λ / 4 pi (at the table's wavelengths if None)."""
@@ -339,11 +374,15 @@ class AbsorptionSpectrum:
     def scaled(self, factor: float) -> AbsorptionSpectrum:
         if not (math.isfinite(factor) and factor >= 0):
             raise InputError("scale factor must be finite and >= 0", field="factor", value=factor)
-        return AbsorptionSpectrum(self.wavelength_nm, self.alpha_per_mm * factor, name=self.name, source=self.source)
+        return AbsorptionSpectrum(
+            self.wavelength_nm, self.alpha_per_mm * factor, name=self.name, source=self.source
+        )
 
     def __repr__(self) -> str:
-        return (f"AbsorptionSpectrum({self.name!r}, {self.wavelength_nm[0]:g}-{self.wavelength_nm[-1]:g} nm, "
-                f"max alpha {self.alpha_per_mm.max():.4g}/mm)")
+        return (
+            f"AbsorptionSpectrum({self.name!r}, {self.wavelength_nm[0]:g}-{self.wavelength_nm[-1]:g} nm, "
+            f"max alpha {self.alpha_per_mm.max():.4g}/mm)"
+        )
 
 
 # ----------------------------------------------------------------------------------------------
@@ -351,44 +390,61 @@ class AbsorptionSpectrum:
 # ----------------------------------------------------------------------------------------------
 
 _CMF_NAME = "Wright & Guild 1931 2 Degree RGB CMFs"
-_cmf_cache: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+#: colour-matching functions for eq. 9: "cie1931_rgb" (Wright & Guild, primaries 700 / 546.1 /
+#: 435.8 nm, as in the source) or "srgb" (the CIE 1931 XYZ functions through XYZ -> linear sRGB:
+#: the channels of the renderer's rgb3 mode, warpoptics.spectra.RGB3_WAVELENGTHS)
+RGB_CMFS = ("cie1931_rgb", "srgb")
+_cmf_cache: dict[tuple[str, str], tuple[np.ndarray, np.ndarray]] = {}
 
 
-def _rgb_weights(illuminant: str = "E") -> tuple[np.ndarray, np.ndarray]:
+def _rgb_weights(illuminant: str = "E", cmfs: str = "cie1931_rgb") -> tuple[np.ndarray, np.ndarray]:
     """(λ nodes, weights (3, m)) with κ_c = Σ_j w_cj κ(λ_j) = eq. 9 by trapezoid quadrature."""
-    if illuminant in _cmf_cache:
-        return _cmf_cache[illuminant]
-    import colour  # heavy import: only when needed
+    key = (illuminant, cmfs)
+    if key in _cmf_cache:
+        return _cmf_cache[key]
+    from .. import spectra
 
-    cmfs = colour.MSDS_CMFS[_CMF_NAME]
-    lam = np.asarray(cmfs.wavelengths, dtype=np.float64)
-    rgb = np.asarray(cmfs.values, dtype=np.float64).T  # (3, m)
-    if illuminant == "E":
-        s0 = np.ones_like(lam)
+    if cmfs == "cie1931_rgb":
+        import colour  # heavy import: only when needed
+
+        table = colour.MSDS_CMFS[_CMF_NAME]
+        lam = np.asarray(table.wavelengths, dtype=np.float64)  # 380-780 nm, 5 nm
+        rgb = np.asarray(table.values, dtype=np.float64).T  # (3, m)
+    elif cmfs == "srgb":
+        from ..color import XYZ_TO_SRGB
+
+        lam = spectra.grid()  # 360-830 nm, 1 nm
+        rgb = XYZ_TO_SRGB @ spectra.cmf(lam).T  # (3, m)
     else:
-        try:
-            sd = colour.SDS_ILLUMINANTS[illuminant]
-        except KeyError as exc:
-            raise InputError("unknown illuminant", field="illuminant", value=illuminant,
-                             allowed="E, D65, A, ...(colour.SDS_ILLUMINANTS)") from exc
-        s0 = np.interp(lam, np.asarray(sd.wavelengths), np.asarray(sd.values))
-    q = np.full_like(lam, lam[1] - lam[0])  # trapezoid weights on the uniform 5 nm grid
+        raise InputError(
+            "unknown colour-matching functions", field="cmfs", value=cmfs, allowed=", ".join(RGB_CMFS)
+        )
+    try:
+        s0 = spectra.illuminant(illuminant, lam)
+    except ValueError as exc:
+        raise InputError(
+            "unknown illuminant", field="illuminant", value=illuminant, allowed=", ".join(spectra.ILLUMINANTS)
+        ) from exc
+    q = np.full_like(lam, lam[1] - lam[0])  # trapezoid weights on the uniform grid
     q[0] *= 0.5
     q[-1] *= 0.5
     w = rgb * s0 * q
     w = w / w.sum(axis=1, keepdims=True)  # divide by R0 = ∫ r̄ S0 dλ (eq. 9)
-    _cmf_cache[illuminant] = (lam, w)
+    _cmf_cache[key] = (lam, w)
     return lam, w
 
 
-def rgb_absorbance(spectrum, *, illuminant: str = "E") -> np.ndarray:
+def rgb_absorbance(spectrum, *, illuminant: str = "E", cmfs: str = "cie1931_rgb") -> np.ndarray:
     """(κ_r, κ_g, κ_b) of Guy & Soler 2004 eq. 9: κ_c = ∫ κ(λ) c̄(λ) S0(λ) dλ / ∫ c̄(λ) S0(λ) dλ.
 
     ``spectrum``: an :class:`AbsorptionSpectrum`, a callable κ(λ_nm), or a pair (λ_nm, κ).
-    c̄ are the CIE 1931 RGB colour matching functions (Wright & Guild; 380–780 nm, 5 nm), S0 the
-    white light (equal-energy "E" by default).  Units are those of κ.
+    c̄: ``cmfs="cie1931_rgb"`` the CIE 1931 RGB colour matching functions (Wright & Guild;
+    380–780 nm, 5 nm), as in the source; ``"srgb"`` the linear-sRGB ones (the renderer's rgb3
+    channels).  S0: the white light, ``illuminant`` "E" (default), "D65" or "A"
+    (warpoptics.spectra).  Units are those of κ.  Both CMF sets have negative lobes, so a narrow
+    band can give a negative channel (see :func:`rgb3_alpha_of`).
     """
-    lam, w = _rgb_weights(illuminant)
+    lam, w = _rgb_weights(illuminant, cmfs)
     if isinstance(spectrum, AbsorptionSpectrum):
         kappa = spectrum.alpha(lam)
     elif callable(spectrum):
@@ -417,6 +473,7 @@ def spectrum_from_rgb(
     rgb,
     *,
     illuminant: str = "E",
+    cmfs: str = "cie1931_rgb",
     wavelength_range_nm: tuple[float, float] = (360.0, 830.0),
     n_basis: int | None = None,
     name: str = "rgb",
@@ -437,22 +494,24 @@ def spectrum_from_rgb(
     tries = (12, 24, 48) if n_basis is None else (int(n_basis),)
     err = float("inf")
     for nb in tries:
-        lam_tab, alpha, err = _invert_rgb(target, illuminant, wavelength_range_nm, nb)
+        lam_tab, alpha, err = _invert_rgb(target, illuminant, cmfs, wavelength_range_nm, nb)
         if err <= 1e-6:
-            return AbsorptionSpectrum(lam_tab, alpha, name=name,
-                                      source=source or f"eq. 9 inversion of {tuple(target.tolist())}")
+            return AbsorptionSpectrum(
+                lam_tab, alpha, name=name, source=source or f"eq. 9 inversion of {tuple(target.tolist())}"
+            )
     raise InputError(
         f"no smooth non-negative spectrum has this RGB absorbance under eq. 9 (residual {err:.2g})",
-        field="rgb", value=tuple(target.tolist()),
+        field="rgb",
+        value=tuple(target.tolist()),
     )
 
 
-def _invert_rgb(target: np.ndarray, illuminant: str, wavelength_range_nm, n_basis: int):
+def _invert_rgb(target: np.ndarray, illuminant: str, cmfs: str, wavelength_range_nm, n_basis: int):
     """(λ table, alpha table, relative residual) of the eq. 9 inversion with ``n_basis`` B-splines."""
     from scipy.optimize import minimize
 
     lo, hi = wavelength_range_nm
-    lam_cmf, w = _rgb_weights(illuminant)
+    lam_cmf, w = _rgb_weights(illuminant, cmfs)
     knots = np.linspace(lo, hi, n_basis - 2)
     lam_tab = np.union1d(np.arange(lo, hi + 1e-9, 5.0), lam_cmf)
     lam_tab = lam_tab[(lam_tab >= lo) & (lam_tab <= hi)]
@@ -466,7 +525,10 @@ def _invert_rgb(target: np.ndarray, illuminant: str, wavelength_range_nm, n_basi
     tgt = target / scale
     x0 = np.full(n_basis, float(np.mean(tgt)))
     res = minimize(
-        lambda c: float(c @ H @ c), x0, jac=lambda c: 2.0 * H @ c, method="SLSQP",
+        lambda c: float(c @ H @ c),
+        x0,
+        jac=lambda c: 2.0 * H @ c,
+        method="SLSQP",
         bounds=[(0.0, None)] * n_basis,
         constraints=[{"type": "eq", "fun": lambda c: A @ c - tgt, "jac": lambda c: A}],
         options={"ftol": 1e-14, "maxiter": 500},
@@ -478,19 +540,29 @@ def _invert_rgb(target: np.ndarray, illuminant: str, wavelength_range_nm, n_basi
     return lam_tab, np.maximum(basis_tab @ c, 0.0) * scale, err
 
 
-def rgb3_alpha_of(mat: Material, *, illuminant: str = "E", device=None):
-    """(K^o_rgb, K^e_rgb): eq. 9 applied to the material's alpha(λ) (1/mm), for the rgb3 mode."""
-    lam, w = _rgb_weights(illuminant)
+def rgb3_alpha_of(mat: Material, *, illuminant: str = "E", cmfs: str = "srgb", device=None):
+    """(K^o_rgb, K^e_rgb) in 1/mm for the renderer's rgb3 mode: eq. 9 of the material's alpha(λ).
+
+    The default ``cmfs="srgb"`` matches the rgb3 channels of the renderer (sRGB primaries,
+    warpoptics.spectra.RGB3_WAVELENGTHS).  Both CMF sets have negative lobes (r̄ below ~545 nm),
+    so eq. 9 of a narrow band there (e.g. rose bengal at 549 nm) can come out negative in a
+    channel; a negative absorbance would amplify light, so each channel is clamped at 0 here
+    (``rgb_absorbance`` itself stays the plain eq. 9).  Materials carrying the seed-002 table
+    (``mat.rgb3_alpha``) use those triplets verbatim instead (see build_material_table).
+    """
+    lam, w = _rgb_weights(illuminant, cmfs)
     lo, hi = mat.wavelength_range_nm
     a = mat.alpha(np.clip(lam, lo, hi), device=device)
     if isinstance(mat, Uniaxial):
-        return tuple((w @ a[:, 0]).tolist()), tuple((w @ a[:, 1]).tolist())
-    t = tuple((w @ a).tolist())
+        ko, ke = np.maximum(w @ a[:, 0], 0.0), np.maximum(w @ a[:, 1], 0.0)
+        return tuple(ko.tolist()), tuple(ke.tolist())
+    t = tuple(np.maximum(w @ a, 0.0).tolist())
     return t, t
 
 
-def with_absorption(mat: Material, absorption, *, name: str | None = None, source: str | None = None,
-                    device=None) -> Material:
+def with_absorption(
+    mat: Material, absorption, *, name: str | None = None, source: str | None = None, device=None
+) -> Material:
     """``mat`` with the extinction coefficient k = alpha λ/4π of ``absorption`` (an
     :class:`AbsorptionSpectrum`; for a :class:`Uniaxial`, a pair (K^o, K^e) or one spectrum for
     both).  The real index is unchanged (see ``kramers_kronig.anomalous`` for Δn)."""
@@ -502,8 +574,9 @@ def with_absorption(mat: Material, absorption, *, name: str | None = None, sourc
         e = with_absorption(mat.extraordinary, se, device=device)
         return Uniaxial(o, e, optic_axis=mat.optic_axis, name=name or mat.name, source=source or mat.source)
     if not isinstance(absorption, AbsorptionSpectrum):
-        raise InputError("absorption must be an AbsorptionSpectrum", field="absorption",
-                         value=type(absorption).__name__)
+        raise InputError(
+            "absorption must be an AbsorptionSpectrum", field="absorption", value=type(absorption).__name__
+        )
     lo, hi = mat.wavelength_range_nm
     lam = absorption.wavelength_nm
     lam = np.unique(np.concatenate([[lo, hi], lam[(lam > lo) & (lam < hi)]]))
@@ -522,18 +595,60 @@ SEED002_ALPHA_PER_MM = 0.1
 #: and e rays (isotropic: o only), colours, n_o / n_e at the green channel and the ± that gives
 #: red (−) and blue (+) (half the gemological dispersion).  Sapphire's row lists e before o.
 SEED002_GEMS: dict[str, dict] = {
-    "garnet": dict(type="I", K_o=(0.136, 0.153, 0.175), K_e=None, colors=("orange-red",),
-                   n_o=1.730, n_e=None, half_dispersion=0.014),
-    "tourmaline": dict(type="U", K_o=(0.033, 0.034, 0.082), K_e=(0.010, 0.076, 0.015),
-                       colors=("yellow green", "blue green"), n_o=1.642, n_e=1.619, half_dispersion=0.011),
-    "peridot": dict(type="B", K_o=(0.023, 0.015, 0.051), K_e=(0.011, 0.003, 0.028),
-                    colors=("green", "yellow green"), n_o=1.680, n_e=1.640, half_dispersion=0.010),
-    "diamond": dict(type="I", K_o=(0.001, 0.001, 0.001), K_e=None, colors=("white",),
-                    n_o=2.410, n_e=None, half_dispersion=0.022),
-    "sapphire": dict(type="U", K_o=(0.165, 0.147, 0.185), K_e=(0.332, 0.270, 0.156),
-                     colors=("violetish blue", "light blue"), n_o=1.768, n_e=1.760, half_dispersion=0.009),
-    "andalusite": dict(type="B", K_o=(0.0056, 0.006, 0.0183), K_e=(0.170, 0.175, 0.257),
-                       colors=("greenish red", "yellowish green"), n_o=1.635, n_e=1.644, half_dispersion=0.005),
+    "garnet": dict(
+        type="I",
+        K_o=(0.136, 0.153, 0.175),
+        K_e=None,
+        colors=("orange-red",),
+        n_o=1.730,
+        n_e=None,
+        half_dispersion=0.014,
+    ),
+    "tourmaline": dict(
+        type="U",
+        K_o=(0.033, 0.034, 0.082),
+        K_e=(0.010, 0.076, 0.015),
+        colors=("yellow green", "blue green"),
+        n_o=1.642,
+        n_e=1.619,
+        half_dispersion=0.011,
+    ),
+    "peridot": dict(
+        type="B",
+        K_o=(0.023, 0.015, 0.051),
+        K_e=(0.011, 0.003, 0.028),
+        colors=("green", "yellow green"),
+        n_o=1.680,
+        n_e=1.640,
+        half_dispersion=0.010,
+    ),
+    "diamond": dict(
+        type="I",
+        K_o=(0.001, 0.001, 0.001),
+        K_e=None,
+        colors=("white",),
+        n_o=2.410,
+        n_e=None,
+        half_dispersion=0.022,
+    ),
+    "sapphire": dict(
+        type="U",
+        K_o=(0.165, 0.147, 0.185),
+        K_e=(0.332, 0.270, 0.156),
+        colors=("violetish blue", "light blue"),
+        n_o=1.768,
+        n_e=1.760,
+        half_dispersion=0.009,
+    ),
+    "andalusite": dict(
+        type="B",
+        K_o=(0.0056, 0.006, 0.0183),
+        K_e=(0.170, 0.175, 0.257),
+        colors=("greenish red", "yellowish green"),
+        n_o=1.635,
+        n_e=1.644,
+        half_dispersion=0.005,
+    ),
 }
 
 
@@ -542,8 +657,9 @@ def seed002_spectra(name: str) -> tuple[AbsorptionSpectrum, AbsorptionSpectrum]:
     try:
         row = SEED002_GEMS[name]
     except KeyError as exc:
-        raise InputError("not in the seed 002 §6.1 table", field="name", value=name,
-                         allowed=", ".join(SEED002_GEMS)) from exc
+        raise InputError(
+            "not in the seed 002 §6.1 table", field="name", value=name, allowed=", ".join(SEED002_GEMS)
+        ) from exc
     cache = _seed_cache.get(name)
     if cache is None:
         ko = np.asarray(row["K_o"]) * SEED002_ALPHA_PER_MM

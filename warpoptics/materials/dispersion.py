@@ -24,15 +24,24 @@ and inside kernels (all wavelengths in nm, vacuum)::
     a_o, a_e = material_alpha(table, mat_id, wavelength_nm)  # alpha (1/mm, base e) = 4 pi k / lambda_mm
     axis = table.optic_axis[mat_id]                           # unit wp.vec3f (object frame)
     uni  = table.uniaxial[mat_id]                             # 1 for uniaxial, 0 for isotropic
-    K_o  = table.rgb3_alpha_o[mat_id]                         # wp.vec3f alpha (1/mm) for the rgb3
-    K_e  = table.rgb3_alpha_e[mat_id]                         #   mode at R, G, B (seed 002 eq. 9)
+    K_o  = table.rgb3_alpha_o[mat_id]                         # wp.vec3f alpha (1/mm, >= 0) per
+    K_e  = table.rgb3_alpha_e[mat_id]                         #   R, G, B channel of the rgb3 mode
+
+``rgb3_alpha_*``: the seed-002 §6.1 triplets verbatim for the six gems of that table (read as
+1/cm -> 1/mm, see absorption.py), otherwise eq. 9 of the material's alpha(λ) with the linear-sRGB
+colour-matching functions (the channels of warpoptics.spectra.RGB3_WAVELENGTHS), clamped at 0.
+The rgb3 refractive indices are simply ``material_eval`` at those three wavelengths.
 
 ``material_eval`` clamps wavelengths outside a material's range to the range ends (no NaN in a
 kernel); the NumPy API (``mat.n``, ``mat.k``, ``mat.alpha``) refuses them with an ``InputError``.
 Those NumPy methods launch :func:`material_eval` itself through ``device.elementwise``: the
 renderer and the tests run the same code.  Absorption along a path is exp(-alpha * length_mm);
-the pleochroic e-ray absorption of Guy & Soler 2004 eq. 7 is
-:func:`warpoptics.materials.absorption.pleochroic_alpha`.
+for the e-ray of a uniaxial crystal, ``a_o``/``a_e`` are the K^o/K^e of Guy & Soler 2004 eq. 7
+and the direction-dependent absorption is the ``@wp.func``
+:func:`warpoptics.materials.absorption.pleochroic_alpha_func` (a_o, a_e, n_o, n_e, cos θ) with
+cos θ = wave normal · optic axis.  A per-object optic axis that differs from the material's is
+made with ``Uniaxial.with_optic_axis`` (a separate table entry).  ``build_material_table`` takes
+``rgb3=False`` to skip the eq. 9 integrals when the rgb3 mode is not used.
 
 Conventions: exp(-i omega t), N = n + i k with k >= 0 absorbing; alpha = 4 pi k / lambda
 (Weidlich & Wilkie 2009, eq. 3).  Float32 throughout (relative precision ~1e-7 in n).
@@ -48,7 +57,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import warp as wp
@@ -74,13 +83,13 @@ __all__ = [
     "Formula",
     "dispersion_bg",
     "abbe_number",
-    "RGB3_WAVELENGTHS_NM",
+    "CIE_RGB_PRIMARIES_NM",
     "VISIBLE_RANGE_NM",
 ]
 
-#: the R, G, B wavelengths of the three-wavelength (rgb3) mode: CIE 1931 RGB primaries
-#: (Guy & Soler 2004 §4.1; Wyszecki & Stiles 1982).
-RGB3_WAVELENGTHS_NM = (700.0, 546.1, 435.8)
+#: the CIE 1931 RGB primaries (nm) behind the seed-002 §6.1 absorbances (Guy & Soler 2004 §4.1;
+#: Wyszecki & Stiles 1982).  The renderer's rgb3 mode samples warpoptics.spectra.RGB3_WAVELENGTHS.
+CIE_RGB_PRIMARIES_NM = (700.0, 546.1, 435.8)
 #: the colour integration range of warpoptics (DESIGN.md).
 VISIBLE_RANGE_NM = (360.0, 830.0)
 
@@ -226,7 +235,9 @@ def material_eval_channel(table: MaterialTable, mat_id: int, channel: int, wavel
     """Complex index (n, k) of one channel (0 ordinary/isotropic, 1 extraordinary) at λ (nm)."""
     lam = wp.clamp(wavelength_nm, table.lam_min[mat_id], table.lam_max[mat_id])
     c = 2 * mat_id + channel
-    n = rii_formula(table.formula_kind[c], table.coeffs, table.coeff_offset[c], table.coeff_count[c], lam * 1.0e-3)
+    n = rii_formula(
+        table.formula_kind[c], table.coeffs, table.coeff_offset[c], table.coeff_count[c], lam * 1.0e-3
+    )
     n += curve_eval(table.curve_lam, table.curve_val, table.ncurve_offset[c], table.ncurve_count[c], lam)
     k = curve_eval(table.curve_lam, table.curve_val, table.kcurve_offset[c], table.kcurve_count[c], lam)
     return wp.vec2f(n, wp.max(k, 0.0))
@@ -278,10 +289,11 @@ def _material_eval_kernel(
     lam = wavelength_nm[i]
     m = mat_id[i]
     no, ne = material_eval(table, m, lam)
-    ao, ae = material_alpha(table, m, lam)
+    # material_alpha(table, m, lam) without evaluating the channels twice
+    lam_a = wp.max(lam, 1.0e-3)
     out_o[i] = no
     out_e[i] = ne
-    out_alpha[i] = wp.vec2f(ao, ae)
+    out_alpha[i] = wp.vec2f(_alpha_of(no, lam_a), _alpha_of(ne, lam_a))
 
 
 # ----------------------------------------------------------------------------------------------
@@ -325,18 +337,29 @@ class Channel:
 
     def __post_init__(self):
         if self.formula_kind not in range(10):
-            raise InputError("unknown dispersion formula type", field="formula", value=self.formula_kind,
-                             allowed="0-9 (refractiveindex.info types)")
+            raise InputError(
+                "unknown dispersion formula type",
+                field="formula",
+                value=self.formula_kind,
+                allowed="0-9 (refractiveindex.info types)",
+            )
         if len(self.coeffs) > _MAX_COEFFS:
-            raise InputError("too many formula coefficients", field="coefficients",
-                             value=len(self.coeffs), allowed=f"<= {_MAX_COEFFS}")
+            raise InputError(
+                "too many formula coefficients",
+                field="coefficients",
+                value=len(self.coeffs),
+                allowed=f"<= {_MAX_COEFFS}",
+            )
         if not all(math.isfinite(c) for c in self.coeffs):
             raise InputError("non-finite formula coefficient", field="coefficients", value=self.coeffs)
         if self.formula_kind == 0 and self.n_curve is None:
             raise InputError("a channel needs a formula or a tabulated n(λ)", field="n")
         if self.k_curve is not None and np.any(self.k_curve[1] < 0):
-            raise InputError("extinction coefficient k must be >= 0 (k > 0 absorbs)", field="k",
-                             value=float(np.min(self.k_curve[1])))
+            raise InputError(
+                "extinction coefficient k must be >= 0 (k > 0 absorbs)",
+                field="k",
+                value=float(np.min(self.k_curve[1])),
+            )
 
     def with_curves(self, n_curve=None, k_curve=None) -> Channel:
         return Channel(self.formula_kind, self.coeffs, n_curve, k_curve)
@@ -348,8 +371,12 @@ def _check_wavelength(wavelength_nm, lo: float, hi: float, name: str) -> np.ndar
         raise InputError("wavelength must be finite", field="wavelength_nm", value=wavelength_nm)
     if lam.size and (lam.min() < lo - 1e-6 or lam.max() > hi + 1e-6):
         bad = float(lam.min() if lam.min() < lo - 1e-6 else lam.max())
-        raise InputError(f"wavelength outside the data range of {name}", field="wavelength_nm",
-                         value=bad, allowed=f"{lo:g}-{hi:g} nm")
+        raise InputError(
+            f"wavelength outside the data range of {name}",
+            field="wavelength_nm",
+            value=bad,
+            allowed=f"{lo:g}-{hi:g} nm",
+        )
     return lam
 
 
@@ -416,8 +443,11 @@ class Isotropic(Material):
     ) -> None:
         lo, hi = (float(wavelength_range_nm[0]), float(wavelength_range_nm[1]))
         if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
-            raise InputError("wavelength range must be 0 < min < max (nm)", field="wavelength_range_nm",
-                             value=wavelength_range_nm)
+            raise InputError(
+                "wavelength range must be 0 < min < max (nm)",
+                field="wavelength_range_nm",
+                value=wavelength_range_nm,
+            )
         self.channel = channel
         self.name = name
         self.source = source
@@ -442,7 +472,9 @@ class Isotropic(Material):
             i = int(np.argmin(n))
             raise InputError(
                 f"{self.name}: refractive index below 1 at {lam[i]:.1f} nm for a non-absorbing material",
-                field="n", value=float(n[i]), allowed="n >= 1 (n < 1 only with k > 1e-3)",
+                field="n",
+                value=float(n[i]),
+                allowed="n >= 1 (n < 1 only with k > 1e-3)",
             )
 
     def n(self, wavelength_nm, *, device=None) -> np.ndarray:
@@ -487,8 +519,12 @@ class Uniaxial(Material):
             raise InputError("optic axis must be 3 finite numbers", field="optic_axis", value=optic_axis)
         norm = float(np.linalg.norm(axis))
         if norm < 1e-12:
-            raise InputError("optic axis must not be the zero vector", field="optic_axis",
-                             value=tuple(axis.tolist()), allowed="a non-zero 3-vector")
+            raise InputError(
+                "optic axis must not be the zero vector",
+                field="optic_axis",
+                value=tuple(axis.tolist()),
+                allowed="a non-zero 3-vector",
+            )
         self.ordinary = ordinary
         self.extraordinary = extraordinary
         self._axis = tuple((axis / norm).tolist())
@@ -497,7 +533,9 @@ class Uniaxial(Material):
         lo = max(ordinary.wavelength_range_nm[0], extraordinary.wavelength_range_nm[0])
         hi = min(ordinary.wavelength_range_nm[1], extraordinary.wavelength_range_nm[1])
         if not lo < hi:
-            raise InputError(f"{name}: ordinary and extraordinary ranges do not overlap", field="wavelength_range_nm")
+            raise InputError(
+                f"{name}: ordinary and extraordinary ranges do not overlap", field="wavelength_range_nm"
+            )
         self.wavelength_range_nm = (lo, hi)
         self.rgb3_alpha = None if rgb3_alpha is None else (tuple(rgb3_alpha[0]), tuple(rgb3_alpha[1]))
 
@@ -513,8 +551,14 @@ class Uniaxial(Material):
         return self.ordinary.channel, self.extraordinary.channel
 
     def with_optic_axis(self, axis: Sequence[float]) -> Uniaxial:
-        return Uniaxial(self.ordinary, self.extraordinary, optic_axis=axis, name=self.name,
-                        source=self.source, rgb3_alpha=self.rgb3_alpha)
+        return Uniaxial(
+            self.ordinary,
+            self.extraordinary,
+            optic_axis=axis,
+            name=self.name,
+            source=self.source,
+            rgb3_alpha=self.rgb3_alpha,
+        )
 
     def n(self, wavelength_nm, *, device=None) -> np.ndarray:
         """(n_o, n_e) stacked on a trailing axis of length 2."""
@@ -570,8 +614,9 @@ def build_material_table(
 
     for mat in materials:
         if not isinstance(mat, Material):
-            raise InputError("not a material", field="material", value=type(mat).__name__,
-                             allowed="Isotropic | Uniaxial")
+            raise InputError(
+                "not a material", field="material", value=type(mat).__name__, allowed="Isotropic | Uniaxial"
+            )
         for ch in mat._channels():
             kinds.append(ch.formula_kind)
             c_off.append(len(coeffs))
@@ -633,7 +678,9 @@ def Formula(
 ) -> Isotropic:
     """A refractiveindex.info dispersion formula of type ``kind`` (1–9), coefficients in µm."""
     if int(kind) not in range(1, 10):
-        raise InputError("unknown refractiveindex.info formula type", field="formula", value=kind, allowed="1-9")
+        raise InputError(
+            "unknown refractiveindex.info formula type", field="formula", value=kind, allowed="1-9"
+        )
     ch = Channel(int(kind), tuple(float(c) for c in coefficients))
     return Isotropic(ch, wavelength_range_nm=wavelength_range_nm, name=name, source=source)
 
@@ -654,18 +701,28 @@ def Sellmeier(
     B = [float(b) for b in np.atleast_1d(B)]
     C = [float(c) for c in np.atleast_1d(C)]
     if len(B) != len(C) or not B:
-        raise InputError("Sellmeier needs as many B as C terms (at least one)", field="B, C",
-                         value=(len(B), len(C)))
-    lo_um = wavelength_range_nm[0] * 1e-3
+        raise InputError(
+            "Sellmeier needs as many B as C terms (at least one)", field="B, C", value=(len(B), len(C))
+        )
+    lo_um, hi_um = wavelength_range_nm[0] * 1e-3, wavelength_range_nm[1] * 1e-3
     for c in C:
-        if c >= 0 and math.sqrt(c) >= lo_um:
-            raise InputError("a Sellmeier pole lies inside the wavelength range", field="C", value=c,
-                             allowed=f"sqrt(C) < {lo_um:g} µm")
+        if c >= 0 and lo_um <= math.sqrt(c) <= hi_um:
+            raise InputError(
+                "a Sellmeier pole lies inside the wavelength range",
+                field="C",
+                value=c,
+                allowed=f"sqrt(C) outside {lo_um:g}-{hi_um:g} µm",
+            )
     coeffs = [float(A) - 1.0]
     for b, c in zip(B, C, strict=True):
         coeffs += [b, c]
-    return Formula(2, coeffs, wavelength_range_nm=wavelength_range_nm, name=name,
-                   source=source or f"Sellmeier B={B}, C={C} µm²")
+    return Formula(
+        2,
+        coeffs,
+        wavelength_range_nm=wavelength_range_nm,
+        name=name,
+        source=source or f"Sellmeier B={B}, C={C} µm²",
+    )
 
 
 def Cauchy(
@@ -683,8 +740,13 @@ def Cauchy(
     coeffs = [float(coefficients[0])]
     for i, c in enumerate(coefficients[1:], start=1):
         coeffs += [float(c), -2.0 * i]
-    return Formula(5, coeffs, wavelength_range_nm=wavelength_range_nm, name=name,
-                   source=source or f"Cauchy {tuple(float(c) for c in coefficients)} (λ in µm)")
+    return Formula(
+        5,
+        coeffs,
+        wavelength_range_nm=wavelength_range_nm,
+        name=name,
+        source=source or f"Cauchy {tuple(float(c) for c in coefficients)} (λ in µm)",
+    )
 
 
 def Tabulated(
@@ -705,12 +767,14 @@ def Tabulated(
         k_curve = (lam_k, kv)
     if lam.size < 2:
         raise InputError("a table needs at least two wavelengths", field="wavelength_nm", value=lam.size)
-    return Isotropic(Channel(0, (), (lam, nv), k_curve), wavelength_range_nm=(lam[0], lam[-1]),
-                     name=name, source=source)
+    return Isotropic(
+        Channel(0, (), (lam, nv), k_curve), wavelength_range_nm=(lam[0], lam[-1]), name=name, source=source
+    )
 
 
-def with_absorption_k(mat: Isotropic, wavelength_nm, k, *, dn=None, name: str | None = None,
-                      source: str | None = None) -> Isotropic:
+def with_absorption_k(
+    mat: Isotropic, wavelength_nm, k, *, dn=None, name: str | None = None, source: str | None = None
+) -> Isotropic:
     """``mat`` with an extinction coefficient table k(λ) (replacing/adding to its own on the
     given grid) and optionally an additive Δn(λ) on the same grid."""
     lam, kv = _as_curve(wavelength_nm, k, "k")
@@ -726,8 +790,12 @@ def with_absorption_k(mat: Isotropic, wavelength_nm, k, *, dn=None, name: str | 
         n_curve = (lam, base + dv)
     lo = max(mat.wavelength_range_nm[0], float(lam[0]))
     hi = min(mat.wavelength_range_nm[1], float(lam[-1]))
-    return Isotropic(ch.with_curves(n_curve, (lam, kv)), wavelength_range_nm=(lo, hi),
-                     name=name or mat.name, source=source or mat.source)
+    return Isotropic(
+        ch.with_curves(n_curve, (lam, kv)),
+        wavelength_range_nm=(lo, hi),
+        name=name or mat.name,
+        source=source or mat.source,
+    )
 
 
 # ----------------------------------------------------------------------------------------------

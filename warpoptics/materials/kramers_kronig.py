@@ -112,8 +112,11 @@ def kramers_kronig_maclaurin(wavelength_nm, k, *, device=None) -> np.ndarray:
     lam_w = wp.array(lam, dtype=wp.float64, device=dev)
     k_w = wp.array(kk, dtype=wp.float64, device=dev)
     (dn,) = _device.elementwise(
-        _maclaurin_kernel, [(np.arange(lam.size, dtype=np.int32), wp.int32)], [wp.float64],
-        extra=(lam_w, k_w, h), device=dev,
+        _maclaurin_kernel,
+        [(np.arange(lam.size, dtype=np.int32), wp.int32)],
+        [wp.float64],
+        extra=(lam_w, k_w, h),
+        device=dev,
     )
     return dn
 
@@ -121,16 +124,20 @@ def kramers_kronig_maclaurin(wavelength_nm, k, *, device=None) -> np.ndarray:
 def _background(n_background, lam: np.ndarray) -> np.ndarray:
     if isinstance(n_background, Material):
         if isinstance(n_background, Uniaxial):
-            raise InputError("background must be isotropic (pass .ordinary or .extraordinary)",
-                             field="n_background")
+            raise InputError(
+                "background must be isotropic (pass .ordinary or .extraordinary)", field="n_background"
+            )
         nb = n_background.n(lam)
     elif callable(n_background):
         nb = np.asarray(n_background(lam), dtype=np.float64)
     else:
         nb = np.asarray(n_background, dtype=np.float64)
         if nb.ndim and nb.shape != lam.shape:
-            raise InputError("n_background must be a number, a callable, a material or an array like "
-                             "wavelength_nm", field="n_background", value=nb.shape)
+            raise InputError(
+                "n_background must be a number, a callable, a material or an array like wavelength_nm",
+                field="n_background",
+                value=nb.shape,
+            )
     nb = np.broadcast_to(nb, lam.shape).astype(np.float64)
     if not np.all(np.isfinite(nb)):
         raise InputError("n_background must be finite", field="n_background")
@@ -165,8 +172,11 @@ def kramers_kronig(
     lam = np.asarray(wavelength_nm, dtype=np.float64)
     kk = np.asarray(k, dtype=np.float64)
     if lam.shape != kk.shape or lam.ndim != 1:
-        raise InputError("wavelength_nm and k must be 1-D arrays of the same length", field="k",
-                         value=(lam.shape, kk.shape))
+        raise InputError(
+            "wavelength_nm and k must be 1-D arrays of the same length",
+            field="k",
+            value=(lam.shape, kk.shape),
+        )
     if not (np.all(np.isfinite(lam)) and np.all(np.isfinite(kk))):
         raise InputError("wavelengths and k must be finite", field="k")
     if np.any(kk < 0):
@@ -191,8 +201,12 @@ def kramers_kronig(
     else:
         count = int(math.floor((lam_s[-1] - lam_s[0]) / h + 1e-9)) + 1
         if count > _MAX_GRID:
-            raise InputError("resampling grid too fine", field="step_nm", value=h,
-                             allowed=f"<= {_MAX_GRID} points over the range")
+            raise InputError(
+                "resampling grid too fine",
+                field="step_nm",
+                value=h,
+                allowed=f"<= {_MAX_GRID} points over the range",
+            )
         grid = lam_s[0] + h * np.arange(count)
         kg = np.interp(grid, lam_s, k_s)
     lo_pad = hi_pad = 0
@@ -212,7 +226,7 @@ def kramers_kronig(
     if uniform and lo_pad == 0 and hi_pad == 0:
         dn_sorted = dn_grid
     elif uniform:
-        dn_sorted = dn_grid[lo_pad: lo_pad + lam_s.size]
+        dn_sorted = dn_grid[lo_pad : lo_pad + lam_s.size]
     else:
         dn_sorted = np.interp(lam_s, grid, dn_grid)
     dn = np.empty_like(dn_sorted)
@@ -246,13 +260,19 @@ def anomalous(
         kw = dict(step_nm=step_nm, tails=tails, tail_width_nm=tail_width_nm, device=device)
         o = anomalous(base.ordinary, so, **kw)
         e = anomalous(base.extraordinary, se, **kw)
-        return Uniaxial(o, e, optic_axis=base.optic_axis, name=name or base.name,
-                        source=source or base.source + " + Kramers–Kronig")
+        return Uniaxial(
+            o,
+            e,
+            optic_axis=base.optic_axis,
+            name=name or base.name,
+            source=source or base.source + " + Kramers–Kronig",
+        )
     if not isinstance(base, Isotropic):
         raise InputError("base must be a material", field="base", value=type(base).__name__)
     if not isinstance(absorption, AbsorptionSpectrum):
-        raise InputError("absorption must be an AbsorptionSpectrum", field="absorption",
-                         value=type(absorption).__name__)
+        raise InputError(
+            "absorption must be an AbsorptionSpectrum", field="absorption", value=type(absorption).__name__
+        )
     lo_a, hi_a = absorption.wavelength_nm[0], absorption.wavelength_nm[-1]
     count = int(math.floor((hi_a - lo_a) / step_nm + 1e-9)) + 1
     grid = lo_a + step_nm * np.arange(count)
@@ -261,10 +281,20 @@ def anomalous(
     lo_b, hi_b = base.wavelength_range_nm
     keep = (grid >= lo_b) & (grid <= hi_b)
     if keep.sum() < 2:
-        raise InputError("absorption range does not overlap the base material's range", field="absorption",
-                         value=(float(lo_a), float(hi_a)), allowed=f"{lo_b:g}-{hi_b:g} nm")
-    return with_absorption_k(base, grid[keep], k[keep], dn=dn[keep], name=name or base.name,
-                             source=source or f"{base.source} + Kramers–Kronig of {absorption.name}")
+        raise InputError(
+            "absorption range does not overlap the base material's range",
+            field="absorption",
+            value=(float(lo_a), float(hi_a)),
+            allowed=f"{lo_b:g}-{hi_b:g} nm",
+        )
+    return with_absorption_k(
+        base,
+        grid[keep],
+        k[keep],
+        dn=dn[keep],
+        name=name or base.name,
+        source=source or f"{base.source} + Kramers–Kronig of {absorption.name}",
+    )
 
 
 # ----------------------------------------------------------------------------------------------
@@ -292,22 +322,37 @@ def _dye_absorption(percent: float, molar_mass: float, epsilon: float, bands, na
     peak_alpha = a10_per_cm * math.log(10.0) / 10.0  # 1/mm, base e
     return AbsorptionSpectrum.from_bands(
         [Band(c, s, peak_alpha * rel) for c, s, rel in bands],
-        wavelength_range_nm=(300.0, 900.0), step_nm=1.0, name=name, source=source,
+        wavelength_range_nm=(300.0, 900.0),
+        step_nm=1.0,
+        name=name,
+        source=source,
     )
 
 
 def rose_bengal_absorption(percent: float = 10.0) -> AbsorptionSpectrum:
     """alpha(λ) (1/mm) of rose bengal in water at ``percent`` (g/100 mL): Beer's law with
     ε(549 nm) = 9.8e4 L/mol/cm, bands 549 nm (σ 12.5 nm) and 510 nm (σ 17 nm, 0.30)."""
-    return _dye_absorption(percent, _RB_MOLAR_MASS, _RB_EPSILON, _RB_BANDS, f"rose bengal {percent:g} %",
-                           "rose bengal in water, Gaussian bands at 549/510 nm (see module references)")
+    return _dye_absorption(
+        percent,
+        _RB_MOLAR_MASS,
+        _RB_EPSILON,
+        _RB_BANDS,
+        f"rose bengal {percent:g} %",
+        "rose bengal in water, Gaussian bands at 549/510 nm (see module references)",
+    )
 
 
 def fuchsine_absorption(percent: float = 1.0) -> AbsorptionSpectrum:
     """alpha(λ) (1/mm) of fuchsine in water at ``percent`` (g/100 mL): ε(543 nm) = 9e4
     L/mol/cm, bands 543 nm (σ 22 nm) and 500 nm (σ 20 nm, 0.20)."""
-    return _dye_absorption(percent, _FU_MOLAR_MASS, _FU_EPSILON, _FU_BANDS, f"fuchsine {percent:g} %",
-                           "fuchsine in water, Gaussian bands at 543/500 nm (see module references)")
+    return _dye_absorption(
+        percent,
+        _FU_MOLAR_MASS,
+        _FU_EPSILON,
+        _FU_BANDS,
+        f"fuchsine {percent:g} %",
+        "fuchsine in water, Gaussian bands at 543/500 nm (see module references)",
+    )
 
 
 def _water() -> Isotropic:
@@ -318,13 +363,21 @@ def _water() -> Isotropic:
 
 def rose_bengal_solution(percent: float = 10.0, *, device=None) -> Isotropic:
     """Rose bengal in water (Weidlich & Wilkie §4.2): water + Kramers–Kronig of the dye's k."""
-    return anomalous(_water(), rose_bengal_absorption(percent), name=f"rose_bengal_{percent:g}",
-                     source=f"water (Daimon 20 °C) + rose bengal {percent:g} % (Gaussian bands) + Kramers–Kronig",
-                     device=device)
+    return anomalous(
+        _water(),
+        rose_bengal_absorption(percent),
+        name=f"rose_bengal_{percent:g}",
+        source=f"water (Daimon 20 °C) + rose bengal {percent:g} % (Gaussian bands) + Kramers–Kronig",
+        device=device,
+    )
 
 
 def fuchsine_solution(percent: float = 1.0, *, device=None) -> Isotropic:
     """Fuchsine in water (Weidlich & Wilkie fig. 1): water + Kramers–Kronig of the dye's k."""
-    return anomalous(_water(), fuchsine_absorption(percent), name=f"fuchsine_{percent:g}",
-                     source=f"water (Daimon 20 °C) + fuchsine {percent:g} % (Gaussian bands) + Kramers–Kronig",
-                     device=device)
+    return anomalous(
+        _water(),
+        fuchsine_absorption(percent),
+        name=f"fuchsine_{percent:g}",
+        source=f"water (Daimon 20 °C) + fuchsine {percent:g} % (Gaussian bands) + Kramers–Kronig",
+        device=device,
+    )

@@ -73,8 +73,14 @@ def cauchy_from_gem_constants(
     s, lg = pair_nm[0] * 1e-3, pair_nm[1] * 1e-3
     B = dispersion / (1.0 / s**2 - 1.0 / lg**2)
     A = n_ref - B / (ref_nm * 1e-3) ** 2
-    return Cauchy(A, B, wavelength_range_nm=VISIBLE_RANGE_NM, name=name,
-                  source=source or f"Cauchy fit: n({ref_nm:g} nm) = {n_ref}, n({pair_nm[0]:g})−n({pair_nm[1]:g}) = {dispersion}")
+    return Cauchy(
+        A,
+        B,
+        wavelength_range_nm=VISIBLE_RANGE_NM,
+        name=name,
+        source=source
+        or f"Cauchy fit: n({ref_nm:g} nm) = {n_ref}, n({pair_nm[0]:g})−n({pair_nm[1]:g}) = {dispersion}",
+    )
 
 
 def _page(page: str, name: str, *, extend: bool = True) -> Isotropic:
@@ -82,8 +88,13 @@ def _page(page: str, name: str, *, extend: bool = True) -> Isotropic:
     lo, hi = m.wavelength_range_nm
     if extend and m.channel.formula_kind and (lo > VISIBLE_RANGE_NM[0] or hi < VISIBLE_RANGE_NM[1]):
         new = (min(lo, VISIBLE_RANGE_NM[0]), max(hi, VISIBLE_RANGE_NM[1]))
-        m = Isotropic(m.channel, wavelength_range_nm=new, name=name,
-                      source=f"{m.source}; formula extrapolated from its {lo:g}–{hi:g} nm range to {new[0]:g}–{new[1]:g} nm")
+        m = Isotropic(
+            m.channel,
+            wavelength_range_nm=new,
+            name=name,
+            source=f"{m.source}; formula extrapolated from its {lo:g}–{hi:g} nm range "
+            f"to {new[0]:g}–{new[1]:g} nm",
+        )
     return m
 
 
@@ -112,8 +123,11 @@ def _seed002_indices(name: str) -> Material:
     row = SEED002_GEMS[name]
     disp = 2.0 * row["half_dispersion"]
     kw = dict(ref_nm=546.1, pair_nm=_RGB)
-    src = f"Guy & Soler 2004 §6.1: n_o {row['n_o']}" + (f", n_e {row['n_e']}" if row["n_e"] else "") + \
-        f" ± {row['half_dispersion']} (green ± half dispersion), Cauchy fit"
+    src = (
+        f"Guy & Soler 2004 §6.1: n_o {row['n_o']}"
+        + (f", n_e {row['n_e']}" if row["n_e"] else "")
+        + f" ± {row['half_dispersion']} (green ± half dispersion), Cauchy fit"
+    )
     o = cauchy_from_gem_constants(row["n_o"], disp, name=f"{name} (o)", source=src, **kw)
     if row["n_e"] is None:
         o.name, o.source = name, src
@@ -125,8 +139,12 @@ def _seed002_indices(name: str) -> Material:
 
 
 def _bands(bands, name) -> AbsorptionSpectrum:
-    return AbsorptionSpectrum.from_bands(bands, wavelength_range_nm=(300.0, 900.0), name=name,
-                                         source="Cr3+ bands (positions: literature; amplitudes illustrative)")
+    return AbsorptionSpectrum.from_bands(
+        bands,
+        wavelength_range_nm=(300.0, 900.0),
+        name=name,
+        source="Cr3+ bands (positions: literature; amplitudes illustrative)",
+    )
 
 
 def _diamond() -> Material:
@@ -145,7 +163,9 @@ def _ruby() -> Material:
     base = _uniaxial(o, e, "ruby", "refractiveindex.info main/Al2O3/Malitson-o/-e")
     ko = _bands([Band(556.0, 30.0, 0.25), Band(407.0, 25.0, 0.30)], "ruby K^o")
     ke = _bands([Band(570.0, 30.0, 0.20), Band(400.0, 25.0, 0.22)], "ruby K^e")
-    return with_absorption(base, (ko, ke), source=base.source + "; Cr3+ bands after McClure 1962 (illustrative strength)")
+    return with_absorption(
+        base, (ko, ke), source=base.source + "; Cr3+ bands after McClure 1962 (illustrative strength)"
+    )
 
 
 def _calcite() -> Material:
@@ -178,7 +198,9 @@ def _emerald() -> Material:
     base = _uniaxial(o, e, "emerald", src)
     ko = _bands([Band(600.0, 35.0, 0.15), Band(430.0, 25.0, 0.20)], "emerald K^o")
     ke = _bands([Band(640.0, 35.0, 0.12), Band(420.0, 25.0, 0.15)], "emerald K^e")
-    return with_absorption(base, (ko, ke), source=src + "; Cr3+ bands after Wood & Nassau 1968 (illustrative strength)")
+    return with_absorption(
+        base, (ko, ke), source=src + "; Cr3+ bands after Wood & Nassau 1968 (illustrative strength)"
+    )
 
 
 def _peridot() -> Material:
@@ -198,7 +220,10 @@ def _spinel() -> Material:
 
 
 def _topaz() -> Material:
-    src = "topaz (biaxial, treated as uniaxial): n_alpha 1.619 -> o, n_gamma 1.627 -> e (nD), dispersion 0.014 (GIA); Cauchy fit"
+    src = (
+        "topaz (biaxial, treated as uniaxial): n_alpha 1.619 -> o, n_gamma 1.627 -> e (nD), "
+        "dispersion 0.014 (GIA); Cauchy fit"
+    )
     o = cauchy_from_gem_constants(1.619, 0.014, name="topaz (o)", source=src)
     e = cauchy_from_gem_constants(1.627, 0.014, name="topaz (e)", source=src)
     return _uniaxial(o, e, "topaz", src)
@@ -212,7 +237,9 @@ def _cubic_zirconia() -> Material:
 def _moissanite() -> Material:
     o = _page("main/SiC/Wang-6H-o", "moissanite (o)")
     e = _page("main/SiC/Wang-6H-e", "moissanite (e)")
-    return _uniaxial(o, e, "moissanite", "refractiveindex.info main/SiC/Wang-6H-o/-e (6H-SiC), extrapolated below 435.8 nm")
+    return _uniaxial(
+        o, e, "moissanite", "refractiveindex.info main/SiC/Wang-6H-o/-e (6H-SiC), extrapolated below 435.8 nm"
+    )
 
 
 def _water() -> Material:
@@ -295,8 +322,9 @@ def get(name: str) -> Material:
     if key not in _BUILDERS:
         close = difflib.get_close_matches(key, list(_BUILDERS) + list(ALIASES), n=3, cutoff=0.5)
         hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
-        raise InputError(f"unknown material{hint}", field="material", value=name,
-                         allowed=", ".join(_BUILDERS))
+        raise InputError(
+            f"unknown material{hint}", field="material", value=name, allowed=", ".join(_BUILDERS)
+        )
     if key not in _cache:
         _cache[key] = _BUILDERS[key]()
     return _cache[key]

@@ -51,8 +51,12 @@ def database_version() -> str:
 def _parse(page: str) -> tuple[str, str, str]:
     parts = str(page).strip().strip("/").split("/")
     if len(parts) != 3 or not all(parts):
-        raise InputError("a refractiveindex.info page is 'shelf/book/page'", field="page", value=page,
-                         allowed="e.g. 'main/C/Peter'")
+        raise InputError(
+            "a refractiveindex.info page is 'shelf/book/page'",
+            field="page",
+            value=page,
+            allowed="e.g. 'main/C/Peter'",
+        )
     return parts[0], parts[1], parts[2]
 
 
@@ -70,8 +74,12 @@ def page_path(page: str) -> Path:
     close = difflib.get_close_matches("/".join(key), names, n=3, cutoff=0.6)
     if not close:  # suggest pages of the same book
         close = [n for n in names if n.startswith(f"{key[0]}/{key[1]}/")][:5]
-    raise InputError("no such page in the refractiveindex.info database", field="page", value=page,
-                     allowed=("did you mean " + ", ".join(close)) if close else "see refractiveindex.info")
+    raise InputError(
+        "no such page in the refractiveindex.info database",
+        field="page",
+        value=page,
+        allowed=("did you mean " + ", ".join(close)) if close else "see refractiveindex.info",
+    )
 
 
 def _table(text: str) -> np.ndarray:
@@ -128,5 +136,9 @@ def from_refractiveindex(page: str, *, name: str | None = None) -> Isotropic:
 
     cite = re.sub(r"<[^>]+>", "", " ".join(ref))[:200]
     ch = Channel(kind, coeffs, n_curve, k_curve)
-    return Isotropic(ch, wavelength_range_nm=(float(lo), float(hi)), name=name or page,
-                     source=f"refractiveindex.info {page} ({cite})")
+    return Isotropic(
+        ch,
+        wavelength_range_nm=(float(lo), float(hi)),
+        name=name or page,
+        source=f"refractiveindex.info {page} ({cite})",
+    )
