@@ -10,5 +10,6 @@ except _metadata.PackageNotFoundError:  # running from a source tree without ins
     __version__ = "0.0.0+unknown"
 
 from . import device
+from .optics import thinfilm
 
-__all__ = ["__version__", "device"]
+__all__ = ["__version__", "device", "thinfilm"]
