@@ -18,6 +18,7 @@ from .errors import InputError
 SUBCOMMAND_MODULES = [
     "warpoptics.commands.info",
     "warpoptics.commands.spectrum",
+    "warpoptics.commands.thinfilm",
 ]
 
 

@@ -99,6 +99,7 @@ __all__ = [
     "morpho_stack",
     "oil_slick_thickness",
     "soap_film_thickness",
+    "turbulence_field",
 ]
 
 
@@ -690,8 +691,10 @@ def _thickness_field_kernel(
     turb = turbulence(seed, x[i] * turb_scale, y[i] * turb_scale, octaves)
     if which == 0:
         out[i] = oil_slick_thickness_f(x[i], y[i], k1, k2, turb, max_thickness_nm)
-    else:
+    elif which == 1:
         out[i] = soap_film_thickness_f(y[i], k2, turb, max_thickness_nm)
+    else:
+        out[i] = turb
 
 
 # ---------------------------------------------------------------------------------------------
@@ -1326,3 +1329,8 @@ def soap_film_thickness(
     """Soap film thickness (nm), Smits & Meyer 1990 §4.2: proportional to the normalised height
     (0 at the top, 1 at the bottom) plus ``k2`` times turbulence at (x, height)."""
     return _field(1, x, height, 0.0, k2, max_thickness_nm, seed, octaves, turb_scale, device)
+
+
+def turbulence_field(x, y, *, seed: int = 0, octaves: int = 6, scale: float = 1.0, device=None) -> np.ndarray:
+    """Perlin turbulence (:func:`turbulence`) at (scale x, scale y)."""
+    return _field(2, x, y, 0.0, 0.0, 0.0, seed, octaves, scale, device)
