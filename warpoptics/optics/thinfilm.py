@@ -812,7 +812,7 @@ def _run_stack(wavelength_nm, n_layers, thickness_nm, n_incident, n_substrate, a
         raise InputError(
             f"n_layers has {nl.shape[-1]} layers (last axis) but thickness_nm has {d.shape[-1]}",
             field="thickness_nm",
-            value=thickness_nm,
+            value=f"shape {d.shape} vs n_layers shape {nl.shape}",
             allowed="one thickness per layer (same last axis)",
         )
     L = nl.shape[-1]
