@@ -764,23 +764,20 @@ def make_coating_stack(
     thick = []
     first = []
     count = []
-    samples = None
-    for ci, coating in enumerate(layers):
+    for coating in layers:
         first.append(len(rows))
         count.append(len(coating))
-        for li, (index, d) in enumerate(coating):
-            v = np.atleast_1d(np.asarray(index, dtype=np.complex128))
-            if samples is None:
-                samples = v.size
-            elif v.size != samples and v.size != 1:
-                raise InputError(
-                    f"coating {ci} layer {li}: {v.size} index samples, others have {samples}",
-                    field="index",
-                    allowed="the same wavelength grid for every layer",
-                )
-            rows.append(v)
+        for index, d in coating:
+            rows.append(np.atleast_1d(np.asarray(index, dtype=np.complex128)))
             thick.append(d)
-    samples = samples or 1
+    samples = max((v.size for v in rows), default=1)
+    for r, v in enumerate(rows):
+        if v.size not in (1, samples):
+            raise InputError(
+                f"layer row {r}: {v.size} index samples, others have {samples}",
+                field="index",
+                allowed="one value (dispersionless) or the same wavelength grid for every layer",
+            )
     table = np.zeros((max(len(rows), 1), samples, 2), dtype=np.float64)
     for r, v in enumerate(rows):
         pairs = _complex_pairs(v, "index")
