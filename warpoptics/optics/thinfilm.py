@@ -34,9 +34,10 @@ Conventions (see also ``optics/complex.py``):
   T_p = |tp|^2 Re(conj(N2) cos t) / Re(conj(N1) cos i)  (normal Poynting flux; the incident
   medium should be transparent for R + T + A = 1 to hold).
 
-The stacks run in float64 inside the kernels (``wp.vec2d`` complex numbers): the float32
-results differed from ``tmm`` by up to ~1e-5 for a twelve-layer stack, the double-precision
-ones by < 1e-12.  The renderer calls :func:`coating_amplitudes` (float32 in, float32 out, float64
+The stacks run in float64 inside the kernels (``wp.vec2d`` complex numbers): the same matrix
+product in float32 (NumPy complex64) differed from ``tmm`` by up to 5.7e-6 in R for twelve-layer
+stacks (20 random stacks, 380–780 nm, 0–85 degrees, s), beyond the 1e-6 the project asks for;
+the float64 kernels agree with ``tmm`` to < 1e-12.  The renderer calls :func:`coating_amplitudes` (float32 in, float32 out, float64
 inside) with layer data in a :class:`CoatingStack` of device arrays, so no kernel is regenerated
 for a new stack.
 
