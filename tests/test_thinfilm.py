@@ -163,12 +163,30 @@ def test_black_film_with_phase_change(device):
 
 def test_edge_cases_are_finite(device):
     cases = [
-        dict(n_layers=[1.5], thickness_nm=[1e7], n_incident=1.0, n_substrate=1.0, angle=[0.0, 45.0, 89.99, 90.0]),
-        dict(n_layers=[1.0], thickness_nm=[200.0], n_incident=1.5, n_substrate=1.0, angle=[41.81031489, 60.0, 90.0]),
+        dict(
+            n_layers=[1.5],
+            thickness_nm=[1e7],
+            n_incident=1.0,
+            n_substrate=1.0,
+            angle=[0.0, 45.0, 89.99, 90.0],
+        ),
+        dict(
+            n_layers=[1.0],
+            thickness_nm=[200.0],
+            n_incident=1.5,
+            n_substrate=1.0,
+            angle=[41.81031489, 60.0, 90.0],
+        ),
         dict(n_layers=[1.2 + 1e3j], thickness_nm=[1e6], n_incident=1.0, n_substrate=1.5, angle=[0.0, 70.0]),
         dict(n_layers=[1.0, 1.0], thickness_nm=[0.0, 1e5], n_incident=1.0, n_substrate=1.0, angle=[90.0]),
         dict(n_layers=[], thickness_nm=[], n_incident=1.0, n_substrate=1.0, angle=[90.0]),
-        dict(n_layers=[1.33], thickness_nm=[500.0], n_incident=1.33, n_substrate=1.0, angle=[48.753, 48.7535, 90.0]),
+        dict(
+            n_layers=[1.33],
+            thickness_nm=[500.0],
+            n_incident=1.33,
+            n_substrate=1.0,
+            angle=[48.753, 48.7535, 90.0],
+        ),
     ]
     for c in cases:
         amps = tf.amplitudes(550.0, **c, device=device)
@@ -183,16 +201,22 @@ def test_edge_cases_are_finite(device):
     R = tf.reflectance(550.0, [1.38], [100.0], 1.5, 1.0, [60.0, 75.0], "s", device=device)
     np.testing.assert_allclose(R, 1.0, atol=1e-12)
     # a thick evanescent gap still tunnels (frustrated TIR) but a thin one tunnels more
-    T_thin, T_thick = tf.transmittance(550.0, [[1.0], [1.0]], [[50.0], [500.0]], 1.5, 1.5, 60.0, "s", device=device)
+    T_thin, T_thick = tf.transmittance(
+        550.0, [[1.0], [1.0]], [[50.0], [500.0]], 1.5, 1.5, 60.0, "s", device=device
+    )
     assert T_thin > T_thick > 0.0
 
 
 def test_per_wavelength_layer_indices(device):
     """Layer indices given per wavelength (shape (W, L)) broadcast against the wavelengths."""
     n_of = 1.45 + 3000.0 / WL**2
-    R = tf.reflectance(WL, np.stack([n_of, np.full_like(WL, 2.1)], -1), [100.0, 60.0], 1.0, 1.52, 30.0, device=device)
-    ref = [tmm.unpolarized_RT([1.0, n, 2.1, 1.52], [np.inf, 100.0, 60.0, np.inf], np.radians(30.0), w)["R"]
-           for n, w in zip(n_of, WL, strict=True)]
+    R = tf.reflectance(
+        WL, np.stack([n_of, np.full_like(WL, 2.1)], -1), [100.0, 60.0], 1.0, 1.52, 30.0, device=device
+    )
+    ref = [
+        tmm.unpolarized_RT([1.0, n, 2.1, 1.52], [np.inf, 100.0, 60.0, np.inf], np.radians(30.0), w)["R"]
+        for n, w in zip(n_of, WL, strict=True)
+    ]
     np.testing.assert_allclose(R, ref, atol=1e-6)
 
 
@@ -220,9 +244,12 @@ def test_float32_coating_front_end(device):
     ):
         nl = np.stack(layers, -1)[:, None, :] if layers else []
         for back in (False, True):
-            got = tf.evaluate_coating(stack, coating, wl[:, None], angles[None, :], 1.0, 1.7, from_back=back,
-                                      device=device)
-            want = tf.amplitudes(wl[:, None], nl, d, 1.0, 1.7, angles[None, :], from_substrate=back, device=device)
+            got = tf.evaluate_coating(
+                stack, coating, wl[:, None], angles[None, :], 1.0, 1.7, from_back=back, device=device
+            )
+            want = tf.amplitudes(
+                wl[:, None], nl, d, 1.0, 1.7, angles[None, :], from_substrate=back, device=device
+            )
             for g, w in zip(got, want, strict=True):
                 assert g.dtype == np.complex64 and g.shape == (3, 2)
                 np.testing.assert_allclose(g, w, atol=2e-5)
@@ -241,20 +268,33 @@ def test_smits_meyer_equations(device):
         atol=2e-6,
     )
     np.testing.assert_allclose(
-        tf.smits_meyer_film(wl, tp, False, 0.5, device=device), (0.5 * np.cos(2 * np.pi * tp / wl)) ** 2, atol=2e-6
+        tf.smits_meyer_film(wl, tp, False, 0.5, device=device),
+        (0.5 * np.cos(2 * np.pi * tp / wl)) ** 2,
+        atol=2e-6,
     )
     ang = np.array([0.0, 30.0, 60.0, 80.0])
     th = np.radians(ang)
-    np.testing.assert_allclose(tf.smits_meyer_optical_thickness(300.0, 1.33, ang, device=device),
-                               300.0 * 1.33 * np.cos(th), rtol=1e-6)
-    np.testing.assert_allclose(tf.smits_meyer_effective_thickness(300.0, 1.53, ang, device=device),
-                               300.0 * np.sqrt(1.53**2 - np.sin(th) ** 2), rtol=1e-6)
-    np.testing.assert_allclose(tf.smits_meyer_morpho_thickness(150.0, 50.0, 1.53, ang, device=device),
-                               150.0 * np.cos(th) + 50.0 * np.sqrt(1.53**2 - np.sin(th) ** 2), rtol=1e-6)
+    np.testing.assert_allclose(
+        tf.smits_meyer_optical_thickness(300.0, 1.33, ang, device=device),
+        300.0 * 1.33 * np.cos(th),
+        rtol=1e-6,
+    )
+    np.testing.assert_allclose(
+        tf.smits_meyer_effective_thickness(300.0, 1.53, ang, device=device),
+        300.0 * np.sqrt(1.53**2 - np.sin(th) ** 2),
+        rtol=1e-6,
+    )
+    np.testing.assert_allclose(
+        tf.smits_meyer_morpho_thickness(150.0, 50.0, 1.53, ang, device=device),
+        150.0 * np.cos(th) + 50.0 * np.sqrt(1.53**2 - np.sin(th) ** 2),
+        rtol=1e-6,
+    )
     t = 226.5
     x = 2 * np.pi * t / wl
     ref = 0.5 * 2.0 * (np.sin(13 * x) / np.sin(x)) ** 2
-    np.testing.assert_allclose(tf.smits_meyer_multilayer(wl, t, 12, 2.0, device=device), ref, rtol=2e-4, atol=1e-4)
+    np.testing.assert_allclose(
+        tf.smits_meyer_multilayer(wl, t, 12, 2.0, device=device), ref, rtol=2e-4, atol=1e-4
+    )
     # the limit at sin(2 pi t / lambda) = 0: peak height A0 (l + 1)^2 / 2 at lambda = 2 t / m
     peak = tf.smits_meyer_multilayer(np.array([2 * t, t]), t, 12, 2.0, device=device)
     np.testing.assert_allclose(peak, 169.0, rtol=1e-3)
@@ -308,15 +348,25 @@ def _xyz_reference(wl, reflect, illuminant="D65"):
 def test_film_table_against_independent_colour(device):
     axis_stop = 600.0
     table = tf.film_color_table(
-        phase_change=True, model="exact", max_optical_thickness_nm=axis_stop, count=7, step_nm=1.0, device=device
+        phase_change=True,
+        model="exact",
+        max_optical_thickness_nm=axis_stop,
+        count=7,
+        step_nm=1.0,
+        device=device,
     )
     wl = np.arange(360.0, 831.0)
-    R = np.array([[tmm.coh_tmm("s", [1.0, 1.33, 1.0], [np.inf, tp / 1.33, np.inf], 0.0, w)["R"] for w in wl]
-                  for tp in table.axis])
+    R = np.array(
+        [
+            [tmm.coh_tmm("s", [1.0, 1.33, 1.0], [np.inf, tp / 1.33, np.inf], 0.0, w)["R"] for w in wl]
+            for tp in table.axis
+        ]
+    )
     ref = _xyz_reference(wl, R)
     np.testing.assert_allclose(table.xyz, ref, atol=2e-4)  # float32 accumulation over 471 terms
-    sm = tf.film_color_table(phase_change=False, max_optical_thickness_nm=axis_stop, count=7, step_nm=1.0,
-                             device=device)
+    sm = tf.film_color_table(
+        phase_change=False, max_optical_thickness_nm=axis_stop, count=7, step_nm=1.0, device=device
+    )
     rho = (np.cos(2 * np.pi * sm.axis[:, None] / wl[None, :])) ** 2  # eq. 8, K = 1
     np.testing.assert_allclose(sm.xyz, _xyz_reference(wl, rho), atol=2e-4)
     # the RGB table is the Smits–Meyer clip of exposure * XYZ (the foundation's clip wrapper)
@@ -332,8 +382,17 @@ def test_table_lookup_equals_direct_evaluation(device):
     x = np.sort(rng.uniform(0.0, 800.0, 40))
     x[0], x[1] = 0.0, 800.0
     direct = tf._fill_table(  # the same kernel, sampled exactly at x
-        tf._table_model(0, wo.device.get_device(device), phase=1.0, K=1.0), x, "optical_thickness_nm",
-        "smits-meyer", True, "D65", 5.0, table.exposure, 1.0, "", device,
+        tf._table_model(0, wo.device.get_device(device), phase=1.0, K=1.0),
+        x,
+        "optical_thickness_nm",
+        "smits-meyer",
+        True,
+        "D65",
+        5.0,
+        table.exposure,
+        1.0,
+        "",
+        device,
     )
     got = table.lookup(x, "xyz", device=device)
     # linear interpolation over 1 nm: |f''| h^2 / 8 with |f''| <= (4 pi / 380 nm)^2 ~ 1.1e-3
@@ -353,8 +412,12 @@ def test_multilayer_tables(device):
     assert idx.size == 23 and np.isclose(thick.sum(), 12 * 50.0 + 11 * 150.0)
     wl = np.arange(360.0, 831.0)
     R = tf.reflectance(wl, idx, thick, 1.0, 1.0, 20.0, device=device)
-    R_tmm = np.array([tmm.unpolarized_RT([1.0, *idx, 1.0], [np.inf, *thick, np.inf], np.radians(20.0), w)["R"]
-                      for w in wl[::10]])
+    R_tmm = np.array(
+        [
+            tmm.unpolarized_RT([1.0, *idx, 1.0], [np.inf, *thick, np.inf], np.radians(20.0), w)["R"]
+            for w in wl[::10]
+        ]
+    )
     np.testing.assert_allclose(R[::10], R_tmm, atol=1e-6)
     one = tf.multilayer_color_table(model="exact", count=2, max_angle=20.0, step_nm=1.0, device=device)
     np.testing.assert_allclose(one.xyz[1], _xyz_reference(wl, R), atol=2e-4)
@@ -385,13 +448,29 @@ def test_input_errors(device):
 
 def _run(args, tmp_path):
     env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    return subprocess.run([sys.executable, *args], capture_output=True, text=True, env=env, cwd=tmp_path, timeout=300)
+    return subprocess.run(
+        [sys.executable, *args], capture_output=True, text=True, env=env, cwd=tmp_path, timeout=300
+    )
 
 
 def test_cli_table(tmp_path, capsys):
     out = tmp_path / "newton.png"
-    p = _run(["-m", "warpoptics.cli", "thinfilm", "table", "--phase-change", "--model", "exact", "--count", "40",
-              "-o", str(out)], tmp_path)
+    p = _run(
+        [
+            "-m",
+            "warpoptics.cli",
+            "thinfilm",
+            "table",
+            "--phase-change",
+            "--model",
+            "exact",
+            "--count",
+            "40",
+            "-o",
+            str(out),
+        ],
+        tmp_path,
+    )
     assert p.returncode == 0, p.stderr
     assert out.stat().st_size > 1000 and "exact table, 40 entries" in p.stdout
     from warpoptics.cli import main

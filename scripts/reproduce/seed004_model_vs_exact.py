@@ -55,7 +55,9 @@ def main(argv=None) -> int:
     model_a = tf.smits_meyer_film(W, T * n, True, 2 * r01, device=dev)
     d = np.abs(exact_a - model_a)
     i = np.unravel_index(np.argmax(d), d.shape)
-    lines.append(_largest("A  soap film, eq. 7 vs exact: max |dR|", d[i], f"{W[i]:.0f} nm, t = {T[i]:.0f} nm"))
+    lines.append(
+        _largest("A  soap film, eq. 7 vs exact: max |dR|", d[i], f"{W[i]:.0f} nm, t = {T[i]:.0f} nm")
+    )
     lines.append(f"{'':58s} (peak R exact {exact_a.max():.4f}, model {model_a.max():.4f})")
 
     # B. no phase change: air | 1.33 | 1.77
@@ -65,19 +67,34 @@ def main(argv=None) -> int:
     model_b = tf.smits_meyer_film(W, T * n, False, r01 + r12, device=dev)
     d = np.abs(exact_b - model_b)
     i = np.unravel_index(np.argmax(d), d.shape)
-    lines.append(_largest("B  film on sapphire, eq. 8 vs exact: max |dR|", d[i], f"{W[i]:.0f} nm, t = {T[i]:.0f} nm"))
+    lines.append(
+        _largest("B  film on sapphire, eq. 8 vs exact: max |dR|", d[i], f"{W[i]:.0f} nm, t = {T[i]:.0f} nm")
+    )
 
     # colour differences of the tables (A and B), one exposure for both models
     count = 41 if args.quick else 301
     for label, pc, k in (("A", True, 2 * r01), ("B", False, r01 + r12)):
-        ex = tf.film_color_table(phase_change=pc, model="exact", max_optical_thickness_nm=1330.0, count=count,
-                                 device=dev)
-        sm = tf.film_color_table(phase_change=pc, model="smits-meyer", K=k, max_optical_thickness_nm=1330.0,
-                                 count=count, device=dev)
+        ex = tf.film_color_table(
+            phase_change=pc, model="exact", max_optical_thickness_nm=1330.0, count=count, device=dev
+        )
+        sm = tf.film_color_table(
+            phase_change=pc,
+            model="smits-meyer",
+            K=k,
+            max_optical_thickness_nm=1330.0,
+            count=count,
+            device=dev,
+        )
         de = delta_e2000(ex.xyz * ex.exposure, sm.xyz * ex.exposure)
         j = int(np.argmax(de))
-        lines.append(_largest(f"{label}  colour table, CIEDE2000 model vs exact: max dE", de[j],
-                              f"t' = {ex.axis[j]:.0f} nm (mean dE {de.mean():.2f})", ".2f"))
+        lines.append(
+            _largest(
+                f"{label}  colour table, CIEDE2000 model vs exact: max dE",
+                de[j],
+                f"t' = {ex.axis[j]:.0f} nm (mean dE {de.mean():.2f})",
+                ".2f",
+            )
+        )
 
     # C. angle rule at 60 degrees
     ang = 60.0
@@ -94,7 +111,9 @@ def main(argv=None) -> int:
     for label, m in (("eq. 11 (viewing angle)", model_c11), ("eq. 10 (refraction angle)", model_c10)):
         d = np.abs(exact_c - m)
         i = np.unravel_index(np.argmax(d), d.shape)
-        lines.append(_largest(f"C  60 deg, {label} vs exact: max |dR|", d[i], f"{W[i]:.0f} nm, t = {T[i]:.0f} nm"))
+        lines.append(
+            _largest(f"C  60 deg, {label} vs exact: max |dR|", d[i], f"{W[i]:.0f} nm, t = {T[i]:.0f} nm")
+        )
     lines.append(
         f"{'':58s} (t' ratio eq. 11 / exact phase = cos(theta) n / sqrt(n^2 - sin^2) = "
         f"{np.cos(th) * n / np.sqrt(n**2 - np.sin(th) ** 2):.3f})"
@@ -108,7 +127,6 @@ def main(argv=None) -> int:
     idx, thick = tf.morpho_stack()
     exact_d = tf.reflectance(wl_d[:, None], idx, thick, 1.0, 1.0, angles[None, :], device=dev)
     t_eff = tf.smits_meyer_morpho_thickness(150.0, 50.0, 1.53, angles, device=dev)
-    model_d = tf.smits_meyer_multilayer(wl_d[:, None], t_eff[None, :], 12, 1.0, device=dev)
     # first-order peak of the exact stack: its highest reflectance between the second order
     # (lambda = t_theta) and twice the first (lambda = 4 t_theta), i.e. in (1.4, 2.8) t_theta
     peak_exact = np.empty(angles.size)
@@ -118,16 +136,28 @@ def main(argv=None) -> int:
     peak_model = 2.0 * t_eff  # first order of eq. 9: lambda = 2 t_theta
     dp = np.abs(peak_exact - peak_model)
     j = int(np.nanargmax(dp))
-    lines.append(_largest("D  Morpho, first-order peak: max |d lambda| (nm)", dp[j],
-                          f"{angles[j]:.0f} deg (exact {peak_exact[j]:.0f}, model {peak_model[j]:.0f} nm)", ".1f"))
+    lines.append(
+        _largest(
+            "D  Morpho, first-order peak: max |d lambda| (nm)",
+            dp[j],
+            f"{angles[j]:.0f} deg (exact {peak_exact[j]:.0f}, model {peak_model[j]:.0f} nm)",
+            ".1f",
+        )
+    )
     lines.append(f"{'':58s} (exact peak R at 0 deg {exact_d[:, 0].max():.3f}; eq. 9 peak = A0 (l+1)^2 / 2)")
     cnt = 9 if args.quick else 90
     ex = tf.multilayer_color_table(model="exact", count=cnt, device=dev, peak_luminance=0.5)
     sm = tf.multilayer_color_table(model="smits-meyer", count=cnt, device=dev, peak_luminance=0.5)
     de = delta_e2000(ex.xyz * ex.exposure, sm.xyz * sm.exposure)
     j = int(np.argmax(de))
-    lines.append(_largest("D  Morpho colour table, CIEDE2000 (each peak Y = 0.5): max dE", de[j],
-                          f"{ex.axis[j]:.0f} deg (dE at 0 deg {de[0]:.1f})", ".1f"))
+    lines.append(
+        _largest(
+            "D  Morpho colour table, CIEDE2000 (each peak Y = 0.5): max dE",
+            de[j],
+            f"{ex.axis[j]:.0f} deg (dE at 0 deg {de[0]:.1f})",
+            ".1f",
+        )
+    )
 
     print("Smits & Meyer 1990 model vs exact thin-film optics: largest differences")
     for line in lines:

@@ -37,7 +37,9 @@ def main(argv=None) -> int:
     # wavy wing: z = a sin(k x + 0.6 sin(3 y)) cos(0.7 k y); slopes analytically
     ph = k * x + 0.6 * np.sin(3.0 * y)
     dzdx = a * k * np.cos(ph) * np.cos(0.7 * k * y)
-    dzdy = a * (np.cos(ph) * 1.8 * np.cos(3.0 * y) * np.cos(0.7 * k * y) - 0.7 * k * np.sin(ph) * np.sin(0.7 * k * y))
+    dzdy = a * (
+        np.cos(ph) * 1.8 * np.cos(3.0 * y) * np.cos(0.7 * k * y) - 0.7 * k * np.sin(ph) * np.sin(0.7 * k * y)
+    )
     normal = np.stack([-dzdx, -dzdy, np.ones_like(x)], axis=-1)
     normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
     tilt = np.radians(args.tilt)
@@ -48,15 +50,21 @@ def main(argv=None) -> int:
     for model in ("smits-meyer", "exact"):
         table = wo.thinfilm.multilayer_color_table(model=model, exposure=args.exposure, device=args.device)
         panels.append(table.lookup(angle, device=args.device))
-        strip = table.lookup(np.linspace(0.0, 89.0, n)[None, :].repeat(max(n // 8, 4), axis=0), device=args.device)
+        strip = table.lookup(
+            np.linspace(0.0, 89.0, n)[None, :].repeat(max(n // 8, 4), axis=0), device=args.device
+        )
         strips.append(strip)
-        print(f"{model:12s} table exposure {table.exposure:.3g}; angles {angle.min():.1f}-{angle.max():.1f} deg")
+        print(
+            f"{model:12s} table exposure {table.exposure:.3g}; angles {angle.min():.1f}-{angle.max():.1f} deg"
+        )
     gap = np.zeros((n, 4, 3))
     top = np.concatenate([panels[0], gap, panels[1]], axis=1)
     bottom = np.concatenate([strips[0], gap[: strips[0].shape[0]], strips[1]], axis=1)
     img = np.concatenate([top, np.zeros((4, top.shape[1], 3)), bottom], axis=0)
     write_png(args.output, encode_srgb(np.clip(img, 0.0, 1.0)))
-    print(f"wrote {args.output} ({img.shape[1]}x{img.shape[0]}): left Smits-Meyer eq. 9+14, right exact stack")
+    print(
+        f"wrote {args.output} ({img.shape[1]}x{img.shape[0]}): left Smits-Meyer eq. 9+14, right exact stack"
+    )
     return 0
 
 

@@ -25,7 +25,9 @@ def main(argv=None) -> int:
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--model", choices=["smits-meyer", "exact"], default="smits-meyer")
     ap.add_argument("--max-thickness", type=float, default=700.0, help="thickness at the bottom (nm)")
-    ap.add_argument("--k2", type=float, default=0.12, help="turbulence amplitude (fraction of the height range)")
+    ap.add_argument(
+        "--k2", type=float, default=0.12, help="turbulence amplitude (fraction of the height range)"
+    )
     ap.add_argument("--n-film", type=float, default=1.33)
     ap.add_argument("--black", type=float, default=0.3, help="height offset giving the black film at the top")
     ap.add_argument("--seed", type=int, default=3)
@@ -39,7 +41,9 @@ def main(argv=None) -> int:
     t = wo.thinfilm.soap_film_thickness(
         x, height, k2=args.k2, max_thickness_nm=args.max_thickness, seed=args.seed, device=args.device
     )
-    table = wo.thinfilm.film_color_table(phase_change=True, model=args.model, n_film=args.n_film, device=args.device)
+    table = wo.thinfilm.film_color_table(
+        phase_change=True, model=args.model, n_film=args.n_film, device=args.device
+    )
     tp = wo.thinfilm.smits_meyer_optical_thickness(t, args.n_film, 0.0, device=args.device)
     rgb = table.lookup(tp, device=args.device) * 0.8
     r = np.hypot(x - 0.5, h - 0.5)

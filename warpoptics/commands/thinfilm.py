@@ -67,7 +67,9 @@ def draw_table(table, path, *, n_film: float | None = None) -> Path:
 
     x = table.axis
     lo, hi = float(x[0]), float(x[-1])
-    fig, axes = plt.subplots(3, 1, figsize=(9, 4.4), sharex=True, gridspec_kw={"height_ratios": [1.2, 0.6, 1.0]})
+    fig, axes = plt.subplots(
+        3, 1, figsize=(9, 4.4), sharex=True, gridspec_kw={"height_ratios": [1.2, 0.6, 1.0]}
+    )
     strips = (
         (axes[0], table.rgb, "Smits–Meyer clip (constant Y)"),
         (axes[1], clip_naive(table.xyz * table.exposure), "per-channel clip"),
@@ -83,7 +85,13 @@ def draw_table(table, path, *, n_film: float | None = None) -> Path:
         for m in range(1, int(hi // 275.0) + 1):
             axes[0].axvline(m * 275.0, color="k", lw=0.5, alpha=0.5)
             axes[0].text(
-                (m - 0.5) * 275.0, 1.04, f"order {m}", ha="center", va="bottom", fontsize=7, transform=axes[0].transData
+                (m - 0.5) * 275.0,
+                1.04,
+                f"order {m}",
+                ha="center",
+                va="bottom",
+                fontsize=7,
+                transform=axes[0].transData,
             )
         axes[2].set_xlabel("optical thickness t' = t n cos θ (nm)")
         if n_film:
@@ -129,23 +137,37 @@ def run(args) -> int:
     unit = "nm" if table.quantity == "optical_thickness_nm" else "deg"
     print(
         f"{table.model} table, {table.axis.size} entries, {table.axis[0]:g}-{table.axis[-1]:g} {unit}; "
-        f"brightest Y={table.xyz[i, 1]:.4f} at {table.axis[i]:g} {unit}; exposure {table.exposure:.4g}; wrote {out}"
+        f"brightest Y={table.xyz[i, 1]:.4f} at {table.axis[i]:g} {unit}; "
+        f"exposure {table.exposure:.4g}; wrote {out}"
     )
     return 0
 
 
 def register(sub) -> None:
-    p = sub.add_parser("thinfilm", help="thin-film interference colours (Newton's colours, Smits & Meyer 1990)")
+    p = sub.add_parser(
+        "thinfilm", help="thin-film interference colours (Newton's colours, Smits & Meyer 1990)"
+    )
     p.add_argument("action", choices=["table"], help="table: draw the colour table as a labelled strip")
-    p.add_argument("-o", "--output", required=True, help="output figure (.png, .pdf, .svg) or .csv of the table")
-    p.add_argument("--phase-change", action="store_true", help="film between lower-index media (eq. 7; black film)")
-    p.add_argument("--model", choices=["exact", "smits-meyer"], default="smits-meyer", help="default: smits-meyer")
-    p.add_argument("--multilayer", action="store_true", help="Morpho multilayer table against angle (eq. 9, 14)")
+    p.add_argument(
+        "-o", "--output", required=True, help="output figure (.png, .pdf, .svg) or .csv of the table"
+    )
+    p.add_argument(
+        "--phase-change", action="store_true", help="film between lower-index media (eq. 7; black film)"
+    )
+    p.add_argument(
+        "--model", choices=["exact", "smits-meyer"], default="smits-meyer", help="default: smits-meyer"
+    )
+    p.add_argument(
+        "--multilayer", action="store_true", help="Morpho multilayer table against angle (eq. 9, 14)"
+    )
     p.add_argument("--max-thickness", type=float, default=1500.0, help="largest optical thickness t' (nm)")
     p.add_argument("--count", type=int, default=None, help="table entries (default 751 film, 90 multilayer)")
     p.add_argument("--n-film", type=float, default=1.33, help="film index for the exact model (default 1.33)")
     p.add_argument(
-        "--n-substrate", type=float, default=None, help="substrate index, exact model (default 1.0 / 1.77 without)"
+        "--n-substrate",
+        type=float,
+        default=None,
+        help="substrate index, exact model (default 1.0 / 1.77 without)",
     )
     p.add_argument("--d1", type=float, default=150.0, help="multilayer air spacing d1 (nm)")
     p.add_argument("--d2", type=float, default=50.0, help="multilayer layer thickness d2 (nm)")

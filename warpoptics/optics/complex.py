@@ -148,32 +148,32 @@ def c_normal_component(n1: wp.vec2f, n2: wp.vec2f, cos_i: float):
 
 
 @wp.func
-def cplx(re: wp.float64, im: wp.float64):
+def cplx(re: wp.float64, im: wp.float64):  # noqa: F811 (overload)
     return wp.vec2d(re, im)
 
 
 @wp.func
-def c_real(re: wp.float64):
+def c_real(re: wp.float64):  # noqa: F811 (overload)
     return wp.vec2d(re, wp.float64(0.0))
 
 
 @wp.func
-def c_mul(a: wp.vec2d, b: wp.vec2d):
+def c_mul(a: wp.vec2d, b: wp.vec2d):  # noqa: F811 (overload)
     return wp.vec2d(a[0] * b[0] - a[1] * b[1], a[0] * b[1] + a[1] * b[0])
 
 
 @wp.func
-def c_conj(a: wp.vec2d):
+def c_conj(a: wp.vec2d):  # noqa: F811 (overload)
     return wp.vec2d(a[0], -a[1])
 
 
 @wp.func
-def c_abs2(a: wp.vec2d):
+def c_abs2(a: wp.vec2d):  # noqa: F811 (overload)
     return a[0] * a[0] + a[1] * a[1]
 
 
 @wp.func
-def c_abs(a: wp.vec2d):
+def c_abs(a: wp.vec2d):  # noqa: F811 (overload)
     x = wp.abs(a[0])
     y = wp.abs(a[1])
     m = wp.max(x, y)
@@ -185,7 +185,7 @@ def c_abs(a: wp.vec2d):
 
 
 @wp.func
-def c_div(a: wp.vec2d, b: wp.vec2d):
+def c_div(a: wp.vec2d, b: wp.vec2d):  # noqa: F811 (overload)
     zero = wp.float64(0.0)
     if wp.abs(b[0]) >= wp.abs(b[1]):
         if b[0] == zero:
@@ -199,12 +199,12 @@ def c_div(a: wp.vec2d, b: wp.vec2d):
 
 
 @wp.func
-def c_inv(a: wp.vec2d):
+def c_inv(a: wp.vec2d):  # noqa: F811 (overload)
     return c_div(wp.vec2d(wp.float64(1.0), wp.float64(0.0)), a)
 
 
 @wp.func
-def c_sqrt(a: wp.vec2d):
+def c_sqrt(a: wp.vec2d):  # noqa: F811 (overload)
     """Principal square root (real part >= 0), branch cut on the negative real axis."""
     zero = wp.float64(0.0)
     half = wp.float64(0.5)
@@ -217,19 +217,19 @@ def c_sqrt(a: wp.vec2d):
 
 
 @wp.func
-def c_exp(a: wp.vec2d):
+def c_exp(a: wp.vec2d):  # noqa: F811 (overload)
     e = wp.exp(a[0])
     return wp.vec2d(e * wp.cos(a[1]), e * wp.sin(a[1]))
 
 
 @wp.func
-def c_exp_i(phase: wp.float64):
+def c_exp_i(phase: wp.float64):  # noqa: F811 (overload)
     """exp(i * phase) for a real phase."""
     return wp.vec2d(wp.cos(phase), wp.sin(phase))
 
 
 @wp.func
-def c_normal_component(n1: wp.vec2d, n2: wp.vec2d, cos_i: wp.float64):
+def c_normal_component(n1: wp.vec2d, n2: wp.vec2d, cos_i: wp.float64):  # noqa: F811 (overload)
     """N2 cos(theta_t) in double precision; same branch rules as the float32 version."""
     zero = wp.float64(0.0)
     one = wp.float64(1.0)

@@ -37,9 +37,9 @@ Conventions (see also ``optics/complex.py``):
 The stacks run in float64 inside the kernels (``wp.vec2d`` complex numbers): the same matrix
 product in float32 (NumPy complex64) differed from ``tmm`` by up to 5.7e-6 in R for twelve-layer
 stacks (20 random stacks, 380–780 nm, 0–85 degrees, s), beyond the 1e-6 the project asks for;
-the float64 kernels agree with ``tmm`` to < 1e-12.  The renderer calls :func:`coating_amplitudes` (float32 in, float32 out, float64
-inside) with layer data in a :class:`CoatingStack` of device arrays, so no kernel is regenerated
-for a new stack.
+the float64 kernels agree with ``tmm`` to < 1e-12.  The renderer calls
+:func:`coating_amplitudes` (float32 in, float32 out, float64 inside) with layer data in a
+:class:`CoatingStack` of device arrays, so no kernel is regenerated for a new stack.
 
 References
 ----------
@@ -61,9 +61,9 @@ from dataclasses import dataclass
 import numpy as np
 import warp as wp
 
+from ..color import gamut_clip_smits_meyer
 from ..device import elementwise, get_device
 from ..errors import InputError
-from ..color import gamut_clip_smits_meyer
 from ..spectra import ILLUMINANTS, SpectralTables, cmf_xyz, illuminant_value, spectral_tables
 from .complex import c_abs2, c_div, c_exp, c_mul, c_normal_component
 
@@ -150,9 +150,12 @@ def _expm1_over(z: wp.vec2d):
     one = wp.float64(1.0)
     if c_abs2(z) < wp.float64(1.0e-6):
         z2 = c_mul(z, z)
-        return wp.vec2d(one, wp.float64(0.0)) + z * wp.float64(0.5) + z2 * (one / wp.float64(6.0)) + c_mul(
-            z2, z
-        ) * (one / wp.float64(24.0))
+        return (
+            wp.vec2d(one, wp.float64(0.0))
+            + z * wp.float64(0.5)
+            + z2 * (one / wp.float64(6.0))
+            + c_mul(z2, z) * (one / wp.float64(24.0))
+        )
     return c_div(c_exp(z) - wp.vec2d(one, wp.float64(0.0)), z)
 
 
@@ -361,7 +364,9 @@ def coating_amplitudes(
 
 
 @wp.func
-def smits_meyer_film_reflectance(wavelength_nm: float, optical_thickness_nm: float, phase_change: float, K: float):
+def smits_meyer_film_reflectance(
+    wavelength_nm: float, optical_thickness_nm: float, phase_change: float, K: float
+):
     """Two-beam reflectance of a single film, Smits & Meyer 1990 eq. 7 (phase change) and 8.
 
     rho = [K cos(2 pi t' / lambda + phase_change * pi / 2)]^2 with t' = t n (cos theta) the
@@ -397,7 +402,9 @@ def smits_meyer_morpho_thickness_f(d1_nm: float, d2_nm: float, n: float, cos_the
 
 
 @wp.func
-def smits_meyer_multilayer_intensity(wavelength_nm: float, effective_thickness_nm: float, layers: int, A0: float):
+def smits_meyer_multilayer_intensity(
+    wavelength_nm: float, effective_thickness_nm: float, layers: int, A0: float
+):
     """Multilayer iridescence, Smits & Meyer 1990 eq. 9 (after Anderson & Richards 1942).
 
     I = 1/2 A0 [sin(2 pi (l + 1) t / lambda) / sin(2 pi t / lambda)]^2 with l the number of
@@ -408,7 +415,7 @@ def smits_meyer_multilayer_intensity(wavelength_nm: float, effective_thickness_n
     x = 2.0 * wp.pi * effective_thickness_nm / wavelength_nm
     m = float(layers + 1)
     s = wp.sin(x)
-    ratio = float(0.0)
+    ratio = wp.float32(0.0)
     if wp.abs(s) < 1.0e-4:
         ratio = m * wp.cos(m * x) / wp.cos(x)
     else:
@@ -424,9 +431,9 @@ def turbulence(seed: int, x: float, y: float, octaves: int):
     the lowest octave.  Used by Smits & Meyer 1990 eq. 13 and §4.2.
     """
     state = wp.rand_init(seed)
-    total = float(0.0)
-    scale = float(1.0)
-    for o in range(octaves):
+    total = wp.float32(0.0)  # a mutable loop variable, not a constant
+    scale = wp.float32(1.0)  # a mutable loop variable, not a constant
+    for _octave in range(octaves):
         total += wp.abs(wp.noise(state, wp.vec2f(x * scale, y * scale))) / scale
         scale *= 2.0
     return total
@@ -727,7 +734,10 @@ def _cos_angle(angle, name: str = "angle") -> np.ndarray:
     a = np.asarray(angle, dtype=np.float64)
     if not np.all(np.isfinite(a)) or np.any(a < 0.0) or np.any(a > 90.0):
         raise InputError(
-            f"{name} must be an angle of incidence in degrees", field=name, value=angle, allowed="0 <= angle <= 90"
+            f"{name} must be an angle of incidence in degrees",
+            field=name,
+            value=angle,
+            allowed="0 <= angle <= 90",
         )
     return np.where(a == 90.0, 0.0, np.cos(np.radians(a)))
 
@@ -815,7 +825,9 @@ def _run_stack(wavelength_nm, n_layers, thickness_nm, n_incident, n_substrate, a
         )
     L = nl.shape[-1]
     nl_pairs = _complex_pairs(nl, "n_layers") if L else np.zeros((*nl.shape, 2))
-    shape = np.broadcast_shapes(wl.shape, cos_i.shape, n_in.shape[:-1], n_sub.shape[:-1], nl.shape[:-1], d.shape[:-1])
+    shape = np.broadcast_shapes(
+        wl.shape, cos_i.shape, n_in.shape[:-1], n_sub.shape[:-1], nl.shape[:-1], d.shape[:-1]
+    )
     stack = CoatingStack()
     if nl.shape[:-1] == () and d.shape[:-1] == ():
         stride = 0
@@ -891,7 +903,9 @@ def amplitudes(
     rs, rp, ts, tp : complex128 arrays with the broadcast shape; sign conventions in the
     module docstring (Born & Wolf / Hecht / ``tmm``).
     """
-    amps, _ = _run_stack(wavelength_nm, n_layers, thickness_nm, n_incident, n_substrate, angle, from_substrate, device)
+    amps, _ = _run_stack(
+        wavelength_nm, n_layers, thickness_nm, n_incident, n_substrate, angle, from_substrate, device
+    )
     return tuple(amps)
 
 
@@ -926,7 +940,9 @@ def reflectance(
     """
     if polarization not in ("s", "p", "unpolarized"):
         _select(np.zeros((1, 4)), polarization, 0)
-    _, power = _run_stack(wavelength_nm, n_layers, thickness_nm, n_incident, n_substrate, angle, from_substrate, device)
+    _, power = _run_stack(
+        wavelength_nm, n_layers, thickness_nm, n_incident, n_substrate, angle, from_substrate, device
+    )
     return _select(power, polarization, 0)
 
 
@@ -945,7 +961,9 @@ def transmittance(
     """Exact transmittance T (normal energy flux into the exit medium); arguments as :func:`reflectance`."""
     if polarization not in ("s", "p", "unpolarized"):
         _select(np.zeros((1, 4)), polarization, 2)
-    _, power = _run_stack(wavelength_nm, n_layers, thickness_nm, n_incident, n_substrate, angle, from_substrate, device)
+    _, power = _run_stack(
+        wavelength_nm, n_layers, thickness_nm, n_incident, n_substrate, angle, from_substrate, device
+    )
     return _select(power, polarization, 2)
 
 
@@ -960,7 +978,12 @@ def smits_meyer_film(
     t = _positive(optical_thickness_nm, "optical_thickness_nm", allow_zero=True)
     (out,) = elementwise(
         _sm_film_kernel,
-        [(wl, wp.float32), (t, wp.float32), (np.asarray(phase_change, dtype=np.float32), wp.float32), (K, wp.float32)],
+        [
+            (wl, wp.float32),
+            (t, wp.float32),
+            (np.asarray(phase_change, dtype=np.float32), wp.float32),
+            (K, wp.float32),
+        ],
         [wp.float32],
         device=device,
     )
@@ -1003,7 +1026,9 @@ def smits_meyer_morpho_thickness(d1_nm, d2_nm, n, angle=0.0, *, device=None) -> 
     return _thickness_rule(14, d1_nm, d2_nm, n, angle, device)
 
 
-def smits_meyer_multilayer(wavelength_nm, effective_thickness_nm, layers, A0=1.0, *, device=None) -> np.ndarray:
+def smits_meyer_multilayer(
+    wavelength_nm, effective_thickness_nm, layers, A0=1.0, *, device=None
+) -> np.ndarray:
     """Multilayer iridescence I(lambda), Smits & Meyer 1990 eq. 9 (Anderson & Richards 1942)."""
     wl = _positive(wavelength_nm, "wavelength_nm")
     t = _positive(effective_thickness_nm, "effective_thickness_nm", allow_zero=True)
@@ -1039,7 +1064,9 @@ def evaluate_coating(
     coating = np.asarray(coating)
     ncoat = stack.layer_count.shape[0]
     if not np.issubdtype(coating.dtype, np.integer) or np.any(coating < 0) or np.any(coating >= ncoat):
-        raise InputError("coating index out of range", field="coating", value=coating, allowed=f"0..{ncoat - 1}")
+        raise InputError(
+            "coating index out of range", field="coating", value=coating, allowed=f"0..{ncoat - 1}"
+        )
     wl = _positive(wavelength_nm, "wavelength_nm")
     cos_i = _cos_angle(angle)
     nf = _complex_pairs(n_front, "n_front")
@@ -1051,7 +1078,7 @@ def evaluate_coating(
     uniq = np.unique(flat_coat)
     res = [np.zeros(shape, np.complex64) for _ in range(4)]
     for c in uniq:
-        sel = (np.broadcast_to(coating, shape) == c)
+        sel = np.broadcast_to(coating, shape) == c
         sub = CoatingStack()
         sub.index = stack.index
         sub.thickness_nm = stack.thickness_nm
@@ -1150,11 +1177,23 @@ def _table_model(model: int, device, **kw) -> TableModel:
 
 
 def _fill_table(
-    m, axis, quantity, model_name, phase_change, illuminant, step_nm, exposure, peak_luminance, description, device
+    m,
+    axis,
+    quantity,
+    model_name,
+    phase_change,
+    illuminant,
+    step_nm,
+    exposure,
+    peak_luminance,
+    description,
+    device,
 ):
     dev = get_device(device)
     if illuminant not in ILLUMINANTS:
-        raise InputError("unknown illuminant", field="illuminant", value=illuminant, allowed=", ".join(ILLUMINANTS))
+        raise InputError(
+            "unknown illuminant", field="illuminant", value=illuminant, allowed=", ".join(ILLUMINANTS)
+        )
     if not step_nm > 0:
         raise InputError("wavelength step must be > 0", field="step_nm", value=step_nm, allowed="> 0")
     axis = np.asarray(axis, dtype=np.float64)
@@ -1193,7 +1232,9 @@ def _fill_table(
 
 def _uniform_axis(start: float, stop: float, count: int, name: str) -> np.ndarray:
     if count < 2 or not stop > start:
-        raise InputError(f"{name} axis needs count >= 2 and stop > start", field=name, value=(start, stop, count))
+        raise InputError(
+            f"{name} axis needs count >= 2 and stop > start", field=name, value=(start, stop, count)
+        )
     return np.linspace(start, stop, int(count))
 
 
@@ -1239,7 +1280,17 @@ def film_color_table(
     else:
         raise InputError("unknown model", field="model", value=model, allowed='"exact", "smits-meyer"')
     return _fill_table(
-        m, axis, "optical_thickness_nm", model, phase_change, illuminant, step_nm, exposure, peak_luminance, desc, dev
+        m,
+        axis,
+        "optical_thickness_nm",
+        model,
+        phase_change,
+        illuminant,
+        step_nm,
+        exposure,
+        peak_luminance,
+        desc,
+        dev,
     )
 
 
@@ -1294,7 +1345,9 @@ def multilayer_color_table(
         desc = f"exact: {layers} layers n={n} d2={d2_nm} nm, air gaps d1={d1_nm} nm"
     else:
         raise InputError("unknown model", field="model", value=model, allowed='"exact", "smits-meyer"')
-    return _fill_table(m, axis, "angle_deg", model, False, illuminant, step_nm, exposure, peak_luminance, desc, dev)
+    return _fill_table(
+        m, axis, "angle_deg", model, False, illuminant, step_nm, exposure, peak_luminance, desc, dev
+    )
 
 
 def _field(which: int, x, y, k1, k2, max_thickness_nm, seed, octaves, turb_scale, device):
@@ -1302,15 +1355,31 @@ def _field(which: int, x, y, k1, k2, max_thickness_nm, seed, octaves, turb_scale
         _thickness_field_kernel,
         [(x, wp.float32), (y, wp.float32)],
         [wp.float32],
-        extra=(which, float(k1), float(k2), float(max_thickness_nm), int(seed), int(octaves), float(turb_scale)),
+        extra=(
+            which,
+            float(k1),
+            float(k2),
+            float(max_thickness_nm),
+            int(seed),
+            int(octaves),
+            float(turb_scale),
+        ),
         device=device,
     )
     return out
 
 
 def oil_slick_thickness(
-    x, y, *, k1: float = 3.0, k2: float = 0.3, max_thickness_nm: float = 1000.0, seed: int = 0, octaves: int = 6,
-    turb_scale: float = 4.0, device=None,
+    x,
+    y,
+    *,
+    k1: float = 3.0,
+    k2: float = 0.3,
+    max_thickness_nm: float = 1000.0,
+    seed: int = 0,
+    octaves: int = 6,
+    turb_scale: float = 4.0,
+    device=None,
 ) -> np.ndarray:
     """Oil drop thickness (nm) at (x, y), Smits & Meyer 1990 eq. 13 (k2 = 0: eq. 12).
 
@@ -1321,8 +1390,15 @@ def oil_slick_thickness(
 
 
 def soap_film_thickness(
-    x, height, *, k2: float = 0.15, max_thickness_nm: float = 1000.0, seed: int = 0, octaves: int = 5,
-    turb_scale: float = 3.0, device=None,
+    x,
+    height,
+    *,
+    k2: float = 0.15,
+    max_thickness_nm: float = 1000.0,
+    seed: int = 0,
+    octaves: int = 5,
+    turb_scale: float = 3.0,
+    device=None,
 ) -> np.ndarray:
     """Soap film thickness (nm), Smits & Meyer 1990 §4.2: proportional to the normalised height
     (0 at the top, 1 at the bottom) plus ``k2`` times turbulence at (x, height)."""
