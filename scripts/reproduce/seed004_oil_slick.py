@@ -30,6 +30,11 @@ def main(argv=None) -> int:
     ap.add_argument("--max-thickness", type=float, default=900.0, help="oil thickness at the centre (nm)")
     ap.add_argument("--n-oil", type=float, default=1.5)
     ap.add_argument("--view-angle", type=float, default=45.0, help="viewing angle at the centre (deg)")
+    ap.add_argument(
+        "--refraction-angle",
+        action="store_true",
+        help="phase from the refraction angle, t (n^2 - sin^2)^(1/2) (eq. 10), instead of eq. 11",
+    )
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--device", default=None)
     args = ap.parse_args(argv)
@@ -40,7 +45,10 @@ def main(argv=None) -> int:
         x, y, k1=args.k1, k2=args.k2, max_thickness_nm=args.max_thickness, seed=args.seed, device=args.device
     )
     angle = np.clip(args.view_angle + 15.0 * y, 0.0, 89.0)  # grazing toward the horizon (top)
-    tp = wo.thinfilm.smits_meyer_optical_thickness(t, args.n_oil, angle, device=args.device)
+    if args.refraction_angle:
+        tp = wo.thinfilm.smits_meyer_effective_thickness(t, args.n_oil, angle, device=args.device)
+    else:  # as the paper does: t' = t n cos(theta) with the viewing angle (eq. 11)
+        tp = wo.thinfilm.smits_meyer_optical_thickness(t, args.n_oil, angle, device=args.device)
     table = wo.thinfilm.film_color_table(
         phase_change=True, model=args.model, n_film=args.n_oil, n_substrate=1.0, device=args.device
     )
