@@ -21,6 +21,7 @@ except _metadata.PackageNotFoundError:  # running from a source tree without ins
 from . import color, device, image, materials, optics, spectra
 from .errors import InputError
 from .geometry import cuts
+from .optics import thinfilm
 from .render import Image, Renderer, render
 from .scene import Scene
 
@@ -33,6 +34,7 @@ __all__ = [
     "materials",
     "optics",
     "spectra",
+    "thinfilm",
     "InputError",
     "Image",
     "Renderer",

@@ -21,6 +21,7 @@ SUBCOMMAND_MODULES = [
     "warpoptics.commands.spectrum",
     "warpoptics.commands.material",
     "warpoptics.commands.cut",
+    "warpoptics.commands.thinfilm",
 ]
 
 

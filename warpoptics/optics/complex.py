@@ -137,3 +137,107 @@ def c_normal_component(n1: wp.vec2f, n2: wp.vec2f, cos_i: float):
     if q[1] < 0.0 or (q[1] == 0.0 and q[0] < 0.0):
         q = -q
     return q
+
+
+# ---------------------------------------------------------------------------------------------
+# Double-precision overloads (``wp.vec2d``).  Warp resolves an overloaded ``@wp.func`` by the
+# argument types, so kernels call the same names on ``wp.vec2f`` or ``wp.vec2d``.  The thin-film
+# stacks (``optics/thinfilm.py``) run in float64: products of many layer matrices and phases of
+# thick films lose too many float32 digits for the 1e-6 agreement with ``tmm``.
+# ---------------------------------------------------------------------------------------------
+
+
+@wp.func
+def cplx(re: wp.float64, im: wp.float64):  # noqa: F811 (overload)
+    return wp.vec2d(re, im)
+
+
+@wp.func
+def c_real(re: wp.float64):  # noqa: F811 (overload)
+    return wp.vec2d(re, wp.float64(0.0))
+
+
+@wp.func
+def c_mul(a: wp.vec2d, b: wp.vec2d):  # noqa: F811 (overload)
+    return wp.vec2d(a[0] * b[0] - a[1] * b[1], a[0] * b[1] + a[1] * b[0])
+
+
+@wp.func
+def c_conj(a: wp.vec2d):  # noqa: F811 (overload)
+    return wp.vec2d(a[0], -a[1])
+
+
+@wp.func
+def c_abs2(a: wp.vec2d):  # noqa: F811 (overload)
+    return a[0] * a[0] + a[1] * a[1]
+
+
+@wp.func
+def c_abs(a: wp.vec2d):  # noqa: F811 (overload)
+    x = wp.abs(a[0])
+    y = wp.abs(a[1])
+    m = wp.max(x, y)
+    if m == wp.float64(0.0):
+        return wp.float64(0.0)
+    xs = x / m
+    ys = y / m
+    return m * wp.sqrt(xs * xs + ys * ys)
+
+
+@wp.func
+def c_div(a: wp.vec2d, b: wp.vec2d):  # noqa: F811 (overload)
+    zero = wp.float64(0.0)
+    if wp.abs(b[0]) >= wp.abs(b[1]):
+        if b[0] == zero:
+            return wp.vec2d(zero, zero)
+        r = b[1] / b[0]
+        d = b[0] + b[1] * r
+        return wp.vec2d((a[0] + a[1] * r) / d, (a[1] - a[0] * r) / d)
+    r = b[0] / b[1]
+    d = b[0] * r + b[1]
+    return wp.vec2d((a[0] * r + a[1]) / d, (a[1] * r - a[0]) / d)
+
+
+@wp.func
+def c_inv(a: wp.vec2d):  # noqa: F811 (overload)
+    return c_div(wp.vec2d(wp.float64(1.0), wp.float64(0.0)), a)
+
+
+@wp.func
+def c_sqrt(a: wp.vec2d):  # noqa: F811 (overload)
+    """Principal square root (real part >= 0), branch cut on the negative real axis."""
+    zero = wp.float64(0.0)
+    half = wp.float64(0.5)
+    m = c_abs(a)
+    re = wp.sqrt(wp.max(half * (m + a[0]), zero))
+    im = wp.sqrt(wp.max(half * (m - a[0]), zero))
+    if a[1] < zero:
+        im = -im
+    return wp.vec2d(re, im)
+
+
+@wp.func
+def c_exp(a: wp.vec2d):  # noqa: F811 (overload)
+    e = wp.exp(a[0])
+    return wp.vec2d(e * wp.cos(a[1]), e * wp.sin(a[1]))
+
+
+@wp.func
+def c_exp_i(phase: wp.float64):  # noqa: F811 (overload)
+    """exp(i * phase) for a real phase."""
+    return wp.vec2d(wp.cos(phase), wp.sin(phase))
+
+
+@wp.func
+def c_normal_component(n1: wp.vec2d, n2: wp.vec2d, cos_i: wp.float64):  # noqa: F811 (overload)
+    """N2 cos(theta_t) in double precision; same branch rules as the float32 version."""
+    zero = wp.float64(0.0)
+    one = wp.float64(1.0)
+    c = wp.clamp(cos_i, zero, one)
+    s2 = wp.max(one - c * c, zero)
+    n1sq = c_mul(n1, n1)
+    n2sq = c_mul(n2, n2)
+    q = c_sqrt(n2sq - n1sq * s2)
+    if q[1] < zero or (q[1] == zero and q[0] < zero):
+        q = -q
+    return q
