@@ -12,6 +12,8 @@ def test_matrices_match_colour_science():
     rng = np.random.default_rng(0)
     xyz = rng.random((50, 3))
     cs = colour.RGB_COLOURSPACES["sRGB"]
+    npm = colour.normalised_primary_matrix(cs.primaries, cs.whitepoint)
+    np.testing.assert_allclose(color.SRGB_TO_XYZ, npm, atol=1e-15)
     # against the IEC 61966-2-1 matrices as colour-science stores them (rounded to 4 decimals)
     np.testing.assert_allclose(color.xyz_to_srgb_linear(xyz), xyz @ cs.matrix_XYZ_to_RGB.T, atol=1e-3)
     np.testing.assert_allclose(color.srgb_linear_to_xyz(xyz), xyz @ cs.matrix_RGB_to_XYZ.T, atol=1e-4)

@@ -34,18 +34,19 @@ __all__ = [
 ]
 
 
-def _matrices():
-    import colour
-
-    # The normalised primary matrix from the sRGB primaries and D65 white point, and its exact
-    # inverse (colour's stored XYZ->RGB matrix is the IEC one rounded to 4 decimals, which would
-    # make the round trip, and so the Y held by the gamut clip, off by 5e-5).
-    cs = colour.RGB_COLOURSPACES["sRGB"]
-    m = np.asarray(colour.normalised_primary_matrix(cs.primaries, cs.whitepoint), dtype=np.float64)
-    return m, np.linalg.inv(m)
-
-
-SRGB_TO_XYZ, XYZ_TO_SRGB = _matrices()
+# The normalised primary matrix of sRGB (IEC 61966-2-1 primaries, D65 white point x = 0.3127,
+# y = 0.3290), as colour.normalised_primary_matrix computes it (tests/test_color.py checks it),
+# and its exact inverse.  colour's stored XYZ->RGB matrix is the IEC one rounded to 4 decimals,
+# which would make the round trip, and so the Y held by the gamut clip, off by 5e-5.  Kept as
+# numbers so that importing warpoptics does not import colour-science.
+SRGB_TO_XYZ = np.array(
+    [
+        [0.41239079926595934, 0.35758433938387796, 0.1804807884018343],
+        [0.2126390058715103, 0.7151686787677559, 0.07219231536073371],
+        [0.01933081871559182, 0.11919477979462595, 0.9505321522496606],
+    ]
+)
+XYZ_TO_SRGB = np.linalg.inv(SRGB_TO_XYZ)
 
 _XYZ_TO_RGB_WP = wp.constant(wp.mat33f(*XYZ_TO_SRGB.astype(np.float32).ravel().tolist()))
 # luminance of each linear-sRGB primary: Y = dot(_RGB_LUMINANCE, rgb)
