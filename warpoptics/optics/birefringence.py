@@ -299,6 +299,42 @@ def ordinary_wave(kt: wp.vec3, m: wp.vec3, med: UniaxialMedium, normal: wp.vec3)
 
 
 @wp.func
+def _e_wave_root(kt: wp.vec3, m: wp.vec3, q: float, med: UniaxialMedium, normal: wp.vec3):
+    # the propagating e-wave k = kt + q m for a known root q of the index-ellipsoid quadratic
+    a = _frame_axis(med, normal)
+    w = PlaneWave()
+    w.k_re = kt + m * q
+    w.k_im = wp.vec3(0.0)
+    w.wave_normal = wp.normalize(w.k_re)
+    w.ray = wp.normalize(_index_metric(w.k_re, a, med.no, med.ne))
+    w.n = wp.length(w.k_re)
+    w.propagating = 1
+    return _finish(w, 1, med, normal, m)
+
+
+@wp.func
+def _reflected_same_mode(inc: PlaneWave, extraordinary: int, med: UniaxialMedium, normal: wp.vec3):
+    # The reflected wave of the incident wave's own mode, from the incident root by Vieta's
+    # formula (q_r = -2b/A - q_in; q_r = -q_in for o-waves) instead of a square root: exact
+    # energy bookkeeping at grazing incidence in float32, where sqrt(n^2 - kt^2) cancels.
+    q_in = wp.dot(inc.k_re, normal)
+    kt = inc.k_re - normal * q_in
+    if extraordinary == 0:
+        w = PlaneWave()
+        w.k_re = kt - normal * q_in
+        w.k_im = wp.vec3(0.0)
+        w.wave_normal = wp.normalize(w.k_re)
+        w.ray = w.wave_normal
+        w.n = med.no
+        w.propagating = 1
+        return _finish(w, 0, med, normal, normal)
+    a = _frame_axis(med, normal)
+    mm = _index_metric(normal, a, med.no, med.ne)
+    q = -2.0 * wp.dot(kt, mm) / wp.dot(normal, mm) - q_in
+    return _e_wave_root(kt, normal, q, med, normal)
+
+
+@wp.func
 def extraordinary_wave(kt: wp.vec3, m: wp.vec3, med: UniaxialMedium, normal: wp.vec3):
     """The e-wave with tangential wave vector ``kt`` into the medium on the side of unit normal
     ``m``: k = kt + q m on the index ellipsoid k^T M k = 1, the root whose ray direction M k
@@ -312,13 +348,7 @@ def extraordinary_wave(kt: wp.vec3, m: wp.vec3, med: UniaxialMedium, normal: wp.
     disc = qb * qb - qa * qc
     w = PlaneWave()
     if disc >= 0.0:
-        q = (wp.sqrt(disc) - qb) / qa
-        w.k_re = kt + m * q
-        w.k_im = wp.vec3(0.0)
-        w.wave_normal = wp.normalize(w.k_re)
-        w.ray = wp.normalize(_index_metric(w.k_re, a, med.no, med.ne))
-        w.n = wp.length(w.k_re)
-        w.propagating = 1
+        return _e_wave_root(kt, m, (wp.sqrt(disc) - qb) / qa, med, normal)
     else:
         w.k_re = kt - m * (qb / qa)
         w.k_im = m * (wp.sqrt(-disc) / qa)
@@ -448,8 +478,14 @@ def generalized_fresnel(
     sol = InterfaceSolution()
     inc = _incident_wave(d, extraordinary, m1, normal)
     kt = inc.k_re - normal * wp.dot(inc.k_re, normal)
-    ro = ordinary_wave(kt, normal, m1, normal)
-    re = extraordinary_wave(kt, normal, m1, normal)
+    ro = PlaneWave()
+    re = PlaneWave()
+    if extraordinary == 0:
+        ro = _reflected_same_mode(inc, 0, m1, normal)
+        re = extraordinary_wave(kt, normal, m1, normal)
+    else:
+        ro = ordinary_wave(kt, normal, m1, normal)
+        re = _reflected_same_mode(inc, 1, m1, normal)
     to = ordinary_wave(kt, -normal, m2, normal)
     te = extraordinary_wave(kt, -normal, m2, normal)
     # two independent tangential vectors
