@@ -11,7 +11,8 @@ S = Re(E x conj(H)).
 Tolerances: the kernels run in float32.  Unit vectors built from O(1) products carry errors of a
 few 1e-7; the e-wave normal component q comes from a square root of a discriminant, whose
 relative error grows as 1/q near grazing transmission, so direction tests use configurations
-whose ray leaves the surface at more than ~3 degrees (a few 1e-6 expected) and near-critical ones are only checked for finiteness.
+whose ray leaves the surface at more than ~3 degrees (a few 1e-6 expected); near-critical ones
+are only checked for finiteness.
 """
 
 import numpy as np
@@ -167,11 +168,15 @@ def _direction_errors(device, internal: bool, n_cases: int, seed: int):
         n_in = _f32(
             np.where(is_e, [numeric_e_index(d[i], no[i], ne[i], axis[i]) for i in range(n_cases)], no)
         )
-        wave, ray, n_eff = opt.reflect_extraordinary(d, normal, axis, n_in, no, ne, return_index=True, device=device)
+        wave, ray, n_eff = opt.reflect_extraordinary(
+            d, normal, axis, n_in, no, ne, return_index=True, device=device
+        )
         side = 1.0
     else:
         n_in = _f32(rng.uniform(1.0, 2.5, n_cases))
-        wave, ray, n_eff = opt.refract_extraordinary(d, normal, axis, n_in, no, ne, return_index=True, device=device)
+        wave, ray, n_eff = opt.refract_extraordinary(
+            d, normal, axis, n_in, no, ne, return_index=True, device=device
+        )
         side = -1.0
     assert np.all(np.isfinite(wave)) and np.all(np.isfinite(ray))
     errs = {"wave": [], "ray": [], "tangential": [], "ellipsoid": [], "d_perp_k": []}
@@ -235,7 +240,9 @@ def test_incidence_along_the_optic_axis(device):
     for axis in (z, a):
         for dd in (-z, d):
             for mode in "oe":
-                res = opt.generalized_fresnel_coefficients(dd, z, 1.0, (1.768, 1.760, axis), mode=mode, device=device)
+                res = opt.generalized_fresnel_coefficients(
+                    dd, z, 1.0, (1.768, 1.760, axis), mode=mode, device=device
+                )
                 assert np.all(np.isfinite(res.coefficients))
                 assert res.energy().sum() == pytest.approx(1.0, abs=2e-5)
 
@@ -323,9 +330,9 @@ def _maxwell_check(res, med1, med2, normal):
         e2 = amp[3] * e[3] + amp[4] * e[4]
         h1 = amp[0] * h[0] + amp[1] * h[1] + amp[2] * h[2]
         h2 = amp[3] * h[3] + amp[4] * h[4]
-        tang = lambda v: v - (v @ nrm) * nrm  # noqa: E731
-        out["bc_e"] = max(out["bc_e"], np.linalg.norm(tang(e1 - e2)))
-        out["bc_h"] = max(out["bc_h"], np.linalg.norm(tang(h1 - h2)))
+        de, dh = e1 - e2, h1 - h2
+        out["bc_e"] = max(out["bc_e"], np.linalg.norm(de - (de @ nrm) * nrm))
+        out["bc_h"] = max(out["bc_h"], np.linalg.norm(dh - (dh @ nrm) * nrm))
         # energy with Poynting fluxes computed here (cross terms between different waves carry
         # no net normal flux in lossless media, so fluxes add)
         f = np.array([poynting(k[j], e[j]) @ (nrm if j in (1, 2) else -nrm) for j in range(5)])
@@ -404,7 +411,9 @@ def test_pleochroic_absorbance_and_attenuation(device):
     k_o, k_e = 0.034, 0.076  # tourmaline, green channel (Guy & Soler §6.1), 1/cm
     theta = np.linspace(0, np.pi / 2, 7)
     got = opt.kappa_e(np.cos(theta), k_o, k_e, no, ne, device=device)
-    np.testing.assert_allclose(got, k_o * np.cos(theta) ** 2 + k_e * (no / ne) ** 2 * np.sin(theta) ** 2, rtol=1e-6)
+    np.testing.assert_allclose(
+        got, k_o * np.cos(theta) ** 2 + k_e * (no / ne) ** 2 * np.sin(theta) ** 2, rtol=1e-6
+    )
     assert got[0] == pytest.approx(k_o, rel=1e-6)
     # attenuation: unpolarized light's intensity follows Bouguer-Lambert (eq. 6) per o/e component
     length = 2.5

@@ -110,7 +110,16 @@ def test_total_internal_reflection(device):
 def test_critical_and_grazing_angles_are_finite(device):
     n1, n2 = 2.417, 1.0
     cos_c = np.sqrt(1 - (n2 / n1) ** 2)
-    cos_i = np.array([cos_c, np.float32(cos_c), np.nextafter(np.float32(cos_c), 1), np.nextafter(np.float32(cos_c), 0), 0.0, 1e-30])
+    cos_i = np.array(
+        [
+            cos_c,
+            np.float32(cos_c),
+            np.nextafter(np.float32(cos_c), 1),
+            np.nextafter(np.float32(cos_c), 0),
+            0.0,
+            1e-30,
+        ]
+    )
     out = fresnel(cos_i, n1, n2, device=device)
     for a in out:
         assert np.all(np.isfinite(a))
@@ -161,7 +170,13 @@ def test_absorbing_media_vs_tmm(device, n2):
     np.testing.assert_allclose(Rs + Ts, 1.0, atol=2e-5)
     np.testing.assert_allclose(Rp + Tp, 1.0, atol=2e-5)
     tmm_T = np.array(
-        [[tmm.interface_T(p, 1.0, complex(n2), np.arccos(c), tmm.snell(1.0, complex(n2), np.arccos(c))) for p in "sp"] for c in cos_i]
+        [
+            [
+                tmm.interface_T(p, 1.0, complex(n2), np.arccos(c), tmm.snell(1.0, complex(n2), np.arccos(c)))
+                for p in "sp"
+            ]
+            for c in cos_i
+        ]
     )
     np.testing.assert_allclose(Ts, tmm_T[:, 0], atol=2e-5)
     np.testing.assert_allclose(Tp, tmm_T[:, 1], atol=2e-5)

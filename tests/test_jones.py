@@ -151,7 +151,9 @@ def test_frame_change_is_rotation_r_theta(device):
     # a frame change preserves the intensity and DOP of a coherency matrix
     j = _random_coherency(rng, 500)
     j2 = opt.coherency_apply(b.astype(complex), j, device=device)
-    np.testing.assert_allclose(np.trace(j2, axis1=-2, axis2=-1).real, np.trace(j, axis1=-2, axis2=-1).real, rtol=2e-6)
+    np.testing.assert_allclose(
+        np.trace(j2, axis1=-2, axis2=-1).real, np.trace(j, axis1=-2, axis2=-1).real, rtol=2e-6
+    )
     np.testing.assert_allclose(opt.dop(j2, device=device), opt.dop(j, device=device), atol=2e-5)
 
 

@@ -404,7 +404,7 @@ def _solve4(ar: wp.mat44, ai: wp.mat44, br: wp.vec4, bi: wp.vec4):
     mi = ai
     vr = br
     vi = bi
-    ok = int(1)
+    ok = 1
     for col in range(4):
         piv = col
         best = mr[col, col] * mr[col, col] + mi[col, col] * mi[col, col]
@@ -907,9 +907,7 @@ def _e_dir(direction, normal, axis, n_in, no, ne, side, device):
     return k.astype(np.float64), ray.astype(np.float64), n.astype(np.float64)
 
 
-def refract_extraordinary(
-    direction, normal, axis, n1, no, ne, *, return_index: bool = False, device=None
-):
+def refract_extraordinary(direction, normal, axis, n1, no, ne, *, return_index: bool = False, device=None):
     """Extraordinary refraction into a uniaxial crystal (Guy & Soler eq. 3; Beyerle & McDermid 1998).
 
     Parameters
@@ -929,9 +927,7 @@ def refract_extraordinary(
     return (k, ray, n) if return_index else (k, ray)
 
 
-def reflect_extraordinary(
-    direction, normal, axis, n_in, no, ne, *, return_index: bool = False, device=None
-):
+def reflect_extraordinary(direction, normal, axis, n_in, no, ne, *, return_index: bool = False, device=None):
     """Extraordinary internal reflection inside a uniaxial crystal (eq. 4; Beyerle & McDermid).
 
     ``direction`` is the incident wave normal inside the crystal, ``n_in`` its index (``no`` for

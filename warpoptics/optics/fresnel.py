@@ -190,29 +190,35 @@ def _complex_pairs(n, name: str) -> np.ndarray:
             allowed="Im(n) >= 0",
         )
     if np.any(np.real(a) <= 0):
-        raise InputError("refractive index must have a positive real part", field=name, value=n, allowed="Re(n) > 0")
+        raise InputError(
+            "refractive index must have a positive real part", field=name, value=n, allowed="Re(n) > 0"
+        )
     return np.stack([np.real(a), np.imag(a)], axis=-1)
 
 
 def _cosines(cos_i) -> np.ndarray:
     c = np.asarray(cos_i, dtype=np.float64)
     if not np.all(np.isfinite(c)) or np.any(c < -1e-6) or np.any(c > 1.0 + 1e-6):
-        raise InputError("cosine of the incidence angle must lie in [0, 1]", field="cos_i", value=cos_i, allowed="[0, 1]")
+        raise InputError(
+            "cosine of the incidence angle must lie in [0, 1]", field="cos_i", value=cos_i, allowed="[0, 1]"
+        )
     return np.clip(c, 0.0, 1.0)
 
 
 def _run(cos_i, n1, n2, device):
     return elementwise(
         _fresnel_kernel,
-        [(_cosines(cos_i), wp.float32), (_complex_pairs(n1, "n1"), wp.vec2f), (_complex_pairs(n2, "n2"), wp.vec2f)],
+        [
+            (_cosines(cos_i), wp.float32),
+            (_complex_pairs(n1, "n1"), wp.vec2f),
+            (_complex_pairs(n2, "n2"), wp.vec2f),
+        ],
         [_vec8, wp.vec4],
         device=device,
     )
 
 
-def fresnel(
-    cos_i, n1, n2, *, device=None
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def fresnel(cos_i, n1, n2, *, device=None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Fresnel amplitude coefficients (rs, rp, ts, tp) as complex NumPy arrays.
 
     Parameters
