@@ -213,6 +213,7 @@ def _direction_errors(device, internal: bool, n_cases: int, seed: int):
 @pytest.mark.parametrize("internal", [False, True], ids=["refraction_eq3", "internal_reflection_eq4"])
 def test_extraordinary_directions_vs_numerical_solution(device, internal):
     worst, checked, evanescent = _direction_errors(device, internal, 1500, seed=2 + internal)
+    print(f"{'internal reflection' if internal else 'refraction'}: {checked} checked, worst", worst)
     assert checked > 800
     assert worst["wave"] < 1e-5, worst
     assert worst["ray"] < 1e-5, worst
@@ -272,6 +273,10 @@ def test_eq5_reduces_to_isotropic_fresnel(device):
         so = opt.generalized_fresnel_coefficients(d, z, n1, n2, mode="o", device=device).coefficients
         se = opt.generalized_fresnel_coefficients(d, z, n1, n2, mode="e", device=device).coefficients
         rs, rp, ts, tp = opt.fresnel(np.cos(theta), n1, n2, device=device)
+        print(
+            f"{n1} -> {n2}: worst |eq5 - Fresnel| r_s {np.abs(so[:, 0] - rs).max():.1e}, "
+            f"r_p {np.abs(se[:, 1] - rp).max():.1e}"
+        )
         # same values as the isotropic Fresnel amplitudes, incl. the TIR phase ...
         np.testing.assert_allclose(so[:, 0], rs, atol=1e-5)
         np.testing.assert_allclose(se[:, 1], rp, atol=1e-5)
@@ -304,6 +309,10 @@ def test_eq10_exact_when_no_equals_ne(device):
     # float32: near grazing incidence r changes fast with cos_i (dr/dcos_i ~ 2/(n2 cos_t)), so
     # the rounding of two different computations differs more there
     steep = -np.sum(d * normal, -1) < 0.1
+    print(
+        f"eq. 5 vs eq. 10 with no = ne: worst |diff| r {np.abs(mr - ar).max():.2e}, "
+        f"t {np.abs(mt - at).max():.2e}"
+    )
     for exact, approx in ((mr, ar), (mt, at)):
         np.testing.assert_allclose(exact[~steep], approx[~steep], atol=2e-5)
         np.testing.assert_allclose(exact[steep], approx[steep], atol=2e-4)
@@ -365,11 +374,12 @@ def test_eq5_maxwell_and_energy_balance(device, kind):
     sub = type(res)(*(getattr(res, f)[ok] for f in ("coefficients", "k", "e", "ray", "flux", "propagating")))
     pick = lambda med: tuple(np.asarray(m)[ok] for m in med)  # noqa: E731
     worst = _maxwell_check(sub, pick(med1), pick(med2), normal[ok])
+    print(f"{kind}: {ok.sum()} configs, worst", {k: f"{v:.2e}" for k, v in worst.items()})
     assert worst["mode"] < 5e-5, worst
     assert worst["tangential"] < 5e-6, worst
     assert worst["bc_e"] < 5e-5, worst
     assert worst["bc_h"] < 1e-4, worst
-    assert worst["energy"] < 1e-4, worst
+    assert worst["energy"] < 5e-5, worst
     assert worst["flux"] < 1e-4, worst
     # the kernel's own energy bookkeeping agrees
     np.testing.assert_allclose(sub.energy().sum(-1), 1.0, atol=1e-4)

@@ -82,6 +82,7 @@ def test_energy_balance_random_dielectrics(device):
     for r, t, R, T in [(rs, ts, Rs, Ts), (rp, tp, Rp, Tp)]:
         total = np.abs(r) ** 2 + factor * np.abs(t) ** 2
         err = np.abs(total - 1)[ok & (1 - sin_t2 > 1e-4)]
+        print(f"worst |R + T - 1| (T from n cos factors), 20000 dielectric configs: {err.max():.2e}")
         assert err.max() < 2e-5, err.max()
         assert np.abs(R + T - 1).max() < 2e-5
         assert np.abs(R - np.abs(r) ** 2).max() < 1e-6
@@ -93,6 +94,10 @@ def test_total_internal_reflection(device):
     crit = np.arcsin(n2 / n1)
     theta = np.linspace(crit + 1e-3, np.pi / 2, 500)
     rs, rp, ts, tp = fresnel(np.cos(theta), n1, n2, device=device)
+    print(
+        f"worst ||r| - 1| under TIR: s {np.abs(np.abs(rs) - 1).max():.2e}, "
+        f"p {np.abs(np.abs(rp) - 1).max():.2e}"
+    )
     np.testing.assert_allclose(np.abs(rs), 1.0, atol=2e-6)
     np.testing.assert_allclose(np.abs(rp), 1.0, atol=2e-6)
     # phase of TIR vs Born & Wolf §1.5.4 with exp(-i w t): rs = exp(-i d_s), tan(d_s/2) =
@@ -163,6 +168,10 @@ def test_absorbing_media_vs_tmm(device, n2):
     cos_i = np.linspace(0.02, 1.0, 50)
     got = fresnel(cos_i, n1, n2, device=device)
     want = np.array([_tmm_reference(c, n1, complex(n2)) for c in cos_i]).T
+    print(
+        f"n2 = {n2}: worst |amplitude - tmm| "
+        f"{max(np.abs(g - w).max() for g, w in zip(got, want, strict=True)):.2e}"
+    )
     for g, w in zip(got, want, strict=True):
         np.testing.assert_allclose(g, w, atol=5e-6, rtol=0)
     # energy at the interface: flux into the absorber + reflected = incident
