@@ -218,3 +218,29 @@ def test_bad_input(device):
         fresnel(0.5, 1.0, 1.5 - 0.1j, device=device)
     with pytest.raises(InputError):
         fresnel(0.5, np.nan, 1.5, device=device)
+
+
+def test_snell_directions(device):
+    rng = np.random.default_rng(9)
+    n = 2000
+    normal = rng.normal(size=(n, 3))
+    normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
+    d = rng.normal(size=(n, 3))
+    d /= np.linalg.norm(d, axis=-1, keepdims=True)
+    d = np.where(np.sum(d * normal, -1, keepdims=True) > 0, -d, d)
+    n1 = rng.uniform(1.0, 2.5, n)
+    n2 = rng.uniform(1.0, 2.5, n)
+    t = wo.optics.refract(d, normal, n1, n2, device=device)
+    r = wo.optics.reflect(d, normal, device=device)
+    sin_i = np.linalg.norm(np.cross(d, normal), axis=-1)
+    tir = n1 * sin_i > n2
+    ok = ~tir & (n1 * sin_i < n2 * (1 - 1e-4))
+    # Snell: n1 sin i = n2 sin t, t in the plane of incidence, on the far side
+    sin_t = np.linalg.norm(np.cross(t, normal), axis=-1)
+    assert np.abs(n1 * sin_i - n2 * sin_t)[ok].max() < 2e-6
+    assert np.abs(np.sum(np.cross(d, normal) * t, -1))[ok].max() < 2e-6
+    assert np.all(np.sum(t * normal, -1)[ok] < 0)
+    assert np.all(t[tir] == 0)
+    # mirror: angle of reflection = angle of incidence, tangential part kept
+    np.testing.assert_allclose(np.sum(r * normal, -1), -np.sum(d * normal, -1), atol=1e-6)
+    np.testing.assert_allclose(np.cross(r, normal), np.cross(d, normal), atol=1e-6)

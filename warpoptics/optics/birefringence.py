@@ -977,8 +977,11 @@ class GeneralizedFresnelResult:
     propagating: np.ndarray
 
     def energy(self) -> np.ndarray:
-        """(..., 4) fractions of the incident normal energy flux going to ro, re, to, te."""
-        return np.abs(self.coefficients) ** 2 * self.flux[..., 1:] / self.flux[..., :1]
+        """(..., 4) fractions of the incident normal energy flux going to ro, re, to, te
+        (zero where the incident wave carries no flux towards the surface, e.g. grazing)."""
+        f_in = self.flux[..., :1]
+        safe = np.where(f_in > 0, f_in, 1.0)
+        return np.where(f_in > 0, np.abs(self.coefficients) ** 2 * self.flux[..., 1:] / safe, 0.0)
 
 
 def generalized_fresnel_coefficients(
