@@ -50,6 +50,8 @@ def test_coherency_transform_vs_numpy_and_psd(device):
     got = opt.coherency_apply(m, j, device=device)
     want = m @ j @ np.conj(np.swapaxes(m, -1, -2))
     err = np.abs(got - want).max(axis=(-1, -2)) / np.abs(want).max(axis=(-1, -2))
+    eig = np.linalg.eigvalsh(got) / np.trace(got, axis1=-2, axis2=-1).real[:, None]
+    print(f"M J M^dagger: worst relative error {err.max():.2e}, smallest eigenvalue / trace {eig.min():.2e}")
     assert err.max() < 2e-6, err.max()
     _check_hermitian_psd(got, 1e-5)
     p = opt.dop(got, device=device)
@@ -151,7 +153,9 @@ def test_frame_change_is_rotation_r_theta(device):
     # a frame change preserves the intensity and DOP of a coherency matrix
     j = _random_coherency(rng, 500)
     j2 = opt.coherency_apply(b.astype(complex), j, device=device)
-    np.testing.assert_allclose(np.trace(j2, axis1=-2, axis2=-1).real, np.trace(j, axis1=-2, axis2=-1).real, rtol=2e-6)
+    np.testing.assert_allclose(
+        np.trace(j2, axis1=-2, axis2=-1).real, np.trace(j, axis1=-2, axis2=-1).real, rtol=2e-6
+    )
     np.testing.assert_allclose(opt.dop(j2, device=device), opt.dop(j, device=device), atol=2e-5)
 
 

@@ -17,7 +17,7 @@ from .birefringence import (
     reflect_extraordinary,
     refract_extraordinary,
 )
-from .fresnel import fresnel, fresnel_power
+from .fresnel import fresnel, fresnel_power, reflect, refract
 from .jones import (
     coherency_apply,
     coherency_from_stokes,
@@ -36,6 +36,8 @@ __all__ = [
     # Fresnel (isotropic)
     "fresnel",
     "fresnel_power",
+    "refract",
+    "reflect",
     # Jones / coherency / Stokes
     "jones_product",
     "coherency_apply",

@@ -299,6 +299,42 @@ def ordinary_wave(kt: wp.vec3, m: wp.vec3, med: UniaxialMedium, normal: wp.vec3)
 
 
 @wp.func
+def _e_wave_root(kt: wp.vec3, m: wp.vec3, q: float, med: UniaxialMedium, normal: wp.vec3):
+    # the propagating e-wave k = kt + q m for a known root q of the index-ellipsoid quadratic
+    a = _frame_axis(med, normal)
+    w = PlaneWave()
+    w.k_re = kt + m * q
+    w.k_im = wp.vec3(0.0)
+    w.wave_normal = wp.normalize(w.k_re)
+    w.ray = wp.normalize(_index_metric(w.k_re, a, med.no, med.ne))
+    w.n = wp.length(w.k_re)
+    w.propagating = 1
+    return _finish(w, 1, med, normal, m)
+
+
+@wp.func
+def _reflected_same_mode(inc: PlaneWave, extraordinary: int, med: UniaxialMedium, normal: wp.vec3):
+    # The reflected wave of the incident wave's own mode, from the incident root by Vieta's
+    # formula (q_r = -2b/A - q_in; q_r = -q_in for o-waves) instead of a square root: exact
+    # energy bookkeeping at grazing incidence in float32, where sqrt(n^2 - kt^2) cancels.
+    q_in = wp.dot(inc.k_re, normal)
+    kt = inc.k_re - normal * q_in
+    if extraordinary == 0:
+        w = PlaneWave()
+        w.k_re = kt - normal * q_in
+        w.k_im = wp.vec3(0.0)
+        w.wave_normal = wp.normalize(w.k_re)
+        w.ray = w.wave_normal
+        w.n = med.no
+        w.propagating = 1
+        return _finish(w, 0, med, normal, normal)
+    a = _frame_axis(med, normal)
+    mm = _index_metric(normal, a, med.no, med.ne)
+    q = -2.0 * wp.dot(kt, mm) / wp.dot(normal, mm) - q_in
+    return _e_wave_root(kt, normal, q, med, normal)
+
+
+@wp.func
 def extraordinary_wave(kt: wp.vec3, m: wp.vec3, med: UniaxialMedium, normal: wp.vec3):
     """The e-wave with tangential wave vector ``kt`` into the medium on the side of unit normal
     ``m``: k = kt + q m on the index ellipsoid k^T M k = 1, the root whose ray direction M k
@@ -312,13 +348,7 @@ def extraordinary_wave(kt: wp.vec3, m: wp.vec3, med: UniaxialMedium, normal: wp.
     disc = qb * qb - qa * qc
     w = PlaneWave()
     if disc >= 0.0:
-        q = (wp.sqrt(disc) - qb) / qa
-        w.k_re = kt + m * q
-        w.k_im = wp.vec3(0.0)
-        w.wave_normal = wp.normalize(w.k_re)
-        w.ray = wp.normalize(_index_metric(w.k_re, a, med.no, med.ne))
-        w.n = wp.length(w.k_re)
-        w.propagating = 1
+        return _e_wave_root(kt, m, (wp.sqrt(disc) - qb) / qa, med, normal)
     else:
         w.k_re = kt - m * (qb / qa)
         w.k_im = m * (wp.sqrt(-disc) / qa)
@@ -374,7 +404,7 @@ def _solve4(ar: wp.mat44, ai: wp.mat44, br: wp.vec4, bi: wp.vec4):
     mi = ai
     vr = br
     vi = bi
-    ok = int(1)
+    ok = 1
     for col in range(4):
         piv = col
         best = mr[col, col] * mr[col, col] + mi[col, col] * mi[col, col]
@@ -448,8 +478,14 @@ def generalized_fresnel(
     sol = InterfaceSolution()
     inc = _incident_wave(d, extraordinary, m1, normal)
     kt = inc.k_re - normal * wp.dot(inc.k_re, normal)
-    ro = ordinary_wave(kt, normal, m1, normal)
-    re = extraordinary_wave(kt, normal, m1, normal)
+    ro = PlaneWave()
+    re = PlaneWave()
+    if extraordinary == 0:
+        ro = _reflected_same_mode(inc, 0, m1, normal)
+        re = extraordinary_wave(kt, normal, m1, normal)
+    else:
+        ro = ordinary_wave(kt, normal, m1, normal)
+        re = _reflected_same_mode(inc, 1, m1, normal)
     to = ordinary_wave(kt, -normal, m2, normal)
     te = extraordinary_wave(kt, -normal, m2, normal)
     # two independent tangential vectors
@@ -871,9 +907,7 @@ def _e_dir(direction, normal, axis, n_in, no, ne, side, device):
     return k.astype(np.float64), ray.astype(np.float64), n.astype(np.float64)
 
 
-def refract_extraordinary(
-    direction, normal, axis, n1, no, ne, *, return_index: bool = False, device=None
-):
+def refract_extraordinary(direction, normal, axis, n1, no, ne, *, return_index: bool = False, device=None):
     """Extraordinary refraction into a uniaxial crystal (Guy & Soler eq. 3; Beyerle & McDermid 1998).
 
     Parameters
@@ -893,9 +927,7 @@ def refract_extraordinary(
     return (k, ray, n) if return_index else (k, ray)
 
 
-def reflect_extraordinary(
-    direction, normal, axis, n_in, no, ne, *, return_index: bool = False, device=None
-):
+def reflect_extraordinary(direction, normal, axis, n_in, no, ne, *, return_index: bool = False, device=None):
     """Extraordinary internal reflection inside a uniaxial crystal (eq. 4; Beyerle & McDermid).
 
     ``direction`` is the incident wave normal inside the crystal, ``n_in`` its index (``no`` for
@@ -945,8 +977,11 @@ class GeneralizedFresnelResult:
     propagating: np.ndarray
 
     def energy(self) -> np.ndarray:
-        """(..., 4) fractions of the incident normal energy flux going to ro, re, to, te."""
-        return np.abs(self.coefficients) ** 2 * self.flux[..., 1:] / self.flux[..., :1]
+        """(..., 4) fractions of the incident normal energy flux going to ro, re, to, te
+        (zero where the incident wave carries no flux towards the surface, e.g. grazing)."""
+        f_in = self.flux[..., :1]
+        safe = np.where(f_in > 0, f_in, 1.0)
+        return np.where(f_in > 0, np.abs(self.coefficients) ** 2 * self.flux[..., 1:] / safe, 0.0)
 
 
 def generalized_fresnel_coefficients(

@@ -57,6 +57,8 @@ __all__ = [
     "refract_direction",
     "fresnel",
     "fresnel_power",
+    "refract",
+    "reflect",
 ]
 
 
@@ -140,7 +142,10 @@ def reflect_direction(d: wp.vec3, normal: wp.vec3):
 def refract_direction(d: wp.vec3, normal: wp.vec3, n1: float, n2: float):
     """Snell refraction of unit ``d`` through a surface whose unit ``normal`` points to the
     incident side (d . normal <= 0), real indices.  Returns the zero vector under total
-    internal reflection."""
+    internal reflection.  Also the o-ray of a uniaxial crystal (n2 = n_o), and the exact wave
+    normal leaving a crystal into an isotropic medium when ``d`` is the incident wave normal and
+    ``n1`` its effective index (n_o, or n_e(theta) of an e-wave): the tangential wave vector
+    n1 (d - (d.n) n) is conserved."""
     eta = n1 / n2
     c = -wp.dot(d, normal)
     k = 1.0 - eta * eta * wp.max(1.0 - c * c, 0.0)
@@ -176,6 +181,21 @@ def _fresnel_kernel(
     out_pow[i] = fresnel_power_coefficients(f, n2[i])
 
 
+@wp.kernel
+def _directions_kernel(
+    offset: int,
+    d: wp.array(dtype=wp.vec3),
+    normal: wp.array(dtype=wp.vec3),
+    n1: wp.array(dtype=float),
+    n2: wp.array(dtype=float),
+    out_reflect: wp.array(dtype=wp.vec3),
+    out_refract: wp.array(dtype=wp.vec3),
+):
+    i = wp.tid() + offset
+    out_reflect[i] = reflect_direction(d[i], normal[i])
+    out_refract[i] = refract_direction(d[i], normal[i], n1[i], n2[i])
+
+
 def _complex_pairs(n, name: str) -> np.ndarray:
     a = np.asarray(n)
     if not np.iscomplexobj(a):
@@ -190,29 +210,35 @@ def _complex_pairs(n, name: str) -> np.ndarray:
             allowed="Im(n) >= 0",
         )
     if np.any(np.real(a) <= 0):
-        raise InputError("refractive index must have a positive real part", field=name, value=n, allowed="Re(n) > 0")
+        raise InputError(
+            "refractive index must have a positive real part", field=name, value=n, allowed="Re(n) > 0"
+        )
     return np.stack([np.real(a), np.imag(a)], axis=-1)
 
 
 def _cosines(cos_i) -> np.ndarray:
     c = np.asarray(cos_i, dtype=np.float64)
     if not np.all(np.isfinite(c)) or np.any(c < -1e-6) or np.any(c > 1.0 + 1e-6):
-        raise InputError("cosine of the incidence angle must lie in [0, 1]", field="cos_i", value=cos_i, allowed="[0, 1]")
+        raise InputError(
+            "cosine of the incidence angle must lie in [0, 1]", field="cos_i", value=cos_i, allowed="[0, 1]"
+        )
     return np.clip(c, 0.0, 1.0)
 
 
 def _run(cos_i, n1, n2, device):
     return elementwise(
         _fresnel_kernel,
-        [(_cosines(cos_i), wp.float32), (_complex_pairs(n1, "n1"), wp.vec2f), (_complex_pairs(n2, "n2"), wp.vec2f)],
+        [
+            (_cosines(cos_i), wp.float32),
+            (_complex_pairs(n1, "n1"), wp.vec2f),
+            (_complex_pairs(n2, "n2"), wp.vec2f),
+        ],
         [_vec8, wp.vec4],
         device=device,
     )
 
 
-def fresnel(
-    cos_i, n1, n2, *, device=None
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def fresnel(cos_i, n1, n2, *, device=None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Fresnel amplitude coefficients (rs, rp, ts, tp) as complex NumPy arrays.
 
     Parameters
@@ -237,3 +263,50 @@ def fresnel_power(cos_i, n1, n2, *, device=None) -> tuple[np.ndarray, np.ndarray
     _, pw = _run(cos_i, n1, n2, device)
     pw = pw.astype(np.float64)
     return pw[..., 0], pw[..., 1], pw[..., 2], pw[..., 3]
+
+
+def _unit3(v, name: str) -> np.ndarray:
+    a = np.asarray(v, dtype=np.float64)
+    if a.ndim == 0 or a.shape[-1] != 3 or not np.all(np.isfinite(a)):
+        raise InputError("expected finite 3-vectors (last axis of length 3)", field=name)
+    n = np.linalg.norm(a, axis=-1, keepdims=True)
+    if np.any(n == 0):
+        raise InputError("expected non-zero vectors", field=name)
+    return a / n
+
+
+def refract(direction, normal, n1, n2, *, device=None) -> np.ndarray:
+    """Snell refraction directions (..., 3) through a surface whose ``normal`` points to the
+    incident side; zero vectors under total internal reflection (see ``refract_direction``)."""
+    n1a = np.asarray(n1, dtype=np.float64)
+    n2a = np.asarray(n2, dtype=np.float64)
+    if np.any(~np.isfinite(n1a) | (n1a <= 0)) or np.any(~np.isfinite(n2a) | (n2a <= 0)):
+        raise InputError("refractive indices must be finite and positive", field="n1/n2", allowed="> 0")
+    _, t = elementwise(
+        _directions_kernel,
+        [
+            (_unit3(direction, "direction"), wp.vec3),
+            (_unit3(normal, "normal"), wp.vec3),
+            (n1a, wp.float32),
+            (n2a, wp.float32),
+        ],
+        [wp.vec3, wp.vec3],
+        device=device,
+    )
+    return t.astype(np.float64)
+
+
+def reflect(direction, normal, *, device=None) -> np.ndarray:
+    """Mirror directions (..., 3) (see ``reflect_direction``)."""
+    r, _ = elementwise(
+        _directions_kernel,
+        [
+            (_unit3(direction, "direction"), wp.vec3),
+            (_unit3(normal, "normal"), wp.vec3),
+            (1.0, wp.float32),
+            (1.0, wp.float32),
+        ],
+        [wp.vec3, wp.vec3],
+        device=device,
+    )
+    return r.astype(np.float64)
