@@ -1,0 +1,391 @@
+"""Device-side ray queries: closest hit against a scene of solids (BVH or convex facet planes).
+
+Every object is a closed triangle mesh in its own (object) space plus an instance transform.
+Two closest-hit paths share one result:
+
+- **BVH**: one ``wp.Mesh`` per object; ``wp.mesh_query_ray`` in object space.  Any mesh.
+- **Convex**: the facet planes ``n . x <= d`` of a convex object.  Entering: Haines' slab test
+  over the planes (the largest entering distance among front-facing planes, against the
+  smallest leaving distance among back-facing ones); from inside, leaving: the nearest plane
+  ahead.  No triangles, no tree: a loop over K planes (Haines 1991, Guy & Soler 2004 §3).
+
+``scene_closest_hit(geom, origin, direction, t_max)`` picks the convex path for objects flagged
+convex (automatically: watertight, convex and at most ``convex_max_planes`` facets), the BVH for
+the others; ``geom.mode`` can force one path (for tests and benchmarks).  Kernels take the whole
+scene as ONE :class:`SceneGeometry` struct argument.
+
+Conventions: world space in mm, right-handed.  ``direction`` need not be unit length: ``t`` is
+in multiples of its length (a distance in mm when it is unit length), and instance transforms
+preserve it (``x_obj = M x_world`` maps the ray's parameter unchanged).  Normals are unit,
+world space, pointing out of the object (for a ray inside a solid the hit normal points along
+the ray).  A ray that starts exactly on a surface may report that surface at ``t ~ 0``: the
+caller offsets origins.  Geometry is float32.
+
+Use in a renderer's kernel (the scene is one argument)::
+
+    @wp.kernel
+    def trace(offset: int, geom: query.SceneGeometry, origins: wp.array(dtype=wp.vec3f),
+              directions: wp.array(dtype=wp.vec3f), ...):
+        i = wp.tid() + offset
+        hit = query.scene_closest_hit(geom, origins[i], directions[i], 1.0e30)
+        if hit.object >= 0:
+            ...  # hit.t, hit.facet, hit.normal (outward)
+
+    scene = query.GeometryScene([(gem, object_to_world), ground])
+    wo.device.launch_tiled(trace, n, [scene.geometry, origins, directions, ...])
+
+References
+----------
+- E. Haines, "Fast Ray-Convex Polyhedron Intersection", in *Graphics Gems II*, J. Arvo (ed.),
+  Academic Press, 1991, pp. 247-250.
+- S. Guy and C. Soler, "Graphics Gems Revisited", ACM TOG 23(3), 2004 (convexity of gems).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import NamedTuple
+
+import numpy as np
+import trimesh
+import warp as wp
+
+from .. import device as _device
+from .mesh import facet_planes
+
+__all__ = [
+    "MODE_AUTO",
+    "MODE_BVH",
+    "MODE_CONVEX",
+    "SceneGeometry",
+    "RayHit",
+    "convex_closest_hit",
+    "ray_meets_sphere",
+    "scene_closest_hit",
+    "Hits",
+    "GeometryScene",
+]
+
+MODE_AUTO = 0
+MODE_BVH = 1
+MODE_CONVEX = 2
+_MODES = {"auto": MODE_AUTO, "bvh": MODE_BVH, "convex": MODE_CONVEX}
+_BIG = 1.0e30
+
+
+@wp.struct
+class SceneGeometry:
+    """All solids of a scene, for kernels (one argument).
+
+    Per object k (``num_objects`` of them): ``mesh_ids[k]`` (``wp.Mesh`` id), ``world_to_object[k]``
+    (4x4 affine), ``convex[k]`` (1: use the plane path in auto mode), its facet planes
+    ``planes[plane_start[k] : plane_start[k] + plane_count[k]]`` (object space, ``(nx, ny, nz, d)``,
+    outward unit normal, mm), the facet of each of its triangles ``face_facet[face_start[k] + f]``
+    and an object-space bounding sphere ``bounding_sphere[k] = (cx, cy, cz, r)`` (culls rays
+    for the convex path).  ``mode``: 0 auto, 1 BVH for all, 2 convex planes for all.
+    """
+
+    num_objects: wp.int32
+    mode: wp.int32
+    mesh_ids: wp.array(dtype=wp.uint64)
+    world_to_object: wp.array(dtype=wp.mat44f)
+    convex: wp.array(dtype=wp.int32)
+    plane_start: wp.array(dtype=wp.int32)
+    plane_count: wp.array(dtype=wp.int32)
+    planes: wp.array(dtype=wp.vec4f)
+    face_start: wp.array(dtype=wp.int32)
+    face_facet: wp.array(dtype=wp.int32)
+    bounding_sphere: wp.array(dtype=wp.vec4f)
+
+
+@wp.struct
+class RayHit:
+    """Closest hit: ``t`` (ray parameter; = t_max and ``object`` = -1 on a miss), ``object``,
+    ``facet`` (facet/plane index within the object), ``face`` (triangle index within the object,
+    -1 when found by the convex path), ``normal`` (world, unit, outward)."""
+
+    t: wp.float32
+    object: wp.int32
+    facet: wp.int32
+    face: wp.int32
+    normal: wp.vec3f
+
+
+@wp.func
+def convex_closest_hit(
+    planes: wp.array(dtype=wp.vec4f),
+    start: wp.int32,
+    count: wp.int32,
+    origin: wp.vec3f,
+    direction: wp.vec3f,
+    t_max: wp.float32,
+):
+    """Closest hit of a ray with the convex polyhedron ``n_k . x <= d_k`` (Haines 1991).
+
+    Returns ``(t, k)``: the ray parameter in ``(0, t_max)`` and the local index of the facet
+    plane hit, or ``(t_max, -1)``.  From outside the hit is the entering plane with the largest
+    ``t``; from inside (all entering ``t <= 0``) it is the leaving plane with the smallest ``t``.
+    """
+    t_near = float(-_BIG)
+    t_far = float(_BIG)
+    k_near = int(-1)
+    k_far = int(-1)
+    miss = int(0)
+    for k in range(count):
+        p = planes[start + k]
+        n = wp.vec3f(p[0], p[1], p[2])
+        vn = wp.dot(n, direction)
+        vd = wp.dot(n, origin) - p[3]  # > 0: origin outside this plane
+        # "the point at t_near (t_far) is outside plane k" <=> plane k moves t_near up (t_far down);
+        # tested without the division, which is done only on an update.
+        if vn < 0.0 and vd + t_near * vn > 0.0:  # front-facing (entering) plane
+            t_near = -vd / vn
+            k_near = k
+            if t_near > t_far:
+                miss = 1
+                break
+        elif vn > 0.0 and vd + t_far * vn > 0.0:  # back-facing (leaving) plane
+            t_far = -vd / vn
+            k_far = k
+            if t_near > t_far or t_far < 0.0:
+                miss = 1
+                break
+        elif vn == 0.0 and vd > 0.0:  # parallel to the plane, outside it
+            miss = 1
+            break
+    t_hit = t_max
+    facet = int(-1)
+    if miss == 0 and t_far >= 0.0:
+        if t_near > 0.0:
+            if t_near < t_max:
+                t_hit = t_near
+                facet = k_near
+        elif t_far < t_max:
+            t_hit = t_far
+            facet = k_far
+    return t_hit, facet
+
+
+@wp.func
+def ray_meets_sphere(sphere: wp.vec4f, origin: wp.vec3f, direction: wp.vec3f, t_max: wp.float32):
+    """False only if the ray segment ``(0, t_max)`` certainly misses the sphere ``(cx, cy, cz, r)``
+    (conservative: a 1e-4 relative margin on the radius)."""
+    oc = origin - wp.vec3f(sphere[0], sphere[1], sphere[2])
+    r = sphere[3] * 1.0001
+    c = wp.dot(oc, oc) - r * r
+    meets = True
+    if c > 0.0:  # origin outside the sphere
+        b = wp.dot(oc, direction)
+        dd = wp.dot(direction, direction)
+        if b >= 0.0 or b * b - dd * c < 0.0:
+            meets = False
+        elif (-b - wp.sqrt(b * b - dd * c)) > t_max * dd:  # sphere entered beyond t_max
+            meets = False
+    return meets
+
+
+@wp.func
+def scene_closest_hit(geom: SceneGeometry, origin: wp.vec3f, direction: wp.vec3f, t_max: wp.float32):
+    """Closest hit of a world-space ray with all objects of ``geom`` within ``(0, t_max)``."""
+    hit = RayHit()
+    hit.t = t_max
+    hit.object = -1
+    hit.facet = -1
+    hit.face = -1
+    hit.normal = wp.vec3f(0.0, 0.0, 0.0)
+    n_obj = wp.vec3f(0.0, 0.0, 0.0)
+    m_hit = wp.identity(n=4, dtype=wp.float32)
+    for k in range(geom.num_objects):
+        m = geom.world_to_object[k]
+        o = wp.transform_point(m, origin)
+        d = wp.transform_vector(m, direction)
+        use_convex = geom.mode == 2 or (geom.mode == 0 and geom.convex[k] != 0)
+        if use_convex:
+            s = geom.plane_start[k]
+            t = hit.t
+            f = int(-1)
+            if ray_meets_sphere(geom.bounding_sphere[k], o, d, hit.t):
+                t, f = convex_closest_hit(geom.planes, s, geom.plane_count[k], o, d, hit.t)
+            if f >= 0:
+                hit.t = t
+                hit.object = k
+                hit.facet = f
+                hit.face = -1
+                p = geom.planes[s + f]
+                n_obj = wp.vec3f(p[0], p[1], p[2])
+                m_hit = m
+        else:
+            q = wp.mesh_query_ray(geom.mesh_ids[k], o, d, hit.t)
+            if q.result and q.t < hit.t:
+                hit.t = q.t
+                hit.object = k
+                hit.face = q.face
+                hit.facet = geom.face_facet[geom.face_start[k] + q.face]
+                n_obj = q.normal
+                m_hit = m
+    if hit.object >= 0:
+        # normals transform with the inverse transpose of object_to_world = transpose(world_to_object)
+        hit.normal = wp.normalize(wp.transform_vector(wp.transpose(m_hit), n_obj))
+    return hit
+
+
+@wp.kernel
+def _closest_hit_kernel(
+    offset: int,
+    origins: wp.array(dtype=wp.vec3f),
+    directions: wp.array(dtype=wp.vec3f),
+    t_max: wp.array(dtype=wp.float32),
+    geom: SceneGeometry,
+    out_t: wp.array(dtype=wp.float32),
+    out_object: wp.array(dtype=wp.int32),
+    out_facet: wp.array(dtype=wp.int32),
+    out_face: wp.array(dtype=wp.int32),
+    out_normal: wp.array(dtype=wp.vec3f),
+):
+    i = wp.tid() + offset
+    h = scene_closest_hit(geom, origins[i], directions[i], t_max[i])
+    out_t[i] = h.t
+    out_object[i] = h.object
+    out_facet[i] = h.facet
+    out_face[i] = h.face
+    out_normal[i] = h.normal
+
+
+class Hits(NamedTuple):
+    """Closest hits as NumPy arrays: ``t`` (inf on a miss), ``object``, ``facet`` and ``face``
+    (-1 on a miss; ``face`` -1 also where the convex path answered), ``normal`` (..., 3)."""
+
+    t: np.ndarray
+    object: np.ndarray
+    facet: np.ndarray
+    face: np.ndarray
+    normal: np.ndarray
+
+
+class GeometryScene:
+    """Solids on a device, with their BVHs and facet planes, ready for kernels.
+
+    ``objects``: meshes, or ``(mesh, object_to_world)`` pairs with a 4x4 affine transform (mm).
+    ``convex``: ``"auto"`` (convex path for watertight convex meshes with at most
+    ``convex_max_planes`` facets), ``True``/``False`` for all, or a per-object sequence of those.
+    The ``wp.Mesh`` objects live as long as this scene; :attr:`geometry` is the struct to pass to
+    kernels (``mode`` auto).
+    """
+
+    def __init__(
+        self,
+        objects: Sequence[trimesh.Trimesh | tuple[trimesh.Trimesh, np.ndarray]],
+        *,
+        convex: bool | str | Sequence[bool | str] = "auto",
+        convex_max_planes: int = 256,
+        device=None,
+    ) -> None:
+        self.device = _device.get_device(device)
+        objs = []
+        for ob in objects:
+            if isinstance(ob, trimesh.Trimesh):
+                objs.append((ob, np.eye(4)))
+            else:
+                mesh, xf = ob
+                xf = np.asarray(xf, dtype=np.float64)
+                if xf.shape != (4, 4) or not np.all(np.isfinite(xf)):
+                    raise ValueError("an object transform must be a finite 4x4 matrix")
+                objs.append((mesh, xf))
+        if not objs:
+            raise ValueError("a scene needs at least one object")
+        if isinstance(convex, (bool, str)):
+            convex = [convex] * len(objs)
+        if len(convex) != len(objs):
+            raise ValueError("convex: one flag per object")
+        self.meshes: list[wp.Mesh] = []
+        self.convex_flags: list[bool] = []
+        planes_all, face_facet_all, w2o, spheres = [], [], [], []
+        plane_start, plane_count, face_start = [], [], []
+        np_, nf = 0, 0
+        for (mesh, xf), flag in zip(objs, convex, strict=True):
+            planes, face_facet = facet_planes(mesh)
+            can = bool(mesh.is_watertight and mesh.is_convex)
+            if flag == "auto":
+                use = can and len(planes) <= convex_max_planes
+            else:
+                use = bool(flag)
+                if use and not can:
+                    raise ValueError("convex=True for a mesh that is not a closed convex solid")
+            self.convex_flags.append(use)
+            pts = wp.array(np.asarray(mesh.vertices, dtype=np.float32), dtype=wp.vec3f, device=self.device)
+            idx = wp.array(np.asarray(mesh.faces, dtype=np.int32).ravel(), dtype=wp.int32, device=self.device)
+            self.meshes.append(wp.Mesh(points=pts, indices=idx))
+            planes_all.append(planes)
+            face_facet_all.append(face_facet)
+            plane_start.append(np_)
+            plane_count.append(len(planes))
+            face_start.append(nf)
+            np_ += len(planes)
+            nf += len(mesh.faces)
+            w2o.append(np.linalg.inv(xf))
+            v = np.asarray(mesh.vertices, dtype=np.float64)
+            center = 0.5 * (v.min(axis=0) + v.max(axis=0))
+            spheres.append([*center, float(np.max(np.linalg.norm(v - center, axis=1)))])
+        dev = self.device
+        self._convex_possible = [bool(m.is_watertight and m.is_convex) for m, _ in objs]
+        g = SceneGeometry()
+        g.num_objects = len(objs)
+        g.mode = MODE_AUTO
+        g.mesh_ids = wp.array(np.array([m.id for m in self.meshes], dtype=np.uint64), dtype=wp.uint64, device=dev)
+        g.world_to_object = wp.array(np.array(w2o, dtype=np.float32), dtype=wp.mat44f, device=dev)
+        g.convex = wp.array(np.array(self.convex_flags, dtype=np.int32), dtype=wp.int32, device=dev)
+        g.plane_start = wp.array(np.array(plane_start, dtype=np.int32), dtype=wp.int32, device=dev)
+        g.plane_count = wp.array(np.array(plane_count, dtype=np.int32), dtype=wp.int32, device=dev)
+        g.planes = wp.array(np.concatenate(planes_all).astype(np.float32), dtype=wp.vec4f, device=dev)
+        g.face_start = wp.array(np.array(face_start, dtype=np.int32), dtype=wp.int32, device=dev)
+        g.face_facet = wp.array(np.concatenate(face_facet_all).astype(np.int32), dtype=wp.int32, device=dev)
+        g.bounding_sphere = wp.array(np.array(spheres, dtype=np.float32), dtype=wp.vec4f, device=dev)
+        self.geometry = g
+        self._by_mode = {MODE_AUTO: g}
+
+    def with_mode(self, mode: str = "auto") -> SceneGeometry:
+        """The scene struct with a forced path: ``"auto"``, ``"bvh"`` or ``"convex"`` (all objects
+        must then be closed convex solids)."""
+        if mode not in _MODES:
+            raise ValueError(f"mode {mode!r}: expected one of {sorted(_MODES)}")
+        code = _MODES[mode]
+        if code == MODE_CONVEX and not all(self._convex_possible):
+            raise ValueError("mode 'convex' needs every object to be a closed convex solid")
+        if code not in self._by_mode:
+            src = self.geometry
+            g = SceneGeometry()
+            for name in ("num_objects", "mesh_ids", "world_to_object", "convex", "plane_start", "plane_count",
+                         "planes", "face_start", "face_facet", "bounding_sphere"):
+                setattr(g, name, getattr(src, name))
+            g.mode = code
+            self._by_mode[code] = g
+        return self._by_mode[code]
+
+    def launch_closest_hit(
+        self,
+        origins: wp.array,
+        directions: wp.array,
+        t_max: wp.array,
+        out: Sequence[wp.array],
+        *,
+        mode: str = "auto",
+        threads: int | None = None,
+    ) -> None:
+        """Closest hits of device arrays of rays into ``out = (t, object, facet, face, normal)``
+        (tiled over ``threads`` CPU threads; one launch on CUDA)."""
+        _device.launch_tiled(_closest_hit_kernel, len(origins),
+                             [origins, directions, t_max, self.with_mode(mode), *out],
+                             device=self.device, threads=threads)
+
+    def closest_hit(self, origins, directions, t_max=np.inf, *, mode: str = "auto") -> Hits:
+        """Closest hits of NumPy rays (..., 3), broadcast; ``t_max`` in ray-parameter units."""
+        t_max = np.minimum(np.asarray(t_max, dtype=np.float64), _BIG)
+        t, obj, facet, face, normal = _device.elementwise(
+            _closest_hit_kernel,
+            [(origins, wp.vec3f), (directions, wp.vec3f), (t_max, wp.float32)],
+            [wp.float32, wp.int32, wp.int32, wp.int32, wp.vec3f],
+            extra=(self.with_mode(mode),),
+            device=self.device,
+        )
+        t = np.where(obj >= 0, t, np.inf)
+        return Hits(t, obj, facet, face, normal)
