@@ -128,9 +128,9 @@ def convex_closest_hit(
     """
     t_near = float(-_BIG)
     t_far = float(_BIG)
-    k_near = int(-1)
-    k_far = int(-1)
-    miss = int(0)
+    k_near = int(-1)  # noqa: UP018 (a mutable Warp variable needs its type)
+    k_far = int(-1)  # noqa: UP018 (a mutable Warp variable needs its type)
+    miss = int(0)  # noqa: UP018 (a mutable Warp variable needs its type)
     for k in range(count):
         p = planes[start + k]
         n = wp.vec3f(p[0], p[1], p[2])
@@ -154,7 +154,7 @@ def convex_closest_hit(
             miss = 1
             break
     t_hit = t_max
-    facet = int(-1)
+    facet = int(-1)  # noqa: UP018 (a mutable Warp variable needs its type)
     if miss == 0 and t_far >= 0.0:
         if t_near > 0.0:
             if t_near < t_max:
@@ -203,7 +203,7 @@ def scene_closest_hit(geom: SceneGeometry, origin: wp.vec3f, direction: wp.vec3f
         if use_convex:
             s = geom.plane_start[k]
             t = hit.t
-            f = int(-1)
+            f = int(-1)  # noqa: UP018 (a mutable Warp variable needs its type)
             if ray_meets_sphere(geom.bounding_sphere[k], o, d, hit.t):
                 t, f = convex_closest_hit(geom.planes, s, geom.plane_count[k], o, d, hit.t)
             if f >= 0:
@@ -331,7 +331,8 @@ class GeometryScene:
         g = SceneGeometry()
         g.num_objects = len(objs)
         g.mode = MODE_AUTO
-        g.mesh_ids = wp.array(np.array([m.id for m in self.meshes], dtype=np.uint64), dtype=wp.uint64, device=dev)
+        ids = np.array([m.id for m in self.meshes], dtype=np.uint64)
+        g.mesh_ids = wp.array(ids, dtype=wp.uint64, device=dev)
         g.world_to_object = wp.array(np.array(w2o, dtype=np.float32), dtype=wp.mat44f, device=dev)
         g.convex = wp.array(np.array(self.convex_flags, dtype=np.int32), dtype=wp.int32, device=dev)
         g.plane_start = wp.array(np.array(plane_start, dtype=np.int32), dtype=wp.int32, device=dev)
@@ -354,8 +355,18 @@ class GeometryScene:
         if code not in self._by_mode:
             src = self.geometry
             g = SceneGeometry()
-            for name in ("num_objects", "mesh_ids", "world_to_object", "convex", "plane_start", "plane_count",
-                         "planes", "face_start", "face_facet", "bounding_sphere"):
+            for name in (
+                "num_objects",
+                "mesh_ids",
+                "world_to_object",
+                "convex",
+                "plane_start",
+                "plane_count",
+                "planes",
+                "face_start",
+                "face_facet",
+                "bounding_sphere",
+            ):
                 setattr(g, name, getattr(src, name))
             g.mode = code
             self._by_mode[code] = g
@@ -373,9 +384,13 @@ class GeometryScene:
     ) -> None:
         """Closest hits of device arrays of rays into ``out = (t, object, facet, face, normal)``
         (tiled over ``threads`` CPU threads; one launch on CUDA)."""
-        _device.launch_tiled(_closest_hit_kernel, len(origins),
-                             [origins, directions, t_max, self.with_mode(mode), *out],
-                             device=self.device, threads=threads)
+        _device.launch_tiled(
+            _closest_hit_kernel,
+            len(origins),
+            [origins, directions, t_max, self.with_mode(mode), *out],
+            device=self.device,
+            threads=threads,
+        )
 
     def closest_hit(self, origins, directions, t_max=np.inf, *, mode: str = "auto") -> Hits:
         """Closest hits of NumPy rays (..., 3), broadcast; ``t_max`` in ray-parameter units."""
