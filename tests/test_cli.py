@@ -1,0 +1,58 @@
+"""The command line, run as a user runs it (subprocesses), and the README/CI contract."""
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+import warpoptics as wo
+from warpoptics.image import read_image
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def run_cli(*args, cwd=None):
+    return subprocess.run(
+        [sys.executable, "-m", "warpoptics.cli", *args], capture_output=True, text=True, cwd=cwd, timeout=600
+    )
+
+
+def test_version_and_info():
+    r = run_cli("--version")
+    assert r.returncode == 0 and r.stdout.strip() == f"warpoptics {wo.__version__}"
+    r = run_cli("info")
+    assert r.returncode == 0, r.stderr
+    assert "warp" in r.stdout and "kernel cache" in r.stdout and "device         cpu" in r.stdout
+
+
+def test_spectrum_image(tmp_path):
+    out = tmp_path / "spectrum.png"
+    r = run_cli("spectrum", "-o", str(out))
+    assert r.returncode == 0, r.stderr
+    assert "Smits–Meyer clip" in r.stdout
+    img, _ = read_image(out)
+    assert img.shape[0] > 200 and img.shape[1] > 600
+    # the two strips are coloured (not blank): saturated pixels exist
+    assert (img[..., :3].max(axis=-1) - img[..., :3].min(axis=-1)).max() > 0.5
+
+
+def test_errors_are_one_line_without_traceback(tmp_path):
+    r = run_cli("--device", "cuda:9", "info")
+    assert r.returncode == 2
+    assert "Traceback" not in r.stderr and "not available" in r.stderr
+    r = run_cli("spectrum")  # missing -o
+    assert r.returncode == 2 and "required" in r.stderr
+
+
+def test_readme_and_ci_run_the_same_test_command():
+    readme = (ROOT / "README.md").read_text()
+    ci = (ROOT / ".ci" / "run").read_text()
+    blocks = re.findall(r"```(?:bash|sh)?\n(.*?)```", readme, re.S)
+    test_cmds = [line.strip() for b in blocks for line in b.splitlines() if "pytest" in line]
+    assert test_cmds, "README shows no test command"
+    cmd = test_cmds[0]
+    assert cmd in ci, f"README's test command {cmd!r} is not what .ci/run runs"
+    assert "set -euo pipefail" in ci

@@ -1,0 +1,346 @@
+"""Wavelength grids, colour-matching functions, illuminants and wavelength sampling.
+
+All colour integrals run over 360-830 nm with the CIE 1931 2 degree observer (from
+colour-science).  Tristimulus values use the *luminance* normalisation
+
+    XYZ[S] = integral S(l) cmf(l) dl / integral ybar(l) dl,
+
+so that a constant spectrum S = 1 has Y = 1.  Illuminants are scaled to Y = 1 as well.
+
+Wavelength sampling strategies (``@wp.func sample_wavelength``), each returning the wavelength
+of sample ``index`` of ``count`` and an ``xyz_weight`` such that
+
+    XYZ ~= sum over samples of xyz_weight * S(wavelength)
+
+is an estimator of XYZ[S]:
+
+- ``rgb3`` — three fixed wavelengths (612, 549, 465 nm: the dominant wavelengths of the sRGB
+  primaries), each weighted by its primary's XYZ so that a constant spectrum comes out exact.
+  Biased for anything but smooth spectra: this is the three-IOR baseline of seed 001, whose
+  banding it reproduces.
+- ``uniform`` — a random wavelength, pdf 1/470 nm (seed 003).
+- ``importance`` — pdf proportional to xbar + ybar + zbar, by inverse CDF of a table (seed 003).
+- ``stratified`` — ``count`` jittered strata of equal width (seed 000 "stratified spectral
+  sub-rays"; 45 by default in the renderer).
+
+References: CIE 015:2018 (colorimetry); Weidlich & Wilkie 2009 §4 (stratified sub-rays); seed 003
+(importance sampling by the CIE curves).
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import warp as wp
+
+from .device import elementwise, get_device
+
+__all__ = [
+    "LAMBDA_MIN",
+    "LAMBDA_MAX",
+    "STRATEGIES",
+    "RGB3_WAVELENGTHS",
+    "grid",
+    "cmf",
+    "illuminant",
+    "spectrum_to_xyz",
+    "SpectralTables",
+    "spectral_tables",
+    "cmf_xyz",
+    "illuminant_value",
+    "sample_wavelength",
+    "sample_wavelengths",
+    "strategy_id",
+]
+
+LAMBDA_MIN = 360.0
+LAMBDA_MAX = 830.0
+_STEP = 1.0
+_COUNT = int(round((LAMBDA_MAX - LAMBDA_MIN) / _STEP)) + 1
+
+#: sampling strategy names -> ids used inside kernels
+STRATEGIES = {"rgb3": 0, "uniform": 1, "importance": 2, "stratified": 3}
+STRATEGY_RGB3 = wp.constant(0)
+STRATEGY_UNIFORM = wp.constant(1)
+STRATEGY_IMPORTANCE = wp.constant(2)
+STRATEGY_STRATIFIED = wp.constant(3)
+
+#: dominant wavelengths (nm) of the sRGB red, green and blue primaries
+RGB3_WAVELENGTHS = (612.0, 549.0, 465.0)
+
+#: illuminant names -> row in SpectralTables.illuminants
+ILLUMINANTS = {"E": 0, "D65": 1, "A": 2}
+
+
+def grid(step: float = 1.0, start: float = LAMBDA_MIN, stop: float = LAMBDA_MAX) -> np.ndarray:
+    """Wavelengths (nm) from ``start`` to ``stop`` inclusive, spaced by ``step``."""
+    if step <= 0:
+        raise ValueError(f"step must be > 0, got {step}")
+    n = int(np.floor((stop - start) / step + 1e-9)) + 1
+    return start + step * np.arange(n, dtype=np.float64)
+
+
+@functools.lru_cache(maxsize=1)
+def _cmf_1nm() -> np.ndarray:
+    import colour
+
+    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
+    shape = colour.SpectralShape(LAMBDA_MIN, LAMBDA_MAX, _STEP)
+    return np.asarray(cmfs.copy().align(shape).values, dtype=np.float64)
+
+
+@functools.lru_cache(maxsize=8)
+def _illuminant_1nm(name: str) -> np.ndarray:
+    import colour
+
+    shape = colour.SpectralShape(LAMBDA_MIN, LAMBDA_MAX, _STEP)
+    if name == "E":
+        values = np.ones(_COUNT)
+    elif name == "D65":
+        # tabulated 300-780 nm in colour; CIE extends it to 830 nm with nearly constant values,
+        # colour's default constant extrapolation is used beyond 780 nm
+        values = colour.SDS_ILLUMINANTS["D65"].copy().align(shape).values
+    elif name == "A":
+        values = colour.colorimetry.sd_CIE_standard_illuminant_A(shape).values
+    else:
+        raise ValueError(f"unknown illuminant {name!r} (allowed: {', '.join(ILLUMINANTS)})")
+    values = np.asarray(values, dtype=np.float64)
+    ybar = _cmf_1nm()[:, 1]
+    return values * (ybar.sum() / (values * ybar).sum())  # Y = 1
+
+
+def cmf(wavelength_nm) -> np.ndarray:
+    """CIE 1931 2 degree colour-matching functions at ``wavelength_nm`` (linear interpolation of
+    the 1 nm table; zero outside 360-830 nm).  Shape ``(..., 3)``."""
+    wl = np.asarray(wavelength_nm, dtype=np.float64)
+    table = _cmf_1nm()
+    g = grid()
+    return np.stack([np.interp(wl, g, table[:, c], left=0.0, right=0.0) for c in range(3)], axis=-1)
+
+
+def illuminant(name: str, wavelength_nm) -> np.ndarray:
+    """Relative spectral power of CIE illuminant ``name`` ("E", "D65", "A"), scaled to Y = 1."""
+    wl = np.asarray(wavelength_nm, dtype=np.float64)
+    return np.interp(wl, grid(), _illuminant_1nm(name), left=0.0, right=0.0)
+
+
+def spectrum_to_xyz(wavelength_nm, values) -> np.ndarray:
+    """XYZ of a sampled spectrum (trapezoidal rule on its own grid, luminance normalisation).
+
+    ``values`` may have extra leading axes; the last axis runs over ``wavelength_nm``.
+    """
+    wl = np.asarray(wavelength_nm, dtype=np.float64)
+    s = np.asarray(values, dtype=np.float64)
+    c = cmf(wl)
+    norm = _cmf_1nm()[:, 1].sum() * _STEP
+    integrand = s[..., :, None] * c
+    return np.trapezoid(integrand, wl, axis=-2) / norm
+
+
+# ----------------------------------------------------------------------------------------------
+# Device tables
+
+
+@wp.struct
+class SpectralTables:
+    """Tables for spectral kernels, 1 nm spacing from ``lambda_min``.
+
+    cmf:          (count,) vec3f, CIE 1931 xbar, ybar, zbar divided by integral(ybar)
+    illuminants:  (3, count) float, E, D65, A scaled to Y = 1 (rows in ``ILLUMINANTS``)
+    cdf:          (count,) float, CDF of the importance pdf over the bins [l_j, l_j + 1 nm)
+    bin_pdf:      (count,) float, importance pdf (1/nm) on each bin
+    rgb3_weight:  (3,) vec3f, XYZ weight of each rgb3 wavelength
+    rgb3_wavelength: vec3f, the three rgb3 wavelengths (nm)
+    """
+
+    cmf: wp.array(dtype=wp.vec3f)
+    illuminants: wp.array2d(dtype=wp.float32)
+    cdf: wp.array(dtype=wp.float32)
+    bin_pdf: wp.array(dtype=wp.float32)
+    rgb3_weight: wp.array(dtype=wp.vec3f)
+    rgb3_wavelength: wp.vec3f
+    lambda_min: float
+    lambda_max: float
+    count: int
+
+
+def _importance_pdf_bins() -> np.ndarray:
+    """Piecewise-constant pdf over the 1 nm bins, proportional to xbar+ybar+zbar (bin average)."""
+    s = _cmf_1nm().sum(axis=1)
+    # bins [l_j, l_j+1) for j < count-1; the last grid point closes the range
+    b = 0.5 * (s[:-1] + s[1:])
+    b = np.maximum(b, 1e-4 * b.max())  # keep every wavelength reachable (pdf > 0 everywhere)
+    return b / (b.sum() * _STEP)
+
+
+def _rgb3_weights() -> np.ndarray:
+    """XYZ weight per rgb3 wavelength: the sRGB primary's XYZ column times the linear-sRGB
+    coordinate of the equal-energy white, so that sum_c w_c * 1 = XYZ[S=1] exactly."""
+    from .color import SRGB_TO_XYZ
+
+    xyz_e = _cmf_1nm().sum(axis=0) / _cmf_1nm()[:, 1].sum()
+    rgb_e = np.linalg.solve(SRGB_TO_XYZ, xyz_e)
+    return (SRGB_TO_XYZ * rgb_e[None, :]).T  # row c = weight of wavelength c
+
+
+@functools.lru_cache(maxsize=8)
+def _tables_for(device_alias: str) -> SpectralTables:
+    dev = get_device(device_alias)
+    t = SpectralTables()
+    cm = _cmf_1nm() / _cmf_1nm()[:, 1].sum() / _STEP
+    t.cmf = wp.array(cm.astype(np.float32), dtype=wp.vec3f, device=dev)
+    ill = np.stack([_illuminant_1nm(n) for n in ILLUMINANTS])
+    t.illuminants = wp.array(ill.astype(np.float32), dtype=wp.float32, device=dev)
+    pdf = _importance_pdf_bins()
+    cdf = np.concatenate([[0.0], np.cumsum(pdf * _STEP)])
+    cdf /= cdf[-1]
+    t.cdf = wp.array(cdf.astype(np.float32), dtype=wp.float32, device=dev)
+    t.bin_pdf = wp.array(np.concatenate([pdf, [pdf[-1]]]).astype(np.float32), dtype=wp.float32, device=dev)
+    t.rgb3_weight = wp.array(_rgb3_weights().astype(np.float32), dtype=wp.vec3f, device=dev)
+    t.rgb3_wavelength = wp.vec3f(*RGB3_WAVELENGTHS)
+    t.lambda_min = LAMBDA_MIN
+    t.lambda_max = LAMBDA_MAX
+    t.count = _COUNT
+    return t
+
+
+def spectral_tables(device=None) -> SpectralTables:
+    """The shared :class:`SpectralTables` on ``device`` (built once per device)."""
+    return _tables_for(get_device(device).alias)
+
+
+def strategy_id(name: str) -> int:
+    """Kernel id of a sampling strategy name."""
+    try:
+        return STRATEGIES[name]
+    except KeyError:
+        raise ValueError(f"unknown spectral sampling {name!r} (allowed: {', '.join(STRATEGIES)})") from None
+
+
+# ----------------------------------------------------------------------------------------------
+# Kernel-side functions
+
+
+@wp.func
+def _table_coord(t: SpectralTables, wavelength: float):
+    x = (wavelength - t.lambda_min) / 1.0
+    x = wp.clamp(x, 0.0, float(t.count - 1))
+    j = wp.min(int(x), t.count - 2)
+    return j, x - float(j)
+
+
+@wp.func
+def cmf_xyz(t: SpectralTables, wavelength: float):
+    """CIE 1931 xbar, ybar, zbar at ``wavelength`` (nm), divided by integral(ybar); zero outside
+    the table."""
+    if wavelength < t.lambda_min or wavelength > t.lambda_max:
+        return wp.vec3f(0.0, 0.0, 0.0)
+    j, f = _table_coord(t, wavelength)
+    return t.cmf[j] * (1.0 - f) + t.cmf[j + 1] * f
+
+
+@wp.func
+def illuminant_value(t: SpectralTables, which: int, wavelength: float):
+    """Relative power of illuminant row ``which`` (E=0, D65=1, A=2) at ``wavelength`` (Y = 1)."""
+    if wavelength < t.lambda_min or wavelength > t.lambda_max:
+        return 0.0
+    j, f = _table_coord(t, wavelength)
+    return t.illuminants[which, j] * (1.0 - f) + t.illuminants[which, j + 1] * f
+
+
+@wp.func
+def _sample_importance(t: SpectralTables, u: float):
+    # binary search for the bin j with cdf[j] <= u < cdf[j+1]
+    lo = int(0)
+    hi = t.count - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if t.cdf[mid] <= u:
+            lo = mid
+        else:
+            hi = mid
+    c0 = t.cdf[lo]
+    c1 = t.cdf[lo + 1]
+    f = float(0.5)
+    if c1 > c0:
+        f = wp.clamp((u - c0) / (c1 - c0), 0.0, 1.0)
+    wl = t.lambda_min + float(lo) + f
+    return wl, t.bin_pdf[lo]
+
+
+@wp.func
+def sample_wavelength(t: SpectralTables, strategy: int, u: float, index: int, count: int):
+    """Wavelength (nm) of sample ``index`` of ``count`` with uniform random ``u`` in [0, 1), and
+    its ``xyz_weight`` (see module docstring).  For ``rgb3`` ``count`` must be 3 and ``u`` is
+    unused; for ``stratified`` ``index`` selects the stratum."""
+    width = t.lambda_max - t.lambda_min
+    inv_n = 1.0 / float(count)
+    if strategy == STRATEGY_RGB3:
+        c = wp.clamp(index, 0, 2)
+        return t.rgb3_wavelength[c], t.rgb3_weight[c]
+    if strategy == STRATEGY_IMPORTANCE:
+        wl, pdf = _sample_importance(t, u)
+        return wl, cmf_xyz(t, wl) * (inv_n / pdf)
+    if strategy == STRATEGY_STRATIFIED:
+        wl = t.lambda_min + (float(index) + u) * width * inv_n
+        return wl, cmf_xyz(t, wl) * (width * inv_n)
+    # uniform
+    wl = t.lambda_min + u * width
+    return wl, cmf_xyz(t, wl) * (width * inv_n)
+
+
+@wp.kernel
+def _sample_kernel(
+    offset: int,
+    u: wp.array(dtype=wp.float32),
+    index: wp.array(dtype=wp.int32),
+    t: SpectralTables,
+    strategy: int,
+    count: int,
+    wavelength: wp.array(dtype=wp.float32),
+    weight: wp.array(dtype=wp.vec3f),
+):
+    i = wp.tid() + offset
+    wl, w = sample_wavelength(t, strategy, u[i], index[i], count)
+    wavelength[i] = wl
+    weight[i] = w
+
+
+@wp.kernel
+def _cmf_kernel(
+    offset: int,
+    wavelength: wp.array(dtype=wp.float32),
+    t: SpectralTables,
+    out: wp.array(dtype=wp.vec3f),
+):
+    i = wp.tid() + offset
+    out[i] = cmf_xyz(t, wavelength[i])
+
+
+def sample_wavelengths(strategy: str, u, index, count: int, *, device=None) -> tuple[np.ndarray, np.ndarray]:
+    """NumPy wrapper of :func:`sample_wavelength`: returns ``(wavelength_nm, xyz_weight)``.
+
+    ``u`` (uniform in [0, 1)) and ``index`` (sample number, 0..count-1) broadcast together.
+    """
+    sid = strategy_id(strategy)
+    if strategy == "rgb3" and count != 3:
+        raise ValueError(f"rgb3 sampling uses exactly 3 wavelengths, got count={count}")
+    if count < 1:
+        raise ValueError(f"count must be >= 1, got {count}")
+    wl, w = elementwise(
+        _sample_kernel,
+        [(u, wp.float32), (index, wp.int32)],
+        [wp.float32, wp.vec3f],
+        extra=[spectral_tables(device), sid, int(count)],
+        device=device,
+    )
+    return wl, w
+
+
+def cmf_device(wavelength_nm, *, device=None) -> np.ndarray:
+    """NumPy wrapper of the kernel-side :func:`cmf_xyz` (normalised by integral ybar, per nm)."""
+    (out,) = elementwise(
+        _cmf_kernel, [(wavelength_nm, wp.float32)], [wp.vec3f], extra=[spectral_tables(device)], device=device
+    )
+    return out
