@@ -160,3 +160,15 @@ def test_bad_designs(tmp_path, text, match):
     with pytest.raises(InputError, match=match) as err:
         gemcad.read(path)
     assert "bad.asc" in str(err.value)
+
+
+@pytest.mark.parametrize("name", ["oval", "pear", "marquise", "emerald", "princess", "prism"])
+def test_round_trip_other_shapes(tmp_path, name):
+    # fancy brilliants put facets on fractional gear indices; step cuts and prisms on whole ones
+    mesh = cuts.SHAPES[name]()
+    gemcad.write(mesh, tmp_path / "x.asc")
+    back = gemcad.read(tmp_path / "x.asc", diameter=float(min(mesh.extents[:2])))
+    dist = cdist(mesh.metadata["planes"], back.metadata["planes"])
+    assert len(back.metadata["planes"]) == len(mesh.metadata["planes"])
+    assert dist.min(axis=1).max() < 1e-6 and dist.min(axis=0).max() < 1e-6
+    assert back.volume == pytest.approx(mesh.volume, rel=1e-6)

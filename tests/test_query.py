@@ -130,6 +130,13 @@ def test_convex_and_bvh_agree_on_1e5_rays(device):
         cosd = np.einsum("ij,ij->i", n, d[both])
         assert np.all(cosd[inside[both]] > 0) and np.all(cosd[~inside[both]] < 0)
 
+    # rays known to be inside: the exit query gives the same answers (convex: only leaving planes)
+    for mode, h in (("bvh", hb), ("convex", hc)):
+        he = scene.exit_hit(o[inside], d[inside], 0, mode=mode)
+        np.testing.assert_array_equal(he.t, h.t[inside])
+        np.testing.assert_array_equal(he.facet, h.facet[inside])
+        np.testing.assert_array_equal(he.normal, h.normal[inside])
+
     # t_max bounds the search: half the hit distance finds nothing
     sel = np.flatnonzero(both)[:2000]
     for mode in ("bvh", "convex"):
@@ -234,6 +241,21 @@ def test_multi_object_scene_with_instance_transforms(device):
     # world normals: those of the transformed triangles (trimesh), away from edges
     ok = cos > 0.05
     np.testing.assert_allclose(h.normal[same][ok], allw.face_normals[tri_ref[same]][ok], atol=2e-5)
+    # exits from inside the transformed gem B (object 1) and the dented sphere (object 2, BVH)
+    for k, (m, xf) in ((1, (gem, xf_b)), (2, (dented, xf_c))):
+        lo, hi = m.bounds
+        p_obj = rng.uniform(0.3 * lo, 0.3 * hi, size=(500, 3))
+        p_obj = p_obj[m.contains(p_obj)] if k == 2 else p_obj
+        p_world = trimesh.transform_points(p_obj, xf).astype(np.float32)
+        dd = rng.normal(size=(len(p_world), 3))
+        dd = (dd / np.linalg.norm(dd, axis=1, keepdims=True)).astype(np.float32)
+        he = scene.exit_hit(p_world, dd, k)
+        t_w, tri_w = triangles_closest(world[k], p_world, dd)
+        assert np.all(he.object == k) and np.all(np.isfinite(t_w))
+        cos_w = np.abs(np.einsum("ij,ij->i", world[k].face_normals[tri_w], dd))
+        check_distances(he.t, t_w, p_world, cos_w, 20.0)
+        assert np.all(np.einsum("ij,ij->i", he.normal, dd) > 0)  # outward normal, ray leaving
+
     # the dented sphere answers with triangle indices (BVH); the gems with their facets
     on_c = same & (h.object == 2)
     assert on_c.sum() > 20

@@ -9,6 +9,10 @@ Two closest-hit paths share one result:
   smallest leaving distance among back-facing ones); from inside, leaving: the nearest plane
   ahead.  No triangles, no tree: a loop over K planes (Haines 1991, Guy & Soler 2004 §3).
 
+``object_exit_hit(geom, k, origin, direction, t_max)`` is the query for a ray known to travel
+inside object ``k`` (after a refraction into it, the tracer's common case): only that object,
+and on the convex path only the planes the ray is leaving through.
+
 ``scene_closest_hit(geom, origin, direction, t_max)`` picks the convex path for objects flagged
 convex (automatically: watertight, convex and at most ``convex_max_planes`` facets), the BVH for
 the others; ``geom.mode`` can force one path (for tests and benchmarks).  Kernels take the whole
@@ -20,6 +24,19 @@ preserve it (``x_obj = M x_world`` maps the ray's parameter unchanged).  Normals
 world space, pointing out of the object (for a ray inside a solid the hit normal points along
 the ray).  A ray that starts exactly on a surface may report that surface at ``t ~ 0``: the
 caller offsets origins.  Geometry is float32.
+
+Use in a renderer's kernel (the scene is one argument)::
+
+    @wp.kernel
+    def trace(offset: int, geom: query.SceneGeometry, origins: wp.array(dtype=wp.vec3f),
+              directions: wp.array(dtype=wp.vec3f), ...):
+        i = wp.tid() + offset
+        hit = query.scene_closest_hit(geom, origins[i], directions[i], 1.0e30)
+        if hit.object >= 0:
+            ...  # hit.t, hit.facet, hit.normal (outward)
+
+    scene = query.GeometryScene([(gem, object_to_world), ground])
+    wo.device.launch_tiled(trace, n, [scene.geometry, origins, directions, ...])
 
 References
 ----------
@@ -47,7 +64,9 @@ __all__ = [
     "SceneGeometry",
     "RayHit",
     "convex_closest_hit",
+    "convex_exit_hit",
     "ray_meets_sphere",
+    "object_exit_hit",
     "scene_closest_hit",
     "Hits",
     "GeometryScene",
@@ -115,9 +134,9 @@ def convex_closest_hit(
     """
     t_near = float(-_BIG)
     t_far = float(_BIG)
-    k_near = int(-1)
-    k_far = int(-1)
-    miss = int(0)
+    k_near = int(-1)  # noqa: UP018 (a mutable Warp variable needs its type)
+    k_far = int(-1)  # noqa: UP018 (a mutable Warp variable needs its type)
+    miss = int(0)  # noqa: UP018 (a mutable Warp variable needs its type)
     for k in range(count):
         p = planes[start + k]
         n = wp.vec3f(p[0], p[1], p[2])
@@ -141,7 +160,7 @@ def convex_closest_hit(
             miss = 1
             break
     t_hit = t_max
-    facet = int(-1)
+    facet = int(-1)  # noqa: UP018 (a mutable Warp variable needs its type)
     if miss == 0 and t_far >= 0.0:
         if t_near > 0.0:
             if t_near < t_max:
@@ -151,6 +170,32 @@ def convex_closest_hit(
             t_hit = t_far
             facet = k_far
     return t_hit, facet
+
+
+@wp.func
+def convex_exit_hit(
+    planes: wp.array(dtype=wp.vec4f),
+    start: wp.int32,
+    count: wp.int32,
+    origin: wp.vec3f,
+    direction: wp.vec3f,
+    t_max: wp.float32,
+):
+    """Exit of a ray that starts INSIDE the convex polyhedron: the nearest leaving plane ahead
+    (``n_k . dir > 0``), skipping the entering planes' work.  Returns ``(t, k)`` or
+    ``(t_max, -1)``; for an inside origin the same as :func:`convex_closest_hit`."""
+    t_far = t_max
+    k_far = int(-1)  # noqa: UP018 (a mutable Warp variable needs its type)
+    for k in range(count):
+        p = planes[start + k]
+        n = wp.vec3f(p[0], p[1], p[2])
+        vn = wp.dot(n, direction)
+        if vn > 0.0:
+            vd = wp.dot(n, origin) - p[3]
+            if vd + t_far * vn > 0.0:  # this plane is crossed before t_far
+                t_far = -vd / vn
+                k_far = k
+    return t_far, k_far
 
 
 @wp.func
@@ -190,7 +235,7 @@ def scene_closest_hit(geom: SceneGeometry, origin: wp.vec3f, direction: wp.vec3f
         if use_convex:
             s = geom.plane_start[k]
             t = hit.t
-            f = int(-1)
+            f = int(-1)  # noqa: UP018 (a mutable Warp variable needs its type)
             if ray_meets_sphere(geom.bounding_sphere[k], o, d, hit.t):
                 t, f = convex_closest_hit(geom.planes, s, geom.plane_count[k], o, d, hit.t)
             if f >= 0:
@@ -216,6 +261,47 @@ def scene_closest_hit(geom: SceneGeometry, origin: wp.vec3f, direction: wp.vec3f
     return hit
 
 
+@wp.func
+def object_exit_hit(
+    geom: SceneGeometry, k: wp.int32, origin: wp.vec3f, direction: wp.vec3f, t_max: wp.float32
+):
+    """Where a ray that travels INSIDE object ``k`` leaves it (objects must not overlap).
+
+    The tracer's query after a refraction into a solid: only object ``k`` is searched, and its
+    convex path needs only the leaving planes (:func:`convex_exit_hit`).  Same result struct as
+    :func:`scene_closest_hit` (``object`` = k, or -1 if nothing within ``t_max``)."""
+    hit = RayHit()
+    hit.t = t_max
+    hit.object = -1
+    hit.facet = -1
+    hit.face = -1
+    hit.normal = wp.vec3f(0.0, 0.0, 0.0)
+    m = geom.world_to_object[k]
+    o = wp.transform_point(m, origin)
+    d = wp.transform_vector(m, direction)
+    n_obj = wp.vec3f(0.0, 0.0, 0.0)
+    if geom.mode == 2 or (geom.mode == 0 and geom.convex[k] != 0):
+        s = geom.plane_start[k]
+        t, f = convex_exit_hit(geom.planes, s, geom.plane_count[k], o, d, t_max)
+        if f >= 0:
+            hit.t = t
+            hit.object = k
+            hit.facet = f
+            p = geom.planes[s + f]
+            n_obj = wp.vec3f(p[0], p[1], p[2])
+    else:
+        q = wp.mesh_query_ray(geom.mesh_ids[k], o, d, t_max)
+        if q.result:
+            hit.t = q.t
+            hit.object = k
+            hit.face = q.face
+            hit.facet = geom.face_facet[geom.face_start[k] + q.face]
+            n_obj = q.normal
+    if hit.object >= 0:
+        hit.normal = wp.normalize(wp.transform_vector(wp.transpose(m), n_obj))
+    return hit
+
+
 @wp.kernel
 def _closest_hit_kernel(
     offset: int,
@@ -231,6 +317,29 @@ def _closest_hit_kernel(
 ):
     i = wp.tid() + offset
     h = scene_closest_hit(geom, origins[i], directions[i], t_max[i])
+    out_t[i] = h.t
+    out_object[i] = h.object
+    out_facet[i] = h.facet
+    out_face[i] = h.face
+    out_normal[i] = h.normal
+
+
+@wp.kernel
+def _exit_hit_kernel(
+    offset: int,
+    origins: wp.array(dtype=wp.vec3f),
+    directions: wp.array(dtype=wp.vec3f),
+    objects: wp.array(dtype=wp.int32),
+    t_max: wp.array(dtype=wp.float32),
+    geom: SceneGeometry,
+    out_t: wp.array(dtype=wp.float32),
+    out_object: wp.array(dtype=wp.int32),
+    out_facet: wp.array(dtype=wp.int32),
+    out_face: wp.array(dtype=wp.int32),
+    out_normal: wp.array(dtype=wp.vec3f),
+):
+    i = wp.tid() + offset
+    h = object_exit_hit(geom, objects[i], origins[i], directions[i], t_max[i])
     out_t[i] = h.t
     out_object[i] = h.object
     out_facet[i] = h.facet
@@ -318,7 +427,8 @@ class GeometryScene:
         g = SceneGeometry()
         g.num_objects = len(objs)
         g.mode = MODE_AUTO
-        g.mesh_ids = wp.array(np.array([m.id for m in self.meshes], dtype=np.uint64), dtype=wp.uint64, device=dev)
+        ids = np.array([m.id for m in self.meshes], dtype=np.uint64)
+        g.mesh_ids = wp.array(ids, dtype=wp.uint64, device=dev)
         g.world_to_object = wp.array(np.array(w2o, dtype=np.float32), dtype=wp.mat44f, device=dev)
         g.convex = wp.array(np.array(self.convex_flags, dtype=np.int32), dtype=wp.int32, device=dev)
         g.plane_start = wp.array(np.array(plane_start, dtype=np.int32), dtype=wp.int32, device=dev)
@@ -341,8 +451,18 @@ class GeometryScene:
         if code not in self._by_mode:
             src = self.geometry
             g = SceneGeometry()
-            for name in ("num_objects", "mesh_ids", "world_to_object", "convex", "plane_start", "plane_count",
-                         "planes", "face_start", "face_facet", "bounding_sphere"):
+            for name in (
+                "num_objects",
+                "mesh_ids",
+                "world_to_object",
+                "convex",
+                "plane_start",
+                "plane_count",
+                "planes",
+                "face_start",
+                "face_facet",
+                "bounding_sphere",
+            ):
                 setattr(g, name, getattr(src, name))
             g.mode = code
             self._by_mode[code] = g
@@ -360,9 +480,13 @@ class GeometryScene:
     ) -> None:
         """Closest hits of device arrays of rays into ``out = (t, object, facet, face, normal)``
         (tiled over ``threads`` CPU threads; one launch on CUDA)."""
-        _device.launch_tiled(_closest_hit_kernel, len(origins),
-                             [origins, directions, t_max, self.with_mode(mode), *out],
-                             device=self.device, threads=threads)
+        _device.launch_tiled(
+            _closest_hit_kernel,
+            len(origins),
+            [origins, directions, t_max, self.with_mode(mode), *out],
+            device=self.device,
+            threads=threads,
+        )
 
     def closest_hit(self, origins, directions, t_max=np.inf, *, mode: str = "auto") -> Hits:
         """Closest hits of NumPy rays (..., 3), broadcast; ``t_max`` in ray-parameter units."""
@@ -376,3 +500,40 @@ class GeometryScene:
         )
         t = np.where(obj >= 0, t, np.inf)
         return Hits(t, obj, facet, face, normal)
+
+    def launch_exit_hit(
+        self,
+        origins: wp.array,
+        directions: wp.array,
+        objects: wp.array,
+        t_max: wp.array,
+        out: Sequence[wp.array],
+        *,
+        mode: str = "auto",
+        threads: int | None = None,
+    ) -> None:
+        """Exits of device arrays of rays inside the given objects into
+        ``out = (t, object, facet, face, normal)``."""
+        _device.launch_tiled(
+            _exit_hit_kernel,
+            len(origins),
+            [origins, directions, objects, t_max, self.with_mode(mode), *out],
+            device=self.device,
+            threads=threads,
+        )
+
+    def exit_hit(self, origins, directions, objects, t_max=np.inf, *, mode: str = "auto") -> Hits:
+        """Where rays travelling inside ``objects`` (indices, broadcast) leave them (NumPy)."""
+        obj = np.asarray(objects)
+        if obj.size and (obj.min() < 0 or obj.max() >= self.geometry.num_objects):
+            raise ValueError(f"object index out of range [0, {self.geometry.num_objects})")
+        t_max = np.minimum(np.asarray(t_max, dtype=np.float64), _BIG)
+        t, o, facet, face, normal = _device.elementwise(
+            _exit_hit_kernel,
+            [(origins, wp.vec3f), (directions, wp.vec3f), (obj, wp.int32), (t_max, wp.float32)],
+            [wp.float32, wp.int32, wp.int32, wp.int32, wp.vec3f],
+            extra=(self.with_mode(mode),),
+            device=self.device,
+        )
+        t = np.where(o >= 0, t, np.inf)
+        return Hits(t, o, facet, face, normal)
