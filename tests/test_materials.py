@@ -291,10 +291,10 @@ def test_material_table_mixed_scene(device):
     axes = table.optic_axis.numpy()
     assert np.allclose(axes, [0, 0, 1])
     assert table.uniaxial.numpy().tolist() == [0, 1, 0, 1]
-    # rgb3: the seed-002 triplets (read as 1/cm -> 1/mm) for sapphire; eq. 9 of alpha for the dye
+    # rgb3: the seed-002 triplets (read as 1/mm, SEED002_ALPHA_PER_MM) for sapphire; eq. 9 of alpha for the dye
     rgb_o, rgb_e = table.rgb3_alpha_o.numpy(), table.rgb3_alpha_e.numpy()
-    assert np.allclose(rgb_o[1], np.array(M.SEED002_GEMS["sapphire"]["K_o"]) * 0.1, rtol=1e-6)
-    assert np.allclose(rgb_e[1], np.array(M.SEED002_GEMS["sapphire"]["K_e"]) * 0.1, rtol=1e-6)
+    assert np.allclose(rgb_o[1], np.array(M.SEED002_GEMS["sapphire"]["K_o"]) * M.SEED002_ALPHA_PER_MM, rtol=1e-6)
+    assert np.allclose(rgb_e[1], np.array(M.SEED002_GEMS["sapphire"]["K_e"]) * M.SEED002_ALPHA_PER_MM, rtol=1e-6)
     # the dye: eq. 9 of its alpha with the sRGB CMFs (the renderer's rgb3 channels), the red and
     # blue channels (negative lobes under the 549 nm band, eq. 9 < 0) clamped at 0: no gain
     dye = M.rose_bengal_absorption(10.0)
@@ -419,7 +419,7 @@ def test_eq9_inversion_round_trip(gem):
     for key in ("K_o", "K_e"):
         if row[key] is None:
             continue
-        target = np.array(row[key]) * 0.1
+        target = np.array(row[key]) * M.SEED002_ALPHA_PER_MM
         spec = M.spectrum_from_rgb(target)
         assert np.all(spec.alpha_per_mm >= 0)
         got = _eq9_reference(spec.wavelength_nm, spec.alpha_per_mm)
@@ -433,8 +433,8 @@ def test_library_spectra_reproduce_table_through_the_material(device):
     mat = M.get("tourmaline")
     ko, ke = M.rgb3_alpha_of(mat, cmfs="cie1931_rgb", device=device)
     row = M.SEED002_GEMS["tourmaline"]
-    np.testing.assert_allclose(ko, np.array(row["K_o"]) * 0.1, rtol=2e-3)
-    np.testing.assert_allclose(ke, np.array(row["K_e"]) * 0.1, rtol=2e-3)
+    np.testing.assert_allclose(ko, np.array(row["K_o"]) * M.SEED002_ALPHA_PER_MM, rtol=2e-3)
+    np.testing.assert_allclose(ke, np.array(row["K_e"]) * M.SEED002_ALPHA_PER_MM, rtol=2e-3)
     with pytest.raises(InputError, match="3 values"):
         M.spectrum_from_rgb([0.1, 0.2])
     with pytest.raises(InputError, match=">= 0"):

@@ -177,6 +177,24 @@ def _build_objects(scene: Scene, device):
     return meshes, mats, axes
 
 
+def _world_axes(scene: Scene, mats, axes) -> np.ndarray:
+    """Optic axis of each object in world space (zero rows for isotropic materials): the object's
+    ``optic_axis`` or its material's, both in the object frame, turned by the object's rotation."""
+    from .materials.dispersion import Uniaxial
+
+    out = np.zeros((len(mats), 3))
+    for i, (ob, mat, ax) in enumerate(zip(scene.objects, mats, axes, strict=True)):
+        if not isinstance(mat, Uniaxial):
+            if ax is not None:
+                raise InputError("an optic axis needs a uniaxial material", file=scene.path,
+                                 field=f"object.{i}.optic_axis", value=list(ax))
+            continue
+        a = np.asarray(ax if ax is not None else mat.optic_axis, dtype=np.float64)
+        a = ob.rotation_matrix() @ a
+        out[i] = a / np.linalg.norm(a)
+    return out
+
+
 class Renderer:
     """The standard pipeline for a scene; owns every stage's device data.  ``run()`` renders."""
 
@@ -186,17 +204,19 @@ class Renderer:
         self.scene = scene
         self.device = get_device(device)
         r = scene.render
-        meshes, mats, _axes = _build_objects(scene, self.device)
+        meshes, mats, axes = _build_objects(scene, self.device)
         self.geometry = GeometryScene(meshes, device=self.device)
         self.materials, ids = build_material_table(mats, self.device)
         self.camera = Camera(scene.camera)
         self.environment = EnvironmentLight(scene.lights[0], self.device)
         self.tables = spectral_tables(self.device)
         self.trace_config = TraceConfig(max_depth=r.max_depth, split_threshold=r.split_threshold,
-                                        rr_threshold=r.rr_threshold, polarized=r.polarization)
+                                        rr_threshold=r.rr_threshold, polarized=r.polarization,
+                                        birefringence=r.birefringence)
         self.trace_params = default_params(
             np.asarray(ids, dtype=np.int32),
             np.array([ob.absorption_scale for ob in scene.objects], dtype=np.float32),
+            _world_axes(scene, mats, axes),
             config=self.trace_config, ambient=(r.ambient_index, 0.0), rgb3=r.spectral == "rgb3",
             device=self.device,
         )

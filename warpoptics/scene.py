@@ -170,7 +170,11 @@ def _object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfi
         allowed_params = {"diameter"} if shape == "gemcad" else {"repair"}
     else:
         fn = _shape_functions()[shape]
-        allowed_params = {p for p in inspect.signature(fn).parameters if p not in ("self",)}
+        sig = inspect.signature(fn).parameters
+        allowed_params = {p for p, v in sig.items() if v.kind not in (v.VAR_KEYWORD, v.VAR_POSITIONAL)}
+        if any(v.kind == v.VAR_KEYWORD for v in sig.values()):
+            # the brilliant family forwards its keywords to round_brilliant
+            allowed_params |= set(inspect.signature(_shape_functions()["round_brilliant"]).parameters)
     _check_keys(params, allowed_params | _OBJECT_COMMON, file=file, prefix=prefix)
     for k, v in params.items():
         if isinstance(v, bool) or not isinstance(v, (int, float)):

@@ -10,6 +10,7 @@ device-side interface (``MaterialTable``, ``build_material_table``, ``material_e
 from __future__ import annotations
 
 from .absorption import (
+    SEED002_ALPHA_PER_MM,
     RGB_CMFS,
     SEED002_GEMS,
     AbsorptionSpectrum,
@@ -55,6 +56,7 @@ from .refractiveindex import from_refractiveindex
 from .spec import material_from_spec
 
 __all__ = [
+    "SEED002_ALPHA_PER_MM",
     "material_from_spec",
     "get",
     "names",

@@ -14,9 +14,13 @@ Units (all helpers are ``@wp.func`` with NumPy wrappers):
   alpha [1/mm] = ln(10) · A_10 / 10.
 
 Seed 002 §6.1 table (:data:`SEED002_GEMS`): the paper states no unit for its absorbances
-(K_r, K_g, K_b); its own worked example ("L = 1 cm and κ = 0.4") puts κ in 1/cm, so warpoptics
-reads them as base-e absorbance per cm: alpha (1/mm) = K / 10 (:data:`SEED002_ALPHA_PER_MM`, the
-one place to change this reading).  Note that the table lists sapphire's *e* triplet first.
+(K_r, K_g, K_b), and its worked example ("L = 1 cm and κ = 0.4" giving a 0.00125 % error) is not
+self-consistent (κL = 0.4 gives ~8 %; 0.00125 % needs κL ~ 0.005).  warpoptics reads them as base-e
+absorbance per mm, alpha (1/mm) = K (:data:`SEED002_ALPHA_PER_MM`, the one place to change this
+reading): blue sapphire then has alpha ~ 0.3/mm in the red, the order of measured values for
+natural blue sapphire (decadic absorbance 1–5 per cm, i.e. alpha 0.2–1.2 /mm), and the table's
+"light blue", "yellow green" colours appear in stones of a few mm; read per cm, a 6 mm sapphire
+renders almost grey.  Note that the table lists sapphire's *e* triplet first.
 
 References
 ----------
@@ -588,8 +592,8 @@ def with_absorption(
 # Seed 002 §6.1 gem table
 # ----------------------------------------------------------------------------------------------
 
-#: alpha (1/mm) per unit of the seed-002 table's absorbances (read as base-e per cm; see module doc)
-SEED002_ALPHA_PER_MM = 0.1
+#: alpha (1/mm) per unit of the seed-002 table's absorbances (read as base-e per mm; see module doc)
+SEED002_ALPHA_PER_MM = 1.0
 
 #: Guy & Soler 2004 §6.1 "System parameters", verbatim: type (I/U/B), (K_r, K_g, K_b) for the o
 #: and e rays (isotropic: o only), colours, n_o / n_e at the green channel and the ± that gives

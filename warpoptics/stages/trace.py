@@ -29,21 +29,35 @@ ambient medium.  Absorption follows Bouguer–Lambert, exp(-alpha l) on the inte
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import warp as wp
 
-from ..geometry.query import SceneGeometry, scene_closest_hit
+from ..geometry.query import RayHit, SceneGeometry, object_exit_hit, scene_closest_hit
 from ..materials.dispersion import MaterialTable, material_alpha, material_eval
-from ..optics.complex import c_abs2
-from ..optics.fresnel import fresnel_amplitudes
+from ..optics.birefringence import (
+    UniaxialMedium,
+    extraordinary_wave,
+    generalized_fresnel,
+    interface_jones_approx,
+    kappa_extraordinary,
+    n_e_theta,
+    oe_frame_x,
+    ordinary_wave,
+    uniaxial_medium,
+)
+from ..optics.complex import c_abs2, c_mul
+from ..optics.fresnel import fresnel_amplitudes, refract_direction
 from ..optics.jones import (
     Jones,
     coherency_transform,
     coherency_unpolarized,
     frame_change,
     jones_add,
+    jones,
     jones_diag,
+    jones_entry,
     jones_identity,
     jones_mul,
     jones_real,
@@ -54,21 +68,27 @@ from ..optics.jones import (
 from ..spectra import SpectralTables
 from .environment import Environment, environment_radiance
 
-__all__ = ["TraceParams", "TraceConfig", "trace_radiance", "STACK_SIZE"]
+__all__ = ["TraceParams", "TraceConfig", "trace_radiance", "default_params", "STACK_SIZE", "BIREFRINGENCE"]
 
 #: rows of the per-thread branch stack (a depth-first tree needs about one row per level)
 STACK_SIZE = 40
 _COLS = 24
 _Stack = wp.types.matrix(shape=(STACK_SIZE, _COLS), dtype=wp.float32)
-# stack row layout
+_Cand = wp.types.matrix(shape=(4, _COLS), dtype=wp.float32)  # the children of one interface event
+# row layout (stack and candidates)
 _O = 0  # origin xyz
-_D = 3  # direction xyz (backward: from the camera toward the light)
-_B = 6  # polarization basis x
+_D = 3  # direction xyz (backward: from the camera toward the light; the ray / energy direction)
+_B = 6  # polarization basis x (isotropic segments)
 _MR = 9  # Jones real part (4)
 _MI = 13  # Jones imaginary part (4)
 _W = 17  # scalar weight (absorption, roulette); the energy is w |M|^2 / 2
 _IN = 18  # object the segment runs inside (-1: the ambient medium)
 _DEPTH = 19  # number of interfaces crossed so far
+_MODE = 20  # -1 isotropic segment, 0 ordinary, 1 extraordinary wave of a uniaxial crystal
+_WN = 21  # wave normal of the light on the segment (light's direction of travel), xyz
+
+BIREFRINGENCE = {"exact": 0, "approx": 1}
+_APPROX = wp.constant(1)
 
 
 @wp.struct
@@ -82,8 +102,10 @@ class TraceParams:
     epsilon: float  # origin offset along the new direction, mm
     ambient: wp.vec2f  # complex index of the medium around the objects (air: 1)
     rgb3: int  # 1: use the materials' eq. 9 RGB absorbances (channel = sample index)
+    birefringence: int  # 0 exact (separate o/e directions), 1 approx (shared direction, eq. 10)
     object_material: wp.array(dtype=wp.int32)  # material id of each object
     object_absorption_scale: wp.array(dtype=wp.float32)  # multiplier of alpha per object
+    object_axis: wp.array(dtype=wp.vec3f)  # optic axis in world space; zero: isotropic
 
 
 @dataclass(frozen=True)
@@ -92,16 +114,11 @@ class TraceConfig:
     split_threshold: float = 0.002
     rr_threshold: float = 1.0e-4
     polarized: bool = True
+    birefringence: str = "exact"
 
 
 @wp.func
-def _push(
-    st: _Stack, n: int, o: wp.vec3f, d: wp.vec3f, b: wp.vec3f, m: Jones, w: float, inside: int, depth: int
-):
-    for c in range(3):
-        st[n, _O + c] = o[c]
-        st[n, _D + c] = d[c]
-        st[n, _B + c] = b[c]
+def _write_jones(st: Any, n: int, m: Jones):
     st[n, _MR + 0] = m.re[0, 0]
     st[n, _MR + 1] = m.re[0, 1]
     st[n, _MR + 2] = m.re[1, 0]
@@ -110,19 +127,41 @@ def _push(
     st[n, _MI + 1] = m.im[0, 1]
     st[n, _MI + 2] = m.im[1, 0]
     st[n, _MI + 3] = m.im[1, 1]
-    st[n, _W] = w
-    st[n, _IN] = float(inside)
-    st[n, _DEPTH] = float(depth)
     return st
 
 
 @wp.func
-def _row_vec(st: _Stack, n: int, c0: int):
+def _write_row(
+    st: Any, n: int, o: wp.vec3f, d: wp.vec3f, b: wp.vec3f, m: Jones, w: float, inside: int, depth: int,
+    mode: int, wn: wp.vec3f,
+):
+    for c in range(3):
+        st[n, _O + c] = o[c]
+        st[n, _D + c] = d[c]
+        st[n, _B + c] = b[c]
+        st[n, _WN + c] = wn[c]
+    st = _write_jones(st, n, m)
+    st[n, _W] = w
+    st[n, _IN] = float(inside)
+    st[n, _DEPTH] = float(depth)
+    st[n, _MODE] = float(mode)
+    return st
+
+
+@wp.func
+def _copy_row(dst: Any, i: int, src: Any, k: int):
+    for c in range(_COLS):
+        dst[i, c] = src[k, c]
+    return dst
+
+
+@wp.func
+def _row_vec(st: Any, n: int, c0: int):
     return wp.vec3f(st[n, c0], st[n, c0 + 1], st[n, c0 + 2])
 
 
 @wp.func
-def _row_jones(st: _Stack, n: int):
+def _row_jones(st: Any, n: int):
     m = Jones()
     m.re = wp.mat22(st[n, _MR], st[n, _MR + 1], st[n, _MR + 2], st[n, _MR + 3])
     m.im = wp.mat22(st[n, _MI], st[n, _MI + 1], st[n, _MI + 2], st[n, _MI + 3])
@@ -140,6 +179,14 @@ def _energy(m: Jones, w: float):
 
 
 @wp.func
+def _apply(m: Jones, vx: wp.vec2f, vy: wp.vec2f):
+    # M (vx, vy)^T for complex vx, vy: the camera field of a field with these frame components
+    a = c_mul(jones_entry(m, 0, 0), vx) + c_mul(jones_entry(m, 0, 1), vy)
+    b = c_mul(jones_entry(m, 1, 0), vx) + c_mul(jones_entry(m, 1, 1), vy)
+    return a, b
+
+
+@wp.func
 def _child_jones(m: Jones, k_out: wp.vec3f, parent_x: wp.vec3f, s: wp.vec3f, a_s: wp.vec2f, a_p: wp.vec2f, scale: float):
     # M_child = M_parent . B . diag(a_s, a_p) * scale, B: s/p frame of the outgoing wave -> parent frame
     b = jones_real(frame_change(k_out, s, parent_x))
@@ -147,23 +194,316 @@ def _child_jones(m: Jones, k_out: wp.vec3f, parent_x: wp.vec3f, s: wp.vec3f, a_s
 
 
 @wp.func
-def _medium_index(p: TraceParams, mats: MaterialTable, obj: int, wavelength: float):
+def _medium(p: TraceParams, mats: MaterialTable, obj: int, wavelength: float):
+    """(UniaxialMedium with real indices and world optic axis (zero: isotropic), complex N_o)."""
     if obj < 0:
-        return p.ambient
+        return uniaxial_medium(p.ambient[0], p.ambient[0], wp.vec3f(0.0, 0.0, 0.0)), p.ambient
     no, ne = material_eval(mats, p.object_material[obj], wavelength)
-    return no
+    return uniaxial_medium(no[0], ne[0], p.object_axis[obj]), no
 
 
 @wp.func
-def _medium_alpha(p: TraceParams, mats: MaterialTable, obj: int, wavelength: float, channel: int):
+def _is_uniaxial(med: UniaxialMedium):
+    return wp.dot(med.axis, med.axis) > 0.0
+
+
+@wp.func
+def _segment_kappa(
+    p: TraceParams, mats: MaterialTable, obj: int, med: UniaxialMedium, wavelength: float, channel: int,
+    mode: int, wn: wp.vec3f,
+):
+    """Intensity absorption coefficient (1/mm, base e) along a segment inside ``obj``: alpha of
+    the material, the o-wave's K^o, or the e-wave's kappa^e(theta) (Guy & Soler 2004 eq. 7)."""
     mid = p.object_material[obj]
-    a = float(0.0)
+    a_o = float(0.0)
+    a_e = float(0.0)
     if p.rgb3 != 0:
-        a = mats.rgb3_alpha_o[mid][wp.clamp(channel, 0, 2)]
+        c = wp.clamp(channel, 0, 2)
+        a_o = mats.rgb3_alpha_o[mid][c]
+        a_e = mats.rgb3_alpha_e[mid][c]
     else:
-        ao, ae = material_alpha(mats, mid, wavelength)
-        a = ao
-    return a * p.object_absorption_scale[obj]
+        a_o, a_e = material_alpha(mats, mid, wavelength)
+    kappa = a_o
+    if mode == 1:
+        kappa = kappa_extraordinary(wp.dot(wn, med.axis), a_o, a_e, med.no, med.ne)
+    return kappa * p.object_absorption_scale[obj]
+
+
+@wp.func
+def _scaled(c: wp.vec2f, s: float):
+    return wp.vec2f(c[0] * s, c[1] * s)
+
+
+@wp.func
+def _exact_children(
+    cand: _Cand,
+    m: Jones,
+    w: float,
+    bx: wp.vec3f,
+    w_a: wp.vec3f,
+    mode_a: int,
+    nrm: wp.vec3f,
+    med_a: UniaxialMedium,
+    med_b: UniaxialMedium,
+    x: wp.vec3f,
+    eps: float,
+    in_a: int,
+    in_b: int,
+    depth: int,
+):
+    """Backward interface event with a uniaxial medium on either side (Guy & Soler 2004 eq. 5).
+
+    The parent is the wave leaving the interface into medium A toward the camera: unit wave
+    normal ``w_a`` (pointing into A), mode ``mode_a`` (-1: isotropic A, frame (bx, w_a x bx)).
+    Every wave that can feed it arrives with the same tangential wave vector (phase matching):
+    from A (reflection) and from B (transmission), in the o and e modes of a crystal or the two
+    polarizations of an isotropic medium.  Each is solved forward with ``generalized_fresnel``;
+    the coefficient to our outgoing wave, power-normalised by the normal Poynting fluxes, becomes
+    the child's Jones column.  Crystal children are single-mode (o and e travel apart);
+    an isotropic child carries both polarizations."""
+    n_eff = med_a.no
+    if mode_a == 1:
+        n_eff = n_e_theta(wp.dot(w_a, med_a.axis), med_a.no, med_a.ne)
+    k_out = w_a * n_eff
+    kt = k_out - nrm * wp.dot(k_out, nrm)
+    y_par = wp.cross(w_a, bx)
+    energies = wp.vec4f(0.0, 0.0, 0.0, 0.0)
+    count = int(0)
+    for side in range(2):
+        n_into = nrm
+        med_x = med_a
+        med_y = med_b
+        inside = in_a
+        if side == 1:
+            n_into = -nrm
+            med_x = med_b
+            med_y = med_a
+            inside = in_b
+        iso_x = not _is_uniaxial(med_x)
+        c0x = wp.vec2f(0.0, 0.0)
+        c0y = wp.vec2f(0.0, 0.0)
+        c1x = wp.vec2f(0.0, 0.0)
+        c1y = wp.vec2f(0.0, 0.0)
+        iso_basis = wp.vec3f(0.0, 0.0, 0.0)
+        iso_dir = wp.vec3f(0.0, 0.0, 0.0)
+        iso_any = int(0)
+        for mode_in in range(2):
+            # the incident wave is the time reverse of the outgoing wave into X with tangential -kt
+            wv = ordinary_wave(-kt, n_into, med_x, n_into)
+            if mode_in == 1 and not iso_x:
+                wv = extraordinary_wave(-kt, n_into, med_x, n_into)
+            if wv.propagating == 0:
+                continue
+            d_in = -wv.wave_normal
+            sol = generalized_fresnel(d_in, mode_in, n_into, med_x, med_y)
+            if sol.solved == 0 or sol.incident.flux <= 0.0:
+                continue
+            wo = sol.ro
+            co = sol.r_o
+            we = sol.re
+            ce = sol.r_e
+            if side == 1:
+                wo = sol.to
+                co = sol.t_o
+                we = sol.te
+                ce = sol.t_e
+            inv = 1.0 / wp.sqrt(sol.incident.flux)
+            fo = wp.vec2f(0.0, 0.0)
+            fe = wp.vec2f(0.0, 0.0)
+            if wo.propagating == 1:
+                fo = _scaled(co, wp.sqrt(wp.max(wo.flux, 0.0)) * inv)
+            if we.propagating == 1:
+                fe = _scaled(ce, wp.sqrt(wp.max(we.flux, 0.0)) * inv)
+            vx = wp.vec2f(0.0, 0.0)
+            vy = wp.vec2f(0.0, 0.0)
+            if mode_a < 0:
+                # isotropic A: both outgoing polarizations travel along w_a; project E on the frame
+                vx = _scaled(fo, wp.dot(wo.e_re, bx)) + _scaled(fe, wp.dot(we.e_re, bx))
+                vy = _scaled(fo, wp.dot(wo.e_re, y_par)) + _scaled(fe, wp.dot(we.e_re, y_par))
+            elif mode_a == 0:
+                vx = fo
+            else:
+                vx = fe
+            ax, ay = _apply(m, vx, vy)
+            if iso_x:
+                iso_any = 1
+                if mode_in == 0:
+                    c0x = ax
+                    c0y = ay
+                    iso_basis = sol.incident.e_re
+                    iso_dir = -d_in
+                else:
+                    c1x = ax
+                    c1y = ay
+            else:
+                mc = jones(ax, wp.vec2f(0.0, 0.0), ay, wp.vec2f(0.0, 0.0))
+                e = _energy(mc, w)
+                if e > 0.0:
+                    dr = -sol.incident.ray
+                    cand = _write_row(cand, count, x + dr * eps, dr, bx, mc, w, inside, depth + 1, mode_in, d_in)
+                    energies[count] = e
+                    count += 1
+        if iso_any != 0:
+            mc = jones(c0x, c1x, c0y, c1y)
+            e = _energy(mc, w)
+            if e > 0.0:
+                cand = _write_row(cand, count, x + iso_dir * eps, iso_dir, iso_basis, mc, w, inside, depth + 1, -1,
+                                  -iso_dir)
+                energies[count] = e
+                count += 1
+    return cand, energies, count
+
+
+@wp.func
+def _approx_children(
+    cand: _Cand,
+    m: Jones,
+    w: float,
+    bx: wp.vec3f,
+    w_a: wp.vec3f,
+    mode_a: int,
+    nrm: wp.vec3f,
+    med_a: UniaxialMedium,
+    med_b: UniaxialMedium,
+    x: wp.vec3f,
+    eps: float,
+    in_a: int,
+    in_b: int,
+    depth: int,
+):
+    """Backward interface event in the approximate model of Guy & Soler 2004 §4.2: one direction
+    per side (mirror and Snell with the mean index (no + ne)/2), Jones matrices of eq. 10 between
+    o/e frames, and o and e kept incoherent (a diagonal coherency in the crystal: one child per
+    mode, sharing the direction)."""
+    n_a = 0.5 * (med_a.no + med_a.ne)
+    n_b = 0.5 * (med_b.no + med_b.ne)
+    energies = wp.vec4f(0.0, 0.0, 0.0, 0.0)
+    count = int(0)
+    cos_a = wp.abs(wp.dot(w_a, nrm))
+    for side in range(2):
+        n_into = nrm
+        med_x = med_a
+        med_y = med_b
+        n_x = n_a
+        n_y = n_b
+        inside = in_a
+        d_in = w_a - nrm * (2.0 * wp.dot(w_a, nrm))
+        scale = float(1.0)
+        if side == 1:
+            n_into = -nrm
+            med_x = med_b
+            med_y = med_a
+            n_x = n_b
+            n_y = n_a
+            inside = in_b
+            back = refract_direction(-w_a, nrm, n_a, n_b)
+            if wp.dot(back, back) == 0.0:
+                continue  # total internal reflection: nothing comes from B
+            d_in = -back
+            cos_x = wp.abs(wp.dot(d_in, nrm))
+            if cos_x <= 0.0:
+                continue
+            scale = wp.sqrt(n_a * cos_a / (n_b * cos_x))
+        ij = interface_jones_approx(d_in, n_into, med_x, med_y, wp.vec2f(n_x, 0.0), wp.vec2f(n_y, 0.0))
+        j = ij.mr
+        if side == 1:
+            j = ij.mt
+        # rows: outgoing o/e of A along w_a; columns: incident o/e of X along d_in
+        p = jones_scale(j, scale)
+        if mode_a < 0:
+            axis_a = med_a.axis
+            if not _is_uniaxial(med_a):
+                axis_a = n_into
+            x_out = oe_frame_x(w_a, axis_a, n_into)
+            p = jones_mul(jones_real(frame_change(w_a, x_out, bx)), p)
+        else:
+            # keep only the row of the parent's mode (the other mode is a different branch)
+            r0 = jones_entry(p, mode_a, 0)
+            r1 = jones_entry(p, mode_a, 1)
+            p = jones(r0, r1, wp.vec2f(0.0, 0.0), wp.vec2f(0.0, 0.0))
+        mc = jones_mul(m, p)
+        dr = -d_in
+        if not _is_uniaxial(med_x):
+            axis_x = n_into
+            bxc = oe_frame_x(d_in, axis_x, n_into)
+            e = _energy(mc, w)
+            if e > 0.0:
+                cand = _write_row(cand, count, x + dr * eps, dr, bxc, mc, w, inside, depth + 1, -1, d_in)
+                energies[count] = e
+                count += 1
+        else:
+            for mode_in in range(2):
+                a0 = jones_entry(mc, 0, mode_in)
+                a1 = jones_entry(mc, 1, mode_in)
+                mk = jones(a0, wp.vec2f(0.0, 0.0), a1, wp.vec2f(0.0, 0.0))
+                e = _energy(mk, w)
+                if e > 0.0:
+                    cand = _write_row(cand, count, x + dr * eps, dr, bx, mk, w, inside, depth + 1, mode_in, d_in)
+                    energies[count] = e
+                    count += 1
+    return cand, energies, count
+
+
+@wp.func
+def _isotropic_children(
+    cand: _Cand,
+    m: Jones,
+    w: float,
+    bx: wp.vec3f,
+    d: wp.vec3f,
+    n_out: wp.vec3f,
+    nrm: wp.vec3f,
+    n_a: wp.vec2f,
+    n_b: wp.vec2f,
+    x: wp.vec3f,
+    eps: float,
+    in_a: int,
+    in_b: int,
+    depth: int,
+    polarized: int,
+):
+    """Backward interface event between isotropic media: Fresnel's laws (fresnel_amplitudes)."""
+    cos_a = wp.clamp(-wp.dot(d, nrm), 0.0, 1.0)
+    s = s_vector(d, n_out)
+    k_out = -d  # light leaves the interface toward the camera along -d
+    energies = wp.vec4f(0.0, 0.0, 0.0, 0.0)
+    count = int(0)
+    # refraction: light arriving from medium B, transmitted into A (unless TIR)
+    eta = n_a[0] / n_b[0]
+    sin2_b = eta * eta * (1.0 - cos_a * cos_a)
+    if sin2_b < 1.0:
+        cos_b = wp.sqrt(1.0 - sin2_b)
+        d_t = wp.normalize(d * eta + nrm * (eta * cos_a - cos_b))
+        f_t = fresnel_amplitudes(cos_b, n_b, n_a)
+        ratio = float(0.0)
+        if f_t.n1_cos_i[0] > 0.0:
+            ratio = wp.max(f_t.n2_cos_t[0], 0.0) / f_t.n1_cos_i[0]
+        m_t = m
+        w_t = w
+        if polarized != 0:
+            m_t = _child_jones(m, k_out, bx, s, f_t.ts, f_t.tp, wp.sqrt(ratio))
+        else:
+            w_t = w * 0.5 * ratio * (c_abs2(f_t.ts) + c_abs2(f_t.tp))
+        e_t = _energy(m_t, w_t)
+        if e_t > 0.0:
+            cand = _write_row(cand, count, x + d_t * eps, d_t, s, m_t, w_t, in_b, depth + 1, -1, -d_t)
+            energies[count] = e_t
+            count += 1
+    # reflection: light arriving from medium A, reflected back into A
+    d_r = wp.normalize(d + nrm * (2.0 * cos_a))
+    f_r = fresnel_amplitudes(cos_a, n_a, n_b)
+    m_r = m
+    w_r = w
+    if polarized != 0:
+        m_r = _child_jones(m, k_out, bx, s, f_r.rs, f_r.rp, 1.0)
+    else:
+        w_r = w * 0.5 * (c_abs2(f_r.rs) + c_abs2(f_r.rp))
+    e_r = _energy(m_r, w_r)
+    if e_r > 0.0:
+        cand = _write_row(cand, count, x + d_r * eps, d_r, s, m_r, w_r, in_a, depth + 1, -1, -d_r)
+        energies[count] = e_r
+        count += 1
+    return cand, energies, count
 
 
 @wp.func
@@ -184,8 +524,9 @@ def trace_radiance(
     """Coherency matrix (camera frame) of the light arriving along a primary ray, at one
     wavelength (nm).  Returns (J, hit_any, rays_traced, rng)."""
     st = _Stack()
-    st = _push(st, 0, origin, direction, basis_x, jones_identity(), 1.0, -1, 0)
+    st = _write_row(st, 0, origin, direction, basis_x, jones_identity(), 1.0, -1, 0, -1, -direction)
     n = int(1)
+    cand = _Cand()
     acc = jones_zero()
     acc_scalar = float(0.0)
     hit_any = int(0)
@@ -195,12 +536,18 @@ def trace_radiance(
         o = _row_vec(st, n, _O)
         d = _row_vec(st, n, _D)
         bx = _row_vec(st, n, _B)
+        wn = _row_vec(st, n, _WN)
         m = _row_jones(st, n)
         w = st[n, _W]
         inside = int(st[n, _IN])
         depth = int(st[n, _DEPTH])
+        mode = int(st[n, _MODE])
         rays += 1
-        hit = scene_closest_hit(geom, o, d, p.t_max)
+        hit = RayHit()
+        if inside >= 0:
+            hit = object_exit_hit(geom, inside, o, d, p.t_max)  # solids do not overlap
+        else:
+            hit = scene_closest_hit(geom, o, d, p.t_max)
         if hit.object < 0:
             if inside < 0:
                 radiance = environment_radiance(env, tables, d, wavelength)
@@ -212,9 +559,10 @@ def trace_radiance(
             continue
         if depth == 0:
             hit_any = 1
+        med_a, n_a = _medium(p, mats, inside, wavelength)
         if inside >= 0:
-            alpha = _medium_alpha(p, mats, inside, wavelength, channel)
-            w = w * wp.exp(-alpha * hit.t)
+            kappa = _segment_kappa(p, mats, inside, med_a, wavelength, channel, mode, wn)
+            w = w * wp.exp(-kappa * hit.t)
         if depth >= p.max_depth or w <= 0.0:
             continue
         x = o + d * hit.t
@@ -225,81 +573,71 @@ def trace_radiance(
         if not entering:
             nrm = -n_out
             obj_b = -1
-        obj_a = inside
-        n_a = _medium_index(p, mats, obj_a, wavelength)
-        n_b = _medium_index(p, mats, obj_b, wavelength)
-        cos_a = wp.clamp(-wp.dot(d, nrm), 0.0, 1.0)
-        s = s_vector(d, n_out)
-        k_out = -d  # light leaves the interface toward the camera along -d
-        # reflection: light arriving from medium A, reflected back into A
-        d_r = wp.normalize(d + nrm * (2.0 * cos_a))
-        f_r = fresnel_amplitudes(cos_a, n_a, n_b)
-        m_r = m
-        w_r = w
-        if polarized != 0:
-            m_r = _child_jones(m, k_out, bx, s, f_r.rs, f_r.rp, 1.0)
-        else:
-            w_r = w * 0.5 * (c_abs2(f_r.rs) + c_abs2(f_r.rp))
-        e_r = _energy(m_r, w_r)
-        # refraction: light arriving from medium B, transmitted into A (unless TIR)
-        eta = n_a[0] / n_b[0]
-        sin2_b = eta * eta * (1.0 - cos_a * cos_a)
-        e_t = float(0.0)
-        m_t = m
-        w_t = float(0.0)
-        d_t = d
-        if sin2_b < 1.0:
-            cos_b = wp.sqrt(1.0 - sin2_b)
-            d_t = wp.normalize(d * eta + nrm * (eta * cos_a - cos_b))
-            f_t = fresnel_amplitudes(cos_b, n_b, n_a)
-            ratio = float(0.0)
-            if f_t.n1_cos_i[0] > 0.0:
-                ratio = wp.max(f_t.n2_cos_t[0], 0.0) / f_t.n1_cos_i[0]
-            w_t = w
-            if polarized != 0:
-                m_t = _child_jones(m, k_out, bx, s, f_t.ts, f_t.tp, wp.sqrt(ratio))
+        med_b, n_b = _medium(p, mats, obj_b, wavelength)
+        count = int(0)
+        energies = wp.vec4f(0.0, 0.0, 0.0, 0.0)
+        if _is_uniaxial(med_a) or _is_uniaxial(med_b):
+            if p.birefringence == _APPROX:
+                cand, energies, count = _approx_children(
+                    cand, m, w, bx, wn, mode, nrm, med_a, med_b, x, p.epsilon, inside, obj_b, depth
+                )
             else:
-                w_t = w * 0.5 * ratio * (c_abs2(f_t.ts) + c_abs2(f_t.tp))
-            e_t = _energy(m_t, w_t)
-        e_parent = e_r + e_t
+                cand, energies, count = _exact_children(
+                    cand, m, w, bx, wn, mode, nrm, med_a, med_b, x, p.epsilon, inside, obj_b, depth
+                )
+            if polarized == 0:
+                # scalar mode: keep only the power of each child (no polarization memory)
+                for k in range(count):
+                    cand[k, _W] = energies[k]
+                    unit = Jones()
+                    if int(cand[k, _MODE]) < 0:
+                        unit = jones_identity()
+                    else:
+                        unit = jones_real(wp.mat22(wp.sqrt(2.0), 0.0, 0.0, 0.0))
+                    cand = _write_jones(cand, k, unit)
+        else:
+            cand, energies, count = _isotropic_children(
+                cand, m, w, bx, d, n_out, nrm, n_a, n_b, x, p.epsilon, inside, obj_b, depth, polarized
+            )
+        e_parent = float(0.0)
+        for k in range(count):
+            e_parent += energies[k]
         if e_parent <= 0.0:
             continue
-        in_t = hit.object
-        if not entering:
-            in_t = -1
-        take_r = e_r > 0.0
-        take_t = e_t > 0.0
-        if e_parent < p.split_threshold or n + 2 > STACK_SIZE:
-            # stochastic continuation: one child, chosen by energy, weighted by 1/probability
-            u = wp.randf(rng)
-            p_r = e_r / e_parent
-            if u < p_r:
-                take_t = False
-                w_r = w_r / p_r
-            else:
-                take_r = False
-                w_t = w_t / (1.0 - p_r)
-            # Russian roulette on weak paths (energy after the choice = e_parent)
+        if e_parent >= p.split_threshold and n + count <= STACK_SIZE:
+            # deterministic split: every child (pushed in reverse so the first is traced first)
+            for k in range(count):
+                st = _copy_row(st, n, cand, count - 1 - k)
+                n += 1
+        else:
+            # stochastic continuation: one child chosen by energy, weighted by 1/probability
+            u = wp.randf(rng) * e_parent
+            pick = int(count - 1)
+            acc_e = float(0.0)
+            for k in range(count):
+                acc_e += energies[k]
+                if u < acc_e and pick == count - 1 and k < count - 1:
+                    pick = k
+            scale = e_parent / energies[pick]
+            # Russian roulette on weak paths (the energy after the choice is e_parent)
             if e_parent < p.rr_threshold:
                 q = e_parent / p.rr_threshold
                 if wp.randf(rng) >= q:
                     continue
-                w_r = w_r / q
-                w_t = w_t / q
-        if take_t:
-            st = _push(st, n, x + d_t * p.epsilon, d_t, s, m_t, w_t, in_t, depth + 1)
-            n += 1
-        if take_r:
-            st = _push(st, n, x + d_r * p.epsilon, d_r, s, m_r, w_r, obj_a, depth + 1)
+                scale = scale / q
+            st = _copy_row(st, n, cand, pick)
+            st[n, _W] = st[n, _W] * scale
             n += 1
     if polarized == 0:
         acc = coherency_unpolarized(acc_scalar)
     return acc, hit_any, rays, rng
 
 
-def default_params(objects_material: np.ndarray, absorption_scale: np.ndarray, *, config: TraceConfig,
-                   ambient=(1.0, 0.0), t_max: float = 1.0e6, epsilon: float = 1.0e-4, rgb3: bool = False,
-                   device=None) -> TraceParams:
+def default_params(objects_material: np.ndarray, absorption_scale: np.ndarray, object_axis: np.ndarray, *,
+                   config: TraceConfig, ambient=(1.0, 0.0), t_max: float = 1.0e6, epsilon: float = 1.0e-4,
+                   rgb3: bool = False, device=None) -> TraceParams:
+    """TraceParams for objects with material ids, alpha multipliers and world optic axes (zero
+    rows for isotropic objects)."""
     p = TraceParams()
     p.max_depth = int(config.max_depth)
     p.split_threshold = float(config.split_threshold)
@@ -308,6 +646,8 @@ def default_params(objects_material: np.ndarray, absorption_scale: np.ndarray, *
     p.epsilon = float(epsilon)
     p.ambient = wp.vec2f(*ambient)
     p.rgb3 = int(rgb3)
+    p.birefringence = BIREFRINGENCE[config.birefringence]
+    p.object_axis = wp.array(np.asarray(object_axis, dtype=np.float32).reshape(-1, 3), dtype=wp.vec3f, device=device)
     p.object_material = wp.array(np.asarray(objects_material, dtype=np.int32), dtype=wp.int32, device=device)
     p.object_absorption_scale = wp.array(np.asarray(absorption_scale, dtype=np.float32), dtype=wp.float32,
                                          device=device)
