@@ -244,3 +244,14 @@ def test_snell_directions(device):
     # mirror: angle of reflection = angle of incidence, tangential part kept
     np.testing.assert_allclose(np.sum(r * normal, -1), -np.sum(d * normal, -1), atol=1e-6)
     np.testing.assert_allclose(np.cross(r, normal), np.cross(d, normal), atol=1e-6)
+
+
+def test_absorbing_incident_medium_keeps_the_forward_wave(device):
+    # light leaving a weakly absorbing dye (n = 1.33 + 0.00075i) into air at 25 deg: the
+    # reflection must stay that of the lossless interface (|rs| = 0.1861), not the backward root
+    # (|rs| = 5.4) that "Im(N cos t) >= 0" alone picks when medium 1 absorbs
+    c = np.cos(np.radians(25.0))
+    lossy = wo.optics.fresnel(c, 1.33 + 0.00075j, 1.0, device=device)
+    clear = wo.optics.fresnel(c, 1.33, 1.0, device=device)
+    for a, b in zip(lossy, clear):
+        assert abs(abs(a) - abs(b)) < 1e-4

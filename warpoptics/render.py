@@ -211,6 +211,7 @@ class Renderer:
         self.environment = EnvironmentLight(scene.lights[0], self.device)
         self.tables = spectral_tables(self.device)
         self.trace_config = TraceConfig(max_depth=r.max_depth, split_threshold=r.split_threshold,
+                                        max_splits=r.max_splits,
                                         rr_threshold=r.rr_threshold, polarized=r.polarization,
                                         birefringence=r.birefringence)
         self.trace_params = default_params(

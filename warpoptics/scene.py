@@ -81,6 +81,7 @@ class RenderConfig:
     spp: int = 1
     seed: int = 0
     split_threshold: float = 0.002
+    max_splits: int = 64
     rr_threshold: float = 1.0e-4
     exposure: float = 0.0
     tone: str = "filmic"
@@ -102,7 +103,7 @@ def _render_config(table: dict, file) -> RenderConfig:
         _choice(t["tone"], TONE_CURVES, file=file, field_name=f("tone"))
     if "polarization" in t and not isinstance(t["polarization"], bool):
         raise InputError("must be true or false", file=file, field=f("polarization"), value=t["polarization"])
-    for k, lo, hi in (("wavelengths", 1, 4096), ("max_depth", 0, 256), ("spp", 1, 1 << 20), ("seed", 0, 2**31 - 1)):
+    for k, lo, hi in (("wavelengths", 1, 4096), ("max_depth", 0, 256), ("max_splits", 0, 4096), ("spp", 1, 1 << 20), ("seed", 0, 2**31 - 1)):
         if k in t:
             _number(t[k], file=file, field_name=f(k), lo=lo, hi=hi, integer=True)
     for k, lo, hi in (("split_threshold", 0.0, 1.0), ("rr_threshold", 0.0, 1.0), ("exposure", -40.0, 40.0),

@@ -124,8 +124,8 @@ def c_normal_component(n1: wp.vec2f, n2: wp.vec2f, cos_i: float):
     Returns the product ``N2 * cos(theta_t)`` (the normal component of the transmitted wave
     vector in units of k0), on the physical branch: imaginary part >= 0 (decaying or
     evanescent), real part >= 0 when real.  ``cos_i`` is the real cosine of the incidence angle
-    in medium 1 (clamped to [0, 1]); medium 1 may be absorbing only through N1 sin(theta_i)
-    being complex.
+    in medium 1 (clamped to [0, 1]).  If medium 1 absorbs, the propagating root (Re > 0) is kept
+    wherever the wave mostly propagates (see the branch rule in the code).
     """
     c = wp.clamp(cos_i, 0.0, 1.0)
     s2 = wp.max(1.0 - c * c, 0.0)
@@ -133,8 +133,15 @@ def c_normal_component(n1: wp.vec2f, n2: wp.vec2f, cos_i: float):
     n1sq = c_mul(n1, n1)
     n2sq = c_mul(n2, n2)
     q = c_sqrt(n2sq - n1sq * s2)
-    # choose the branch with Im >= 0 (and Re >= 0 on the real axis)
-    if q[1] < 0.0 or (q[1] == 0.0 and q[0] < 0.0):
+    # Branch: a wave that mostly propagates (|Re q| > |Im q|) travels away from the interface,
+    # Re q > 0; a mostly evanescent one decays, Im q >= 0.  For a lossless medium 1 both rules
+    # agree (q^2 has Im >= 0).  With an absorbing medium 1 the incident wave is inhomogeneous and
+    # q^2 can have a small negative imaginary part: "Im >= 0" alone would then pick the backward
+    # wave and |r| >> 1; the propagating rule keeps the forward one.
+    if wp.abs(q[0]) > wp.abs(q[1]):
+        if q[0] < 0.0:
+            q = -q
+    elif q[1] < 0.0 or (q[1] == 0.0 and q[0] < 0.0):
         q = -q
     return q
 
@@ -238,6 +245,9 @@ def c_normal_component(n1: wp.vec2d, n2: wp.vec2d, cos_i: wp.float64):  # noqa: 
     n1sq = c_mul(n1, n1)
     n2sq = c_mul(n2, n2)
     q = c_sqrt(n2sq - n1sq * s2)
-    if q[1] < zero or (q[1] == zero and q[0] < zero):
+    if wp.abs(q[0]) > wp.abs(q[1]):
+        if q[0] < zero:
+            q = -q
+    elif q[1] < zero or (q[1] == zero and q[0] < zero):
         q = -q
     return q

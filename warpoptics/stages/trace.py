@@ -4,7 +4,9 @@ One call of :func:`trace_radiance` follows everything that light arriving along 
 can have come through.  At every interface the path splits into the reflected and the refracted
 branch (total internal reflection leaves one).  While a branch still carries at least
 ``split_threshold`` of the primary ray's energy both children are followed *deterministically*
-(an explicit stack): the per-pixel form of the pruned facet tree of Guy & Soler 2004 §5.  Below
+(an explicit stack): the per-pixel form of the pruned facet tree of Guy & Soler 2004 §5 (``max_splits`` bounds the
+extra branches per primary ray: birefringent stones double their branches at every internal
+reflection).  Below
 the threshold one child is chosen at random with probability proportional to its energy and
 weighted by 1/probability, and Russian roulette ends weak paths — so the estimate stays unbiased
 while the bright, low-order paths that make a gem's picture carry no noise.
@@ -97,6 +99,7 @@ class TraceParams:
 
     max_depth: int  # interfaces per path (Mitsuba's max_depth - 1)
     split_threshold: float  # split deterministically while a branch carries >= this energy
+    max_splits: int  # at most this many extra branches from deterministic splits per primary ray
     rr_threshold: float  # below this energy a branch survives Russian roulette with p = e / rr
     t_max: float  # mm
     epsilon: float  # origin offset along the new direction, mm
@@ -112,6 +115,7 @@ class TraceParams:
 class TraceConfig:
     max_depth: int = 12
     split_threshold: float = 0.002
+    max_splits: int = 64
     rr_threshold: float = 1.0e-4
     polarized: bool = True
     birefringence: str = "exact"
@@ -195,11 +199,17 @@ def _child_jones(m: Jones, k_out: wp.vec3f, parent_x: wp.vec3f, s: wp.vec3f, a_s
 
 @wp.func
 def _medium(p: TraceParams, mats: MaterialTable, obj: int, wavelength: float):
-    """(UniaxialMedium with real indices and world optic axis (zero: isotropic), complex N_o)."""
+    """(UniaxialMedium with real indices and world optic axis (zero: isotropic), index n_o).
+
+    Interfaces use the real part of the index: a dielectric's k (< 1e-3 for any stone or dye
+    solution one can see through) changes Fresnel coefficients by O(k^2), while with an
+    absorbing *incident* medium the plane-wave reflectance is no longer bounded by 1 (the wave is
+    inhomogeneous) and would break energy conservation near the critical angle.  k acts where it
+    matters, as Bouguer–Lambert attenuation exp(-4 pi k l / lambda) along each segment."""
     if obj < 0:
-        return uniaxial_medium(p.ambient[0], p.ambient[0], wp.vec3f(0.0, 0.0, 0.0)), p.ambient
+        return uniaxial_medium(p.ambient[0], p.ambient[0], wp.vec3f(0.0, 0.0, 0.0)), wp.vec2f(p.ambient[0], 0.0)
     no, ne = material_eval(mats, p.object_material[obj], wavelength)
-    return uniaxial_medium(no[0], ne[0], p.object_axis[obj]), no
+    return uniaxial_medium(no[0], ne[0], p.object_axis[obj]), wp.vec2f(no[0], 0.0)
 
 
 @wp.func
@@ -531,6 +541,7 @@ def trace_radiance(
     acc_scalar = float(0.0)
     hit_any = int(0)
     rays = int(0)
+    splits = int(0)
     while n > 0:
         n -= 1
         o = _row_vec(st, n, _O)
@@ -604,8 +615,9 @@ def trace_radiance(
             e_parent += energies[k]
         if e_parent <= 0.0:
             continue
-        if e_parent >= p.split_threshold and n + count <= STACK_SIZE:
+        if e_parent >= p.split_threshold and n + count <= STACK_SIZE and splits < p.max_splits:
             # deterministic split: every child (pushed in reverse so the first is traced first)
+            splits += count - 1
             for k in range(count):
                 st = _copy_row(st, n, cand, count - 1 - k)
                 n += 1
@@ -641,6 +653,7 @@ def default_params(objects_material: np.ndarray, absorption_scale: np.ndarray, o
     p = TraceParams()
     p.max_depth = int(config.max_depth)
     p.split_threshold = float(config.split_threshold)
+    p.max_splits = int(config.max_splits)
     p.rr_threshold = float(config.rr_threshold)
     p.t_max = float(t_max)
     p.epsilon = float(epsilon)
