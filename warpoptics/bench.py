@@ -281,7 +281,7 @@ class BenchResult:
 
     def balance(self) -> float:
         """(screen + absorbed + escaped) / emitted - 1: the part of the power the ledger's three
-        physical fates miss (truncated, overflow, interface)."""
+        physical fates miss (truncated, lost, overflow, interface)."""
         lg = self.ledger
         return (lg["screen"] + lg["absorbed"] + lg["escaped"]) / lg["emitted"] - 1.0
 

@@ -31,15 +31,17 @@ Splitting: while a ray's tree node carries at least ``split_threshold`` of the r
 power (and the stack has room), every child (reflected, refracted; o and e) is followed -
 deterministically.  Below it one child is chosen with probability proportional to its power and
 weighted by 1/probability, which carries the parent's power exactly, so the energy ledger
-closes per ray, not only on average.  Paths end on a screen, escape, are absorbed, or are cut
+closes per ray, not only on average.  An interface never returns more power than arrives (with an
+absorbing incident medium the Fresnel flux split can, near total reflection: the children are
+then scaled to the incident power).  Paths end on a screen, escape, are absorbed, or are cut
 at ``max_depth`` interfaces ("truncated").
 
 Energy ledger per ray (relative to its emitted power), columns of ``LEDGER``: screen, absorbed
-(Bouguer-Lambert in the media), escaped (left the scene), truncated (max depth; a ray inside a
-solid that found no exit), overflow (screen deposits beyond the ``max_deposits`` slots of the
+(Bouguer-Lambert in the media), escaped (left the scene), truncated (cut at ``max_depth``), lost
+(a ray inside a solid that found no exit: a crack in a mesh, or float32 round-off), overflow (screen deposits beyond the ``max_deposits`` slots of the
 ray: counted, not recorded), interface (power not accounted for by the Fresnel amplitudes at an
 interface: zero for transparent media up to float32 rounding, the interface absorption of
-absorbing ones).  emitted = screen + absorbed + escaped + truncated + overflow + interface.
+absorbing ones).  emitted = screen + absorbed + escaped + truncated + lost + overflow + interface.
 
 Determinism: each thread writes only its own ledger row and deposit slots and draws its own
 random stream ``rand_init(seed, ray index)``; the reductions run on the host in a fixed order,
@@ -85,8 +87,8 @@ from .screen import ScreenSet, screen_hit
 __all__ = ["ForwardParams", "ForwardConfig", "forward_params", "forward_trace_kernel", "LEDGER", "STACK_SIZE"]
 
 #: names of the ledger columns (see the module docstring)
-LEDGER = ("screen", "absorbed", "escaped", "truncated", "overflow", "interface")
-_L_SCREEN, _L_ABS, _L_ESC, _L_TRUNC, _L_OVER, _L_IFACE = 0, 1, 2, 3, 4, 5
+LEDGER = ("screen", "absorbed", "escaped", "truncated", "lost", "overflow", "interface")
+_L_SCREEN, _L_ABS, _L_ESC, _L_TRUNC, _L_LOST, _L_OVER, _L_IFACE = 0, 1, 2, 3, 4, 5, 6
 
 STACK_SIZE = 40
 _COLS = 24
@@ -257,6 +259,7 @@ def forward_trace_kernel(
     e_esc = float(0.0)
     e_trunc = float(0.0)
     e_over = float(0.0)
+    e_lost = float(0.0)
     e_iface = float(0.0)
     base = li * fp.max_deposits
     for k in range(fp.max_deposits):
@@ -300,7 +303,7 @@ def forward_trace_kernel(
                 e_esc += e
                 continue
         elif hit.object < 0:
-            e_trunc += e  # a ray inside a solid found no exit (a crack in the mesh)
+            e_lost += e  # a ray inside a solid found no exit
             continue
         if inside >= 0:
             att = wp.exp(-_segment_alpha(fp, mats, inside, mode, s_in, wl) * hit.t)
@@ -458,6 +461,14 @@ def forward_trace_kernel(
                             ea[c] = e_te
                             e_sum += e_te
                             c += 1
+        if e_sum > e:
+            # a passive interface creates no power: with an absorbing incident medium the
+            # plane-wave flux split is not unique and |r|^2 can exceed 1 near total reflection
+            g = e / e_sum
+            for j in range(c):
+                st[n + j, _W] = st[n + j, _W] * g
+                ea[j] = ea[j] * g
+            e_sum = e
         e_iface += e - e_sum
         if c == 0:
             continue
@@ -479,6 +490,7 @@ def forward_trace_kernel(
     ledger[li, _L_ABS] = wp.float64(e_abs)
     ledger[li, _L_ESC] = wp.float64(e_esc)
     ledger[li, _L_TRUNC] = wp.float64(e_trunc)
+    ledger[li, _L_LOST] = wp.float64(e_lost)
     ledger[li, _L_OVER] = wp.float64(e_over)
     ledger[li, _L_IFACE] = wp.float64(e_iface)
 
