@@ -302,6 +302,38 @@ class BenchResult:
             v = np.where(p > 0, pv / p, np.nan)
         return {"wavelength": self.wavelengths.copy(), "u": u, "v": v, "power": p}
 
+    def spots(self, screen: int = 0, *, count: int = 2, radius: float | None = None) -> list[dict]:
+        """The ``count`` brightest spots on ``screen``: greedily, the brightest pixel and every
+        deposit within ``radius`` mm of it (default 10 pixels), removed before the next.  Each spot:
+        ``u``, ``v`` (power-weighted centroid, mm), ``power`` (W), ``stokes`` (summed, W),
+        ``dop`` (degree of polarization), ``angle`` (deg, of linear polarization from the
+        screen's x toward y)."""
+        img = self.screens[screen]
+        sc = img.screen
+        if radius is None:
+            radius = 10.0 * max(sc.size[0] / sc.resolution[0], sc.size[1] / sc.resolution[1])
+        dp = self.deposits
+        sel = np.nonzero(dp["screen"] == screen)[0]
+        u, v, p, st = dp["u"][sel], dp["v"][sel], dp["power"][sel], dp["stokes"][sel]
+        alive = np.ones(sel.size, dtype=bool)
+        out = []
+        for _ in range(count):
+            if not alive.any():
+                break
+            pix = sc.pixel_index(u[alive], v[alive])
+            nx, ny = (int(r) for r in sc.resolution)
+            best = int(np.argmax(np.bincount(pix, weights=p[alive], minlength=nx * ny)))
+            cu, cv = sc.pixel_centers()
+            u0, v0 = cu.ravel()[best], cv.ravel()[best]
+            near = alive & ((u - u0) ** 2 + (v - v0) ** 2 <= radius**2)
+            pw = p[near].sum()
+            s = st[near].sum(axis=0)
+            out.append({"u": float((p[near] * u[near]).sum() / pw), "v": float((p[near] * v[near]).sum() / pw),
+                        "power": float(pw), "stokes": s, "dop": float(np.linalg.norm(s[1:]) / s[0]),
+                        "angle": float(np.degrees(0.5 * np.arctan2(s[2], s[1])))})
+            alive &= ~near
+        return out
+
     def save(self, path: str | Path, screen: int = 0) -> Path:
         return self.screens[screen].save(path)
 

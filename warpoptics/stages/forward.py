@@ -332,6 +332,11 @@ def forward_trace_kernel(
             # isotropic interface: Fresnel (or the coating's stack) in the s/p frame
             n_a, n_a_e = _medium_index(fp, mats, obj_a, wl)
             n_b, n_b_e = _medium_index(fp, mats, obj_b, wl)
+            # Light arriving from an absorbing medium: Fresnel with the real part of its index
+            # (the weak-absorption approximation; its absorption is Bouguer-Lambert along the
+            # path).  ``c_normal_component`` takes the Im >= 0 root of N2 cos t, which for an
+            # absorbing *incident* medium is the backward-travelling one (|r| >> 1).
+            n_a = wp.vec2f(n_a[0], 0.0)
             cos_a = wp.clamp(-wp.dot(d, nrm), 0.0, 1.0)
             s = s_vector(d, n_out)
             f = fresnel_amplitudes(cos_a, n_a, n_b)
