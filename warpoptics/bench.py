@@ -269,7 +269,7 @@ class BenchResult:
     (``emitted`` and the columns of ``stages.forward.LEDGER``).  ``deposits``: every recorded
     screen hit, as NumPy arrays in a fixed order - ``screen``, ``u``, ``v`` (mm on the screen),
     ``wavelength`` (nm), ``power`` (W), ``stokes`` (N, 4; W), ``depth`` (interfaces crossed),
-    ``ray`` (beam position index).  ``wavelengths``, ``weights``: the beam's spectral samples and
+    ``ray`` (beam position index), ``xyz`` (N, 3; this deposit's share of the XYZ image).  ``wavelengths``, ``weights``: the beam's spectral samples and
     their power fractions."""
 
     screens: list[ScreenImage]
@@ -278,6 +278,26 @@ class BenchResult:
     wavelengths: np.ndarray
     weights: np.ndarray
     stats: dict = field(default_factory=dict)
+    sensors: tuple[Screen, ...] = ()
+    exposure: float = 0.0
+    tone: str = "filmic"
+
+    def screen_image(self, screen: int = 0, *, select: np.ndarray | None = None) -> ScreenImage:
+        """Bin the deposits on ``screen`` (optionally only those where the boolean array ``select``
+        over all deposits is true, e.g. ``result.deposits["depth"] >= 2``) into XYZ and Stokes
+        pixels, in deposit order (deterministic)."""
+        sc = self.sensors[screen]
+        dp = self.deposits
+        s = dp["screen"] == screen
+        if select is not None:
+            s &= np.asarray(select, dtype=bool)
+        pix = sc.pixel_index(dp["u"][s], dp["v"][s])
+        nx, ny = (int(r) for r in sc.resolution)
+        npx = nx * ny
+        xyz = np.stack([np.bincount(pix, weights=dp["xyz"][s, c], minlength=npx) for c in range(3)], axis=-1)
+        st = np.stack([np.bincount(pix, weights=dp["stokes"][s, c], minlength=npx) for c in range(4)], axis=-1)
+        return ScreenImage(screen=sc, xyz=xyz.reshape(ny, nx, 3), stokes=st.reshape(ny, nx, 4),
+                           power=float(dp["power"][s].sum()), exposure=self.exposure, tone=self.tone)
 
     def balance(self) -> float:
         """(screen + absorbed + escaped) / emitted - 1: the part of the power the ledger's three
@@ -452,22 +472,15 @@ class Bench:
         y_norm = float((self.weights * cm[:, 1]).sum())
         y_norm = y_norm if y_norm > 0 else 1.0
         xyz_w = cm[cat["wl_index"]] * (deposits["power"] / (src.power * y_norm))[:, None]
-        images = []
-        for k, sc in enumerate(self.scene.sensors):
-            s = deposits["screen"] == k
-            pix = sc.pixel_index(deposits["u"][s], deposits["v"][s])
-            nx, ny = (int(r) for r in sc.resolution)
-            npx = nx * ny
-            xyz = np.stack([np.bincount(pix, weights=xyz_w[s, c], minlength=npx) for c in range(3)], axis=-1)
-            st = np.stack([np.bincount(pix, weights=stokes[s, c], minlength=npx) for c in range(4)], axis=-1)
-            images.append(ScreenImage(screen=sc, xyz=xyz.reshape(ny, nx, 3), stokes=st.reshape(ny, nx, 4),
-                                      power=float(deposits["power"][s].sum()), exposure=self.scene.render.exposure,
-                                      tone=self.scene.render.tone))
+        deposits["xyz"] = xyz_w
         led = {"emitted": float(src.power)}
         led.update({name: float(v) for name, v in zip(LEDGER, ledger, strict=True)})
         stats = {"seconds": elapsed, "beam_rays": total, "deposits": int(deposits["power"].size)}
-        return BenchResult(screens=images, ledger=led, deposits=deposits, wavelengths=self.wavelengths.copy(),
-                           weights=self.weights.copy(), stats=stats)
+        result = BenchResult(screens=[], ledger=led, deposits=deposits, wavelengths=self.wavelengths.copy(),
+                             weights=self.weights.copy(), stats=stats, sensors=tuple(self.scene.sensors),
+                             exposure=self.scene.render.exposure, tone=self.scene.render.tone)
+        result.screens = [result.screen_image(k) for k in range(len(self.scene.sensors))]
+        return result
 
 
 def bench(scene: BenchScene | str | Path, *, device=None, threads: int | None = None,
