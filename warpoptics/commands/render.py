@@ -10,6 +10,13 @@ def run(args) -> int:
     from ..render import Renderer
     from ..scene import Scene, parse_value
 
+    from ..bench import is_bench_scene
+
+    if is_bench_scene(args.scene):
+        # an optical-bench scene ([source] type = "beam"): trace it forward onto its screens
+        from . import bench as bench_command
+
+        return bench_command.run(args)
     scene = Scene.load(args.scene)
     overrides = {}
     for item in args.set or []:
