@@ -323,8 +323,9 @@ class BenchResult:
         return {"wavelength": self.wavelengths.copy(), "u": u, "v": v, "power": p}
 
     def spots(self, screen: int = 0, *, count: int = 2, radius: float | None = None) -> list[dict]:
-        """The ``count`` brightest spots on ``screen``: greedily, the brightest pixel and every
-        deposit within ``radius`` mm of it (default 10 pixels), removed before the next.  Each spot:
+        """The ``count`` brightest spots on ``screen``: greedily, from the brightest pixel, the
+        deposits within ``radius`` mm (default 10 pixels) of their own centroid (mean shift),
+        removed before the next spot.  Each spot:
         ``u``, ``v`` (power-weighted centroid, mm), ``power`` (W), ``stokes`` (summed, W),
         ``dop`` (degree of polarization), ``angle`` (deg, of linear polarization from the
         screen's x toward y)."""
@@ -345,6 +346,13 @@ class BenchResult:
             best = int(np.argmax(np.bincount(pix, weights=p[alive], minlength=nx * ny)))
             cu, cv = sc.pixel_centers()
             u0, v0 = cu.ravel()[best], cv.ravel()[best]
+            for _it in range(8):  # mean shift: re-centre on the centroid within the radius
+                near = alive & ((u - u0) ** 2 + (v - v0) ** 2 <= radius**2)
+                u1 = float((p[near] * u[near]).sum() / p[near].sum())
+                v1 = float((p[near] * v[near]).sum() / p[near].sum())
+                if (u1 - u0) ** 2 + (v1 - v0) ** 2 < 1e-18:
+                    break
+                u0, v0 = u1, v1
             near = alive & ((u - u0) ** 2 + (v - v0) ** 2 <= radius**2)
             pw = p[near].sum()
             s = st[near].sum(axis=0)
@@ -436,7 +444,7 @@ class Bench:
         dep_depth = wp.empty(chunk * k_dep, dtype=wp.int32, device=dev)
         ledger_dev = wp.zeros((chunk, len(LEDGER)), dtype=wp.float64, device=dev)
         load_module(forward_trace_kernel, dev)
-        ledger = np.zeros(len(LEDGER))
+        ledger_rows = []  # per beam ray, summed once at the end: the same sums for any chunking
         parts: dict[str, list] = {k: [] for k in ("screen", "u", "v", "wl_index", "stokes", "depth", "ray", "scale")}
         t0 = time.perf_counter()
         for start in range(0, total, chunk):
@@ -447,7 +455,7 @@ class Bench:
                          tile_size=tile_size)
             thread = np.arange(start, start + count)
             p_ray = ray_power[thread % n_wl]
-            ledger += (ledger_dev.numpy()[:count] * p_ray[:, None]).sum(axis=0)
+            ledger_rows.append(ledger_dev.numpy()[:count] * p_ray[:, None])
             scr = dep_screen.numpy()[: count * k_dep]
             sel = np.nonzero(scr >= 0)[0]
             th = start + sel // k_dep
@@ -461,6 +469,7 @@ class Bench:
             parts["ray"].append(th // n_wl)
             parts["scale"].append(ray_power[th % n_wl])
         elapsed = time.perf_counter() - t0
+        ledger = np.concatenate(ledger_rows).sum(axis=0)
         cat = {k: np.concatenate(v) for k, v in parts.items()}
         stokes = cat["stokes"] * cat["scale"][:, None]
         wl = self.wavelengths[cat["wl_index"]]
