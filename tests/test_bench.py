@@ -27,9 +27,15 @@ APEX_Z = 0.9396926  # apex of the 40 deg, 2 mm prism of prism.toml (bounding box
 
 
 def _prism(material, depth_below_apex, device, *, wavelengths=24):
-    scene = BenchScene.load(SCENES / "prism.toml").with_overrides({
-        "object.0.material": material, "source.position": [-5.0, 0.0, APEX_Z - depth_below_apex],
-        "source.width": 0.0, "source.rays": 1, "render.wavelengths": wavelengths})
+    scene = BenchScene.load(SCENES / "prism.toml").with_overrides(
+        {
+            "object.0.material": material,
+            "source.position": [-5.0, 0.0, APEX_Z - depth_below_apex],
+            "source.width": 0.0,
+            "source.rays": 1,
+            "render.wavelengths": wavelengths,
+        }
+    )
     return bench(scene, device=device)
 
 
@@ -98,7 +104,12 @@ def test_prism_thick_edge_fades(device):
     for mat, limit in (("rose_bengal_10", 1e-2), ("bk7", None)):
         thin = _prism(mat, 0.007, device)
         thick = _prism(mat, 0.5, device)
-        band = lambda r: r.spot_positions(0, depth=2)["power"][(r.wavelengths >= 470) & (r.wavelengths <= 590)].sum()  # noqa: E731
+
+        def band(r):
+            return r.spot_positions(0, depth=2)["power"][
+                (r.wavelengths >= 470) & (r.wavelengths <= 590)
+            ].sum()
+
         if limit is None:
             assert band(thick) == pytest.approx(band(thin), rel=1e-3)
         else:
@@ -141,7 +152,8 @@ def test_calcite_polarized_beam_picks_one_ray(device, angle, bright):
     """Light polarized in the principal plane (beam x = -world x here) travels as the e ray only;
     perpendicular to it, as the o ray only."""
     scene = BenchScene.load(SCENES / "calcite.toml").with_overrides(
-        {"source.rays": 16, "source.polarization": "linear", "source.polarization_angle": angle})
+        {"source.rays": 16, "source.polarization": "linear", "source.polarization_angle": angle}
+    )
     r = bench(scene, device=device)
     dp = r.deposits
     main = dp["depth"] == 2
@@ -156,7 +168,8 @@ def test_calcite_polarized_beam_picks_one_ray(device, angle, bright):
 def test_energy_ledger_diamond(device):
     """Power on screens + absorbed + escaped = emitted within 1 %, and the full ledger closes."""
     scene = BenchScene.load(SCENES / "diamond_fire.toml").with_overrides(
-        {"source.rays": 128, "render.wavelengths": 4})
+        {"source.rays": 128, "render.wavelengths": 4}
+    )
     r = bench(scene, device=device)
     lg = r.ledger
     assert abs(r.balance()) < 1e-2
@@ -175,14 +188,23 @@ def test_soap_film_spot_matches_tmm(device):
     tmm = pytest.importorskip("tmm")
     thickness = 400.0
     scene = BenchScene.load(SCENES / "soap_film.toml").with_overrides(
-        {"source.rays": 8, "render.wavelengths": 24, "object.0.coating.0.thickness_nm": thickness})
+        {"source.rays": 8, "render.wavelengths": 24, "object.0.coating.0.thickness_nm": thickness}
+    )
     r = bench(scene, device=device)
     dp = r.deposits
     front = (dp["screen"] == 0) & (dp["depth"] == 1)
     xyz = dp["xyz"][front].sum(axis=0)
     n_w = wo.materials.get("water").n(r.wavelengths)
-    R = np.array([0.5 * sum(tmm.coh_tmm(p, [1.0, float(n), 1.0], [np.inf, thickness, np.inf], math.pi / 4, lam)["R"]
-                            for p in ("s", "p")) for lam, n in zip(r.wavelengths, n_w, strict=True)])
+    R = np.array(
+        [
+            0.5
+            * sum(
+                tmm.coh_tmm(p, [1.0, float(n), 1.0], [np.inf, thickness, np.inf], math.pi / 4, lam)["R"]
+                for p in ("s", "p")
+            )
+            for lam, n in zip(r.wavelengths, n_w, strict=True)
+        ]
+    )
     cm = cmf(r.wavelengths)
     ref = ((r.weights * R)[:, None] * cm).sum(axis=0) / float((r.weights * cm[:, 1]).sum())
     # float32 amplitudes, water index interpolated on a 5 nm grid in the coating table
@@ -192,7 +214,8 @@ def test_soap_film_spot_matches_tmm(device):
 
 def test_deterministic_across_threads(device):
     scene = BenchScene.load(SCENES / "diamond_fire.toml").with_overrides(
-        {"source.rays": 64, "render.wavelengths": 3})
+        {"source.rays": 64, "render.wavelengths": 3}
+    )
     b = Bench(scene, device=device)
     r1 = b.run(threads=1)
     r2 = b.run(threads=2, tile_size=7)
@@ -219,8 +242,9 @@ def test_bench_scene_errors(tmp_path):
     with pytest.raises(InputError) as exc:
         BenchScene.load(p)
     assert "normal" in exc.value.field
-    p.write_text('[source]\ntype = "beam"\n[[sensor]]\n[[object]]\nshape = "plate"\n'
-                 'coating = [{ n = 1.3 }]\n')
+    p.write_text(
+        '[source]\ntype = "beam"\n[[sensor]]\n[[object]]\nshape = "plate"\ncoating = [{ n = 1.3 }]\n'
+    )
     with pytest.raises(InputError) as exc:
         BenchScene.load(p)
     assert exc.value.field == "object.0.coating.0.thickness_nm"
@@ -228,14 +252,25 @@ def test_bench_scene_errors(tmp_path):
 
 def _run(*args):
     env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    return subprocess.run([sys.executable, *map(str, args)], capture_output=True, text=True, env=env, timeout=600,
-                          check=False)
+    return subprocess.run(
+        [sys.executable, *map(str, args)], capture_output=True, text=True, env=env, timeout=600, check=False
+    )
 
 
 def test_cli_bench(tmp_path, device):
     out = tmp_path / "calcite.png"
-    r = _run("-m", "warpoptics.cli", "--device", str(device), "bench", SCENES / "calcite.toml", "-o", out,
-             "--rays", "16")
+    r = _run(
+        "-m",
+        "warpoptics.cli",
+        "--device",
+        str(device),
+        "bench",
+        SCENES / "calcite.toml",
+        "-o",
+        out,
+        "--rays",
+        "16",
+    )
     assert r.returncode == 0, r.stderr
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "closure" in r.stdout
@@ -243,11 +278,35 @@ def test_cli_bench(tmp_path, device):
     from warpoptics.cli import main
 
     out2 = tmp_path / "calcite.exr"
-    assert main(["--device", str(device), "render", str(SCENES / "calcite.toml"), "-o", str(out2),
-                 "--set", "source.rays=8"]) == 0
+    assert (
+        main(
+            [
+                "--device",
+                str(device),
+                "render",
+                str(SCENES / "calcite.toml"),
+                "-o",
+                str(out2),
+                "--set",
+                "source.rays=8",
+            ]
+        )
+        == 0
+    )
     assert out2.is_file() and out2.stat().st_size > 1000
-    assert main(["bench", str(SCENES / "calcite.toml"), "-o", str(tmp_path / "x.png"),
-                 "--set", 'source.kind="laser"']) == 2
+    assert (
+        main(
+            [
+                "bench",
+                str(SCENES / "calcite.toml"),
+                "-o",
+                str(tmp_path / "x.png"),
+                "--set",
+                'source.kind="laser"',
+            ]
+        )
+        == 2
+    )
 
 
 _SCRIPTS = [
@@ -282,3 +341,58 @@ def test_bench_scripts(tmp_path, device):
         assert (tmp_path / (script + ".png")).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "measured separation" in r.stdout and "returned through the crown" in r.stdout
     assert "fan-out rose bengal 10 % / water" in r.stdout and "dE2000" in r.stdout
+
+
+def _free_beam(device, **source):
+    data = {
+        "source": {
+            "type": "beam",
+            "position": [0.0, 0.0, 10.0],
+            "direction": [0.0, 0.0, -1.0],
+            "width": 0.1,
+            "lines": [550.0],
+            "rays": 64,
+            **source,
+        },
+        "sensor": [
+            {
+                "type": "screen",
+                "center": [0.0, 0.0, -10.0],
+                "normal": [0.0, 0.0, 1.0],
+                "up": [0.0, 1.0, 0.0],
+                "size": [20.0, 20.0],
+                "resolution": [40, 40],
+            }
+        ],
+    }
+    return bench(BenchScene.from_dict(data), device=device)
+
+
+@pytest.mark.parametrize(
+    "pol, expected",
+    [
+        ({"polarization": "linear", "polarization_angle": 30.0}, (1.0, 0.5, math.sqrt(3) / 2, 0.0)),
+        ({"polarization": "right"}, (1.0, 0.0, 0.0, 1.0)),
+        ({"polarization": "left"}, (1.0, 0.0, 0.0, -1.0)),
+        ({}, (1.0, 0.0, 0.0, 0.0)),
+    ],
+)
+def test_source_polarization_reaches_screen(device, pol, expected):
+    """A beam straight onto a screen facing it: the screen frame (right = normal x up = -x) is the
+    beam's frame (x = perpendicular(-z) = -x), so the Stokes vector arrives unchanged:
+    S = (1, cos 2a, sin 2a, 0) for linear light at a, S3 = +-1 for right/left circular."""
+    r = _free_beam(device, **pol)
+    s = r.screens[0].stokes.reshape(-1, 4).sum(axis=0)
+    np.testing.assert_allclose(s, expected, atol=1e-5)
+    assert r.ledger["screen"] == pytest.approx(1.0, abs=1e-6)
+
+
+def test_spot_beam_cone(device):
+    """A spot light of 20 deg full divergence 20 mm above the screen: the lit disc has radius
+    20 tan(10 deg), and equal solid-angle rays give equal power per ray."""
+    r = _free_beam(device, kind="spot", divergence=20.0, rays=400)
+    dp = r.deposits
+    rad = np.hypot(dp["u"], dp["v"])
+    assert rad.max() == pytest.approx(20.0 * math.tan(math.radians(10.0)), rel=2e-3)
+    np.testing.assert_allclose(dp["power"], 1.0 / 400, rtol=1e-5)
+    assert r.ledger["screen"] == pytest.approx(1.0, abs=1e-6)

@@ -65,8 +65,21 @@ from .stages.screen import Screen, ScreenImage, screen_set
 
 __all__ = ["BenchConfig", "BenchScene", "BenchResult", "Bench", "bench", "is_bench_scene"]
 
-_SOURCE_KEYS = {"type", "kind", "position", "direction", "width", "divergence", "spectrum", "lines", "polarization",
-                "polarization_angle", "polarization_x", "power", "rays"}
+_SOURCE_KEYS = {
+    "type",
+    "kind",
+    "position",
+    "direction",
+    "width",
+    "divergence",
+    "spectrum",
+    "lines",
+    "polarization",
+    "polarization_angle",
+    "polarization_x",
+    "power",
+    "rays",
+}
 _SENSOR_KEYS = {"type", "name", "center", "normal", "up", "size", "resolution"}
 _TOP_KEYS = {"source", "sensor", "render", "object"}
 _LAYER_KEYS = {"n", "k", "material", "thickness_nm"}
@@ -99,8 +112,12 @@ def _render_config(t: dict, file) -> BenchConfig:
     if not isinstance(t, dict):
         raise InputError("must be a table [render]", file=file, field="render")
     _scene._check_keys(t, set(BenchConfig.__dataclass_fields__), file=file, prefix="render.")
-    for k, lo, hi in (("wavelengths", 1, 4096), ("max_depth", 0, 256), ("max_deposits", 1, 1024),
-                      ("seed", 0, 2**31 - 1)):
+    for k, lo, hi in (
+        ("wavelengths", 1, 4096),
+        ("max_depth", 0, 256),
+        ("max_deposits", 1, 1024),
+        ("seed", 0, 2**31 - 1),
+    ):
         if k in t:
             _scene._number(t[k], file=file, field_name=f"render.{k}", lo=lo, hi=hi, integer=True)
     for k, lo, hi in (("split_threshold", 0.0, 1.0), ("ambient_index", 1.0, 10.0), ("exposure", -40.0, 40.0)):
@@ -126,24 +143,34 @@ def _source(t: dict, file) -> Beam:
         if k in t:
             kw[k] = float(_scene._number(t[k], file=file, field_name=f"source.{k}", lo=lo))
     if "rays" in t:
-        kw["rays"] = int(_scene._number(t["rays"], file=file, field_name="source.rays", lo=1, hi=1 << 24,
-                                        integer=True))
+        kw["rays"] = int(
+            _scene._number(t["rays"], file=file, field_name="source.rays", lo=1, hi=1 << 24, integer=True)
+        )
     if "spectrum" in t:
         s = t["spectrum"]
         kw["spectrum"] = s if isinstance(s, str) else _scene._vec3(s, file=file, field_name="source.spectrum")
     if "lines" in t:
         lines = t["lines"]
         if not isinstance(lines, list) or not lines:
-            raise InputError("must be a list of wavelengths in nm", file=file, field="source.lines", value=lines)
-        kw["lines"] = tuple(float(_scene._number(v, file=file, field_name="source.lines", lo=360.0, hi=830.0))
-                            for v in lines)
+            raise InputError(
+                "must be a list of wavelengths in nm", file=file, field="source.lines", value=lines
+            )
+        kw["lines"] = tuple(
+            float(_scene._number(v, file=file, field_name="source.lines", lo=360.0, hi=830.0)) for v in lines
+        )
     if "polarization" in t:
-        kw["polarization"] = _scene._choice(t["polarization"], ("unpolarized", "linear", "right", "left"),
-                                            file=file, field_name="source.polarization")
+        kw["polarization"] = _scene._choice(
+            t["polarization"],
+            ("unpolarized", "linear", "right", "left"),
+            file=file,
+            field_name="source.polarization",
+        )
     try:
         return Beam(**kw)
     except InputError as exc:
-        raise InputError(exc.message, file=file, field=exc.field, value=exc.value, allowed=exc.allowed) from None
+        raise InputError(
+            exc.message, file=file, field=exc.field, value=exc.value, allowed=exc.allowed
+        ) from None
 
 
 def _sensor(t: dict, index: int, file) -> Screen:
@@ -160,14 +187,23 @@ def _sensor(t: dict, index: int, file) -> Screen:
         if k in t:
             v = t[k]
             if not isinstance(v, list) or len(v) != 2:
-                raise InputError("must be a list of two numbers [width, height]", file=file, field=prefix + k, value=v)
-            kw[k] = tuple(_scene._number(c, file=file, field_name=prefix + k, lo=0, lo_open=True, integer=integer)
-                          for c in v)
+                raise InputError(
+                    "must be a list of two numbers [width, height]", file=file, field=prefix + k, value=v
+                )
+            kw[k] = tuple(
+                _scene._number(c, file=file, field_name=prefix + k, lo=0, lo_open=True, integer=integer)
+                for c in v
+            )
     try:
         return Screen(**kw)
     except InputError as exc:
-        raise InputError(exc.message, file=file, field=prefix + (exc.field or "").split(".")[-1], value=exc.value,
-                         allowed=exc.allowed) from None
+        raise InputError(
+            exc.message,
+            file=file,
+            field=prefix + (exc.field or "").split(".")[-1],
+            value=exc.value,
+            allowed=exc.allowed,
+        ) from None
 
 
 def _coating(v, index: int, file) -> tuple:
@@ -186,14 +222,18 @@ def _coating(v, index: int, file) -> tuple:
             raise InputError("missing key", file=file, field=f + "thickness_nm")
         d = float(_scene._number(layer["thickness_nm"], file=file, field_name=f + "thickness_nm", lo=0.0))
         if ("n" in layer) == ("material" in layer):
-            raise InputError("a layer needs exactly one of n = ... or material = \"name\"", file=file, field=f + "n")
+            raise InputError(
+                'a layer needs exactly one of n = ... or material = "name"', file=file, field=f + "n"
+            )
         if "n" in layer:
             n = float(_scene._number(layer["n"], file=file, field_name=f + "n", lo=1.0e-3))
             k = float(_scene._number(layer.get("k", 0.0), file=file, field_name=f + "k", lo=0.0))
             layers.append((complex(n, k), d))
         else:
             if not isinstance(layer["material"], str):
-                raise InputError("must be a material name", file=file, field=f + "material", value=layer["material"])
+                raise InputError(
+                    "must be a material name", file=file, field=f + "material", value=layer["material"]
+                )
             layers.append((str(layer["material"]), d))
     return tuple(layers)
 
@@ -227,7 +267,9 @@ class BenchScene:
         base_dir = Path(path).parent if path else Path.cwd()
         _scene._check_keys(data, _TOP_KEYS, file=file, prefix="")
         if "source" not in data:
-            raise InputError("a bench scene needs a [source] table (type = \"beam\")", file=file, field="source")
+            raise InputError(
+                'a bench scene needs a [source] table (type = "beam")', file=file, field="source"
+            )
         source = _source(data["source"], file)
         sensors_t = data.get("sensor", [])
         if isinstance(sensors_t, dict):
@@ -247,8 +289,15 @@ class BenchScene:
             objects.append(_scene._object_config(t, i, file, base_dir))
             coatings.append(None if coat is None else _coating(coat, i, file))
         render = _render_config(data.get("render", {}), file)
-        return cls(source=source, sensors=sensors, objects=tuple(objects), coatings=tuple(coatings), render=render,
-                   data=copy.deepcopy(data), path=path)
+        return cls(
+            source=source,
+            sensors=sensors,
+            objects=tuple(objects),
+            coatings=tuple(coatings),
+            render=render,
+            data=copy.deepcopy(data),
+            path=path,
+        )
 
     def with_overrides(self, overrides: dict[str, Any] | None = None) -> BenchScene:
         """A copy with dotted-path overrides, e.g. ``{"source.rays": 64, "object.0.position": [...]}``."""
@@ -269,7 +318,8 @@ class BenchResult:
     (``emitted`` and the columns of ``stages.forward.LEDGER``).  ``deposits``: every recorded
     screen hit, as NumPy arrays in a fixed order - ``screen``, ``u``, ``v`` (mm on the screen),
     ``wavelength`` (nm), ``power`` (W), ``stokes`` (N, 4; W), ``depth`` (interfaces crossed),
-    ``ray`` (beam position index), ``xyz`` (N, 3; this deposit's share of the XYZ image).  ``wavelengths``, ``weights``: the beam's spectral samples and
+    ``ray`` (beam position index), ``xyz`` (N, 3; this deposit's share of the XYZ image).
+    ``wavelengths``, ``weights``: the beam's spectral samples and
     their power fractions."""
 
     screens: list[ScreenImage]
@@ -295,9 +345,17 @@ class BenchResult:
         nx, ny = (int(r) for r in sc.resolution)
         npx = nx * ny
         xyz = np.stack([np.bincount(pix, weights=dp["xyz"][s, c], minlength=npx) for c in range(3)], axis=-1)
-        st = np.stack([np.bincount(pix, weights=dp["stokes"][s, c], minlength=npx) for c in range(4)], axis=-1)
-        return ScreenImage(screen=sc, xyz=xyz.reshape(ny, nx, 3), stokes=st.reshape(ny, nx, 4),
-                           power=float(dp["power"][s].sum()), exposure=self.exposure, tone=self.tone)
+        st = np.stack(
+            [np.bincount(pix, weights=dp["stokes"][s, c], minlength=npx) for c in range(4)], axis=-1
+        )
+        return ScreenImage(
+            screen=sc,
+            xyz=xyz.reshape(ny, nx, 3),
+            stokes=st.reshape(ny, nx, 4),
+            power=float(dp["power"][s].sum()),
+            exposure=self.exposure,
+            tone=self.tone,
+        )
 
     def balance(self) -> float:
         """(screen + absorbed + escaped) / emitted - 1: the part of the power the ledger's three
@@ -356,9 +414,16 @@ class BenchResult:
             near = alive & ((u - u0) ** 2 + (v - v0) ** 2 <= radius**2)
             pw = p[near].sum()
             s = st[near].sum(axis=0)
-            out.append({"u": float((p[near] * u[near]).sum() / pw), "v": float((p[near] * v[near]).sum() / pw),
-                        "power": float(pw), "stokes": s, "dop": float(np.linalg.norm(s[1:]) / s[0]),
-                        "angle": float(np.degrees(0.5 * np.arctan2(s[2], s[1])))})
+            out.append(
+                {
+                    "u": float((p[near] * u[near]).sum() / pw),
+                    "v": float((p[near] * v[near]).sum() / pw),
+                    "power": float(pw),
+                    "stokes": s,
+                    "dop": float(np.linalg.norm(s[1:]) / s[0]),
+                    "angle": float(np.degrees(0.5 * np.arctan2(s[2], s[1]))),
+                }
+            )
             alive &= ~near
         return out
 
@@ -381,7 +446,9 @@ class Bench:
         r = scene.render
         self.wavelengths, self.weights = scene.source.spectral_samples(r.wavelengths)
         if scene.objects:
-            meshes, mats, axes = _build_objects(SimpleNamespace(objects=scene.objects, path=scene.path), self.device)
+            meshes, mats, axes = _build_objects(
+                SimpleNamespace(objects=scene.objects, path=scene.path), self.device
+            )
         else:
             # an empty bench: one tiny object far away keeps the geometry struct valid
             from .geometry import cuts
@@ -393,14 +460,16 @@ class Bench:
         self.materials, ids = build_material_table(mats, self.device, rgb3=False)
         world_axes = []
         for i, (mat, ax) in enumerate(zip(mats, axes, strict=True)):
-            a = np.asarray(ax if ax is not None else getattr(mat, "optic_axis", (0.0, 0.0, 1.0)), dtype=np.float64)
+            a = np.asarray(
+                ax if ax is not None else getattr(mat, "optic_axis", (0.0, 0.0, 1.0)), dtype=np.float64
+            )
             if scene.objects:
                 a = scene.objects[i].rotation_matrix() @ a
             world_axes.append(a / max(np.linalg.norm(a), 1e-30))
         # coatings: one CoatingStack for all coated objects
         coat_ids, layers = [], []
         grid = 360.0 + 5.0 * np.arange(95)
-        for c in (scene.coatings if scene.objects else (None,)):
+        for c in scene.coatings if scene.objects else (None,):
             if c is None:
                 coat_ids.append(-1)
                 continue
@@ -415,19 +484,29 @@ class Bench:
                 else:
                     rows.append((np.full(grid.size, index), d))
             layers.append(rows)
-        self.coatings = make_coating_stack(layers or [[]], wavelength_start_nm=360.0, wavelength_step_nm=5.0,
-                                           device=self.device)
-        self.config = ForwardConfig(max_depth=r.max_depth, split_threshold=r.split_threshold,
-                                    max_deposits=r.max_deposits, seed=r.seed)
+        self.coatings = make_coating_stack(
+            layers or [[]], wavelength_start_nm=360.0, wavelength_step_nm=5.0, device=self.device
+        )
+        self.config = ForwardConfig(
+            max_depth=r.max_depth, split_threshold=r.split_threshold, max_deposits=r.max_deposits, seed=r.seed
+        )
         absorption = [ob.absorption_scale for ob in scene.objects] or [1.0]
-        self.params = forward_params(np.asarray(ids, dtype=np.int32), np.asarray(absorption, dtype=np.float32),
-                                     np.asarray(world_axes), np.asarray(coat_ids, dtype=np.int32), config=self.config,
-                                     ambient=(r.ambient_index, 0.0), device=self.device)
+        self.params = forward_params(
+            np.asarray(ids, dtype=np.int32),
+            np.asarray(absorption, dtype=np.float32),
+            np.asarray(world_axes),
+            np.asarray(coat_ids, dtype=np.int32),
+            config=self.config,
+            ambient=(r.ambient_index, 0.0),
+            device=self.device,
+        )
         self.beam = scene.source.params()
         self.screens = screen_set(list(scene.sensors), self.device)
         self.wl_device = wp.array(self.wavelengths.astype(np.float32), dtype=wp.float32, device=self.device)
 
-    def run(self, *, threads: int | None = None, tile_size: int | None = None, chunk: int = 1 << 15) -> BenchResult:
+    def run(
+        self, *, threads: int | None = None, tile_size: int | None = None, chunk: int = 1 << 15
+    ) -> BenchResult:
         """Trace every beam ray; ``chunk`` beam rays (times wavelengths) per launch round."""
         from .spectra import cmf
 
@@ -445,14 +524,34 @@ class Bench:
         ledger_dev = wp.zeros((chunk, len(LEDGER)), dtype=wp.float64, device=dev)
         load_module(forward_trace_kernel, dev)
         ledger_rows = []  # per beam ray, summed once at the end: the same sums for any chunking
-        parts: dict[str, list] = {k: [] for k in ("screen", "u", "v", "wl_index", "stokes", "depth", "ray", "scale")}
+        parts: dict[str, list] = {
+            k: [] for k in ("screen", "u", "v", "wl_index", "stokes", "depth", "ray", "scale")
+        }
         t0 = time.perf_counter()
         for start in range(0, total, chunk):
             count = min(chunk, total - start)
-            inputs = [self.params, self.geometry.geometry, self.materials, self.coatings, self.beam, self.screens,
-                      self.wl_device, dep_screen, dep_uv, dep_stokes, dep_depth, ledger_dev]
-            launch_tiled(forward_trace_kernel, count, [start, *inputs], device=dev, threads=threads,
-                         tile_size=tile_size)
+            inputs = [
+                self.params,
+                self.geometry.geometry,
+                self.materials,
+                self.coatings,
+                self.beam,
+                self.screens,
+                self.wl_device,
+                dep_screen,
+                dep_uv,
+                dep_stokes,
+                dep_depth,
+                ledger_dev,
+            ]
+            launch_tiled(
+                forward_trace_kernel,
+                count,
+                [start, *inputs],
+                device=dev,
+                threads=threads,
+                tile_size=tile_size,
+            )
             thread = np.arange(start, start + count)
             p_ray = ray_power[thread % n_wl]
             ledger_rows.append(ledger_dev.numpy()[:count] * p_ray[:, None])
@@ -473,9 +572,16 @@ class Bench:
         cat = {k: np.concatenate(v) for k, v in parts.items()}
         stokes = cat["stokes"] * cat["scale"][:, None]
         wl = self.wavelengths[cat["wl_index"]]
-        deposits = {"screen": cat["screen"].astype(np.int64), "u": cat["u"], "v": cat["v"], "wavelength": wl,
-                    "power": stokes[:, 0].copy(), "stokes": stokes, "depth": cat["depth"].astype(np.int64),
-                    "ray": cat["ray"].astype(np.int64)}
+        deposits = {
+            "screen": cat["screen"].astype(np.int64),
+            "u": cat["u"],
+            "v": cat["v"],
+            "wavelength": wl,
+            "power": stokes[:, 0].copy(),
+            "stokes": stokes,
+            "depth": cat["depth"].astype(np.int64),
+            "ray": cat["ray"].astype(np.int64),
+        }
         # XYZ normalised so that the whole beam in one pixel has Y = 1
         cm = cmf(self.wavelengths)
         y_norm = float((self.weights * cm[:, 1]).sum())
@@ -485,15 +591,24 @@ class Bench:
         led = {"emitted": float(src.power)}
         led.update({name: float(v) for name, v in zip(LEDGER, ledger, strict=True)})
         stats = {"seconds": elapsed, "beam_rays": total, "deposits": int(deposits["power"].size)}
-        result = BenchResult(screens=[], ledger=led, deposits=deposits, wavelengths=self.wavelengths.copy(),
-                             weights=self.weights.copy(), stats=stats, sensors=tuple(self.scene.sensors),
-                             exposure=self.scene.render.exposure, tone=self.scene.render.tone)
+        result = BenchResult(
+            screens=[],
+            ledger=led,
+            deposits=deposits,
+            wavelengths=self.wavelengths.copy(),
+            weights=self.weights.copy(),
+            stats=stats,
+            sensors=tuple(self.scene.sensors),
+            exposure=self.scene.render.exposure,
+            tone=self.scene.render.tone,
+        )
         result.screens = [result.screen_image(k) for k in range(len(self.scene.sensors))]
         return result
 
 
-def bench(scene: BenchScene | str | Path, *, device=None, threads: int | None = None,
-          overrides: dict | None = None) -> BenchResult:
+def bench(
+    scene: BenchScene | str | Path, *, device=None, threads: int | None = None, overrides: dict | None = None
+) -> BenchResult:
     """Run an optical-bench scene (a :class:`BenchScene` or a TOML path) and return what its
     screens recorded, with the energy ledger.  ``overrides``: dotted paths (``{"source.rays": 64}``)."""
     if not isinstance(scene, BenchScene):

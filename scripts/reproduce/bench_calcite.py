@@ -29,7 +29,9 @@ SCENE = ROOT / "scenes" / "bench" / "calcite.toml"
 def predicted_walkoff(no: float, ne: float, theta_deg: float) -> float:
     """Walk-off angle rho (rad) between wave normal and ray for a wave normal at theta to the axis."""
     t = math.radians(theta_deg)
-    return math.atan((ne**2 - no**2) * math.sin(t) * math.cos(t) / (ne**2 * math.cos(t) ** 2 + no**2 * math.sin(t) ** 2))
+    return math.atan(
+        (ne**2 - no**2) * math.sin(t) * math.cos(t) / (ne**2 * math.cos(t) ** 2 + no**2 * math.sin(t) ** 2)
+    )
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -60,8 +62,10 @@ def main(argv: list[str] | None = None) -> int:
     print(f"walk-off rho = {math.degrees(rho):.4f} deg; predicted separation = {pred:.5f} mm")
     print(f"measured separation = {sep:.5f} mm (error {100 * (sep / pred - 1):+.3f} %)")
     for name, s in (("spot 1", s1), ("spot 2", s2)):
-        print(f"{name}: u = {s['u']:+.5f} mm, v = {s['v']:+.5f} mm, power = {s['power']:.4f} W, "
-              f"DoP = {s['dop']:.6f}, angle = {s['angle']:+.3f} deg")
+        print(
+            f"{name}: u = {s['u']:+.5f} mm, v = {s['v']:+.5f} mm, power = {s['power']:.4f} W, "
+            f"DoP = {s['dop']:.6f}, angle = {s['angle']:+.3f} deg"
+        )
     d_angle = abs((s1["angle"] - s2["angle"] + 90.0) % 180.0 - 90.0)
     print(f"angle between the two polarizations = {d_angle:.3f} deg")
     lg = r.ledger

@@ -49,8 +49,10 @@ def main(argv: list[str] | None = None) -> int:
     crown = float(dp["power"][up & (dp["depth"] >= 2)].sum())
     below = float(dp["power"][dp["screen"] == 1].sum())
     e = lg["emitted"]
-    print(f"beam: {r.stats['beam_rays'] // r.wavelengths.size} positions x {r.wavelengths.size} wavelengths, "
-          f"{r.stats['seconds']:.2f} s")
+    print(
+        f"beam: {r.stats['beam_rays'] // r.wavelengths.size} positions x {r.wavelengths.size} wavelengths, "
+        f"{r.stats['seconds']:.2f} s"
+    )
     print(f"returned upward (screen above)        : {(specular + crown) / e:.4f}")
     print(f"  specular reflection of the table    : {specular / e:.4f}")
     print(f"  returned through the crown          : {crown / e:.4f}")
@@ -82,7 +84,10 @@ def main(argv: list[str] | None = None) -> int:
     crop.save(args.output)
     exr = os.path.splitext(args.output)[0] + ".exr"
     r.screens[0].save(exr)
-    print(f"wrote {args.output} (central {args.crop:g} mm, crown return only) and {exr} (whole screen, all light)")
+    print(
+        f"wrote {args.output} (central {args.crop:g} mm, crown return only) and {exr} "
+        "(whole screen, all light)"
+    )
     return 0
 
 

@@ -37,9 +37,16 @@ def readout(result, *, min_fraction: float = 1.0e-3) -> dict:
     reversals = int(np.count_nonzero(signs[1:] != signs[:-1])) if signs.size > 1 else 0
     band = (sp["wavelength"] >= 470) & (sp["wavelength"] <= 590)
     y = sum(float(s.xyz[..., 1].sum()) for s in result.screens)
-    return {"wavelength": wl, "u": u, "monotonic": reversals == 0, "reversals": reversals,
-            "fan_out": float(u.max() - u.min()) if u.size else 0.0, "transmitted": float(sp["power"].sum()),
-            "band_power": float(sp["power"][band].sum()), "luminous": y}
+    return {
+        "wavelength": wl,
+        "u": u,
+        "monotonic": reversals == 0,
+        "reversals": reversals,
+        "fan_out": float(u.max() - u.min()) if u.size else 0.0,
+        "transmitted": float(sp["power"].sum()),
+        "band_power": float(sp["power"][band].sum()),
+        "luminous": y,
+    }
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -60,26 +67,39 @@ def main(argv: list[str] | None = None) -> int:
     scene = BenchScene.load(SCENE)
     rows = {}
     strips = {}
-    print(f"{'material':16s} {'edge':5s} {'monotonic':9s} {'reversals':9s} {'fan-out mm':10s} "
-          f"{'T power':8s} {'Y':7s} {'band 470-590':12s}")
+    print(
+        f"{'material':16s} {'edge':5s} {'monotonic':9s} {'reversals':9s} {'fan-out mm':10s} "
+        f"{'T power':8s} {'Y':7s} {'band 470-590':12s}"
+    )
     for mat in MATERIALS:
         for edge, depth in (("thin", THIN), ("thick", THICK)):
-            r = bench(scene, device=args.device, overrides={
-                "object.0.material": mat, "source.position": [-5.0, 0.0, APEX_Z - depth],
-                "render.wavelengths": args.wavelengths, "source.rays": args.rays})
+            r = bench(
+                scene,
+                device=args.device,
+                overrides={
+                    "object.0.material": mat,
+                    "source.position": [-5.0, 0.0, APEX_Z - depth],
+                    "render.wavelengths": args.wavelengths,
+                    "source.rays": args.rays,
+                },
+            )
             ro = readout(r)
             rows[(mat, edge)] = ro
             strips[(mat, edge)] = r.screens[0].as_image().display()
             lg = r.ledger
             closure = (lg["screen"] + lg["absorbed"] + lg["escaped"]) / lg["emitted"]
-            print(f"{mat:16s} {edge:5s} {str(ro['monotonic']):9s} {ro['reversals']:9d} {ro['fan_out']:10.3f} "
-                  f"{ro['transmitted']:8.4f} {ro['luminous']:7.4f} {ro['band_power']:12.3e}  "
-                  f"(ledger closure {closure:.6f})")
+            print(
+                f"{mat:16s} {edge:5s} {str(ro['monotonic']):9s} {ro['reversals']:9d} {ro['fan_out']:10.3f} "
+                f"{ro['transmitted']:8.4f} {ro['luminous']:7.4f} {ro['band_power']:12.3e}  "
+                f"(ledger closure {closure:.6f})"
+            )
     for mat in MATERIALS:
         thin, thick = rows[(mat, "thin")], rows[(mat, "thick")]
         ratio = thick["band_power"] / thin["band_power"] if thin["band_power"] > 0 else float("nan")
-        print(f"fade {mat:16s}: band power thick/thin = {ratio:.3e}, luminous thick/thin = "
-              f"{thick['luminous'] / thin['luminous']:.3f}")
+        print(
+            f"fade {mat:16s}: band power thick/thin = {ratio:.3e}, luminous thick/thin = "
+            f"{thick['luminous'] / thin['luminous']:.3f}"
+        )
     wider = rows[("rose_bengal_10", "thin")]["fan_out"] / rows[("water", "thin")]["fan_out"]
     print(f"fan-out rose bengal 10 % / water = {wider:.2f}")
 
@@ -91,7 +111,7 @@ def main(argv: list[str] | None = None) -> int:
             img = strips[(mat, edge)]
             # the beam is 4 um tall: show the lit rows, stretched
             lit = np.nonzero(img.max(axis=(1, 2)) > 0)[0]
-            rows_ = img[lit.min():lit.max() + 1] if lit.size else img
+            rows_ = img[lit.min() : lit.max() + 1] if lit.size else img
             a.imshow(np.repeat(rows_, 8, axis=0), aspect="auto", extent=(-30, 30, 0, 1))
             a.set_yticks([])
             a.set_title(f"{mat}, {edge} edge", fontsize=8)

@@ -32,8 +32,12 @@ def spot_and_table(result, thickness_nm: float, angle_deg: float = 45.0):
     xyz = dp["xyz"][front].sum(axis=0)
     wl = result.wavelengths
     n_water = wo.materials.get("water").n(wl)
-    R = np.array([wo.thinfilm.reflectance(w, [n], [thickness_nm], 1.0, 1.0, angle=angle_deg) for w, n in
-                  zip(wl, n_water, strict=True)]).ravel()
+    R = np.array(
+        [
+            wo.thinfilm.reflectance(w, [n], [thickness_nm], 1.0, 1.0, angle=angle_deg)
+            for w, n in zip(wl, n_water, strict=True)
+        ]
+    ).ravel()
     cm = cmf(wl)
     table = (result.weights * R)[:, None] * cm / float((result.weights * cm[:, 1]).sum())
     return xyz, table.sum(axis=0)
@@ -53,16 +57,20 @@ def main(argv: list[str] | None = None) -> int:
     scene = BenchScene.load(SCENE)
     base = {"source.rays": args.rays} if args.rays else {}
     last = None
-    print(f"{'film nm':>8s} {'spot x':>8s} {'spot y':>8s} {'spot Y':>8s} {'table x':>8s} {'table y':>8s} "
-          f"{'table Y':>8s} {'dE2000':>7s}")
+    print(
+        f"{'film nm':>8s} {'spot x':>8s} {'spot y':>8s} {'spot Y':>8s} {'table x':>8s} {'table y':>8s} "
+        f"{'table Y':>8s} {'dE2000':>7s}"
+    )
     for t in (float(v) for v in args.thicknesses.split(",")):
         r = bench(scene, device=args.device, overrides={**base, "object.0.coating.0.thickness_nm": t})
         xyz, ref = spot_and_table(r, t)
         # colour difference of the spot scaled to Y = 0.5 (both by the same factor)
         k = 0.5 / ref[1]
         de = float(delta_e2000(xyz * k, ref * k))
-        print(f"{t:8.0f} {xyz[0] / xyz.sum():8.4f} {xyz[1] / xyz.sum():8.4f} {xyz[1]:8.5f} "
-              f"{ref[0] / ref.sum():8.4f} {ref[1] / ref.sum():8.4f} {ref[1]:8.5f} {de:7.4f}")
+        print(
+            f"{t:8.0f} {xyz[0] / xyz.sum():8.4f} {xyz[1] / xyz.sum():8.4f} {xyz[1]:8.5f} "
+            f"{ref[0] / ref.sum():8.4f} {ref[1] / ref.sum():8.4f} {ref[1]:8.5f} {de:7.4f}"
+        )
         if last is None or t == 500.0:
             last = r  # the picture: the scene's 500 nm film (or the first of the sweep)
     print("ledger (W): " + ", ".join(f"{k} {v:.6f}" for k, v in last.ledger.items()))

@@ -39,7 +39,10 @@ def run(args) -> int:
         img.save(path)
         written.append(path)
     s = result.stats
-    print(f"{', '.join(map(str, written))}: {s['beam_rays']} beam rays, {s['deposits']} deposits, {s['seconds']:.2f} s")
+    print(
+        f"{', '.join(map(str, written))}: {s['beam_rays']} beam rays, {s['deposits']} deposits, "
+        f"{s['seconds']:.2f} s"
+    )
     for img in result.screens:
         print(f"screen {img.screen.name}: {img.power:.6f} W")
     print("ledger (W): " + ", ".join(f"{k} {v:.6f}" for k, v in result.ledger.items()))
@@ -49,11 +52,17 @@ def run(args) -> int:
 
 def register(sub) -> None:
     p = sub.add_parser("bench", help="trace an optical-bench scene (beam -> objects -> screens)")
-    p.add_argument("scene", help="bench scene file (.toml with [source] type = \"beam\" and [[sensor]] screens)")
+    p.add_argument(
+        "scene", help='bench scene file (.toml with [source] type = "beam" and [[sensor]] screens)'
+    )
     p.add_argument("-o", "--output", required=True, help="screen image: .exr (RGB, A, S0..S3, XYZ) or .png")
     p.add_argument("--rays", type=int, help="override source.rays (beam positions)")
     p.add_argument("--wavelengths", type=int, help="override render.wavelengths")
     p.add_argument("--threads", type=int, help="CPU worker threads (default: all cores)")
-    p.add_argument("--set", action="append", metavar="KEY=VALUE",
-                   help="override any scene value by dotted path, e.g. --set object.0.material=\"water\"")
+    p.add_argument(
+        "--set",
+        action="append",
+        metavar="KEY=VALUE",
+        help='override any scene value by dotted path, e.g. --set object.0.material="water"',
+    )
     p.set_defaults(func=run)

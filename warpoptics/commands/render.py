@@ -6,11 +6,10 @@ import sys
 
 
 def run(args) -> int:
+    from ..bench import is_bench_scene
     from ..errors import InputError
     from ..render import Renderer
     from ..scene import Scene, parse_value
-
-    from ..bench import is_bench_scene
 
     if is_bench_scene(args.scene):
         # an optical-bench scene ([source] type = "beam"): trace it forward onto its screens

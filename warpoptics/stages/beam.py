@@ -109,16 +109,23 @@ class Beam:
 
     def __post_init__(self) -> None:
         if self.type not in BEAM_TYPES:
-            raise InputError("unknown beam type", field="source.type", value=self.type,
-                             allowed=", ".join(BEAM_TYPES))
+            raise InputError(
+                "unknown beam type", field="source.type", value=self.type, allowed=", ".join(BEAM_TYPES)
+            )
         _unit(self.direction, "source.direction")
         if not (math.isfinite(self.width) and self.width >= 0.0):
             raise InputError("must be >= 0", field="source.width", value=self.width)
         if not (0.0 < self.divergence < 360.0):
-            raise InputError("out of range", field="source.divergence", value=self.divergence, allowed="> 0 and < 360")
+            raise InputError(
+                "out of range", field="source.divergence", value=self.divergence, allowed="> 0 and < 360"
+            )
         if self.polarization not in POLARIZATIONS:
-            raise InputError("unknown polarization", field="source.polarization", value=self.polarization,
-                             allowed=", ".join(POLARIZATIONS))
+            raise InputError(
+                "unknown polarization",
+                field="source.polarization",
+                value=self.polarization,
+                allowed=", ".join(POLARIZATIONS),
+            )
         if not (self.power > 0.0 and math.isfinite(self.power)):
             raise InputError("must be > 0", field="source.power", value=self.power)
         if int(self.rays) != self.rays or not 1 <= self.rays <= 1 << 24:
@@ -126,18 +133,27 @@ class Beam:
         if self.lines is not None:
             lines = np.asarray(self.lines, dtype=np.float64)
             if lines.ndim != 1 or lines.size == 0 or not np.all((lines >= 360.0) & (lines <= 830.0)):
-                raise InputError("wavelengths must lie in 360 .. 830 nm", field="source.lines", value=list(self.lines))
+                raise InputError(
+                    "wavelengths must lie in 360 .. 830 nm", field="source.lines", value=list(self.lines)
+                )
         if isinstance(self.spectrum, str):
             from ..spectra import ILLUMINANTS
 
             if self.spectrum not in ILLUMINANTS:
-                raise InputError("unknown illuminant", field="source.spectrum", value=self.spectrum,
-                                 allowed=", ".join(ILLUMINANTS) + " or an sRGB triple [r, g, b]")
+                raise InputError(
+                    "unknown illuminant",
+                    field="source.spectrum",
+                    value=self.spectrum,
+                    allowed=", ".join(ILLUMINANTS) + " or an sRGB triple [r, g, b]",
+                )
         else:
             rgb = np.asarray(self.spectrum, dtype=np.float64)
             if rgb.shape != (3,) or not np.isfinite(rgb).all() or rgb.min() < 0 or rgb.max() <= 0:
-                raise InputError("must be an illuminant name or a non-negative sRGB triple [r, g, b]",
-                                 field="source.spectrum", value=self.spectrum)
+                raise InputError(
+                    "must be an illuminant name or a non-negative sRGB triple [r, g, b]",
+                    field="source.spectrum",
+                    value=self.spectrum,
+                )
 
     def basis(self) -> tuple[np.ndarray, np.ndarray]:
         """(direction, x) unit vectors of the source frame (x = ``polarization_x`` projected
@@ -147,8 +163,11 @@ class Beam:
             x = np.asarray(self.polarization_x, dtype=np.float64)
             x = x - d * (d @ x)
             if np.linalg.norm(x) < 1e-9:
-                raise InputError("must not be parallel to the direction", field="source.polarization_x",
-                                 value=list(self.polarization_x))
+                raise InputError(
+                    "must not be parallel to the direction",
+                    field="source.polarization_x",
+                    value=list(self.polarization_x),
+                )
             return d, x / np.linalg.norm(x)
         # perpendicular() of optics.jones, written out (host-side choice of a frame, not physics)
         a = np.abs(d)
@@ -195,7 +214,9 @@ class Beam:
             s = rgb_to_spectrum(np.asarray(self.spectrum, dtype=np.float64), wl)
         s = np.clip(np.asarray(s, dtype=np.float64), 0.0, None)
         if s.sum() <= 0:
-            raise InputError("the spectrum has no power in 360-830 nm", field="source.spectrum", value=self.spectrum)
+            raise InputError(
+                "the spectrum has no power in 360-830 nm", field="source.spectrum", value=self.spectrum
+            )
         return wl, s / s.sum()
 
     def params(self) -> BeamParams:

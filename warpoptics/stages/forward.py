@@ -38,10 +38,11 @@ at ``max_depth`` interfaces ("truncated").
 
 Energy ledger per ray (relative to its emitted power), columns of ``LEDGER``: screen, absorbed
 (Bouguer-Lambert in the media), escaped (left the scene), truncated (cut at ``max_depth``), lost
-(a ray inside a solid that found no exit: a crack in a mesh, or float32 round-off), overflow (screen deposits beyond the ``max_deposits`` slots of the
-ray: counted, not recorded), interface (power not accounted for by the Fresnel amplitudes at an
-interface: zero for transparent media up to float32 rounding, the interface absorption of
-absorbing ones).  emitted = screen + absorbed + escaped + truncated + lost + overflow + interface.
+(a ray inside a solid that found no exit: a crack in a mesh, or float32 round-off), overflow
+(screen deposits beyond the ``max_deposits`` slots of the ray: counted, not recorded),
+interface (power not accounted for by the Fresnel amplitudes at an interface: zero for
+transparent media up to float32 rounding, the interface absorption of absorbing ones).
+emitted = screen + absorbed + escaped + truncated + lost + overflow + interface.
 
 Determinism: each thread writes only its own ledger row and deposit slots and draws its own
 random stream ``rand_init(seed, ray index)``; the reductions run on the host in a fixed order,
@@ -64,7 +65,7 @@ import warp as wp
 
 from ..geometry.query import SceneGeometry, scene_closest_hit
 from ..materials.dispersion import MaterialTable, material_alpha, material_eval
-from ..optics.birefringence import UniaxialMedium, generalized_fresnel, kappa_extraordinary, uniaxial_medium
+from ..optics.birefringence import generalized_fresnel, kappa_extraordinary, uniaxial_medium
 from ..optics.fresnel import fresnel_amplitudes
 from ..optics.jones import (
     Jones,
@@ -132,8 +133,17 @@ class ForwardConfig:
 
 @wp.func
 def _push(
-    st: _Stack, n: int, o: wp.vec3f, d: wp.vec3f, s: wp.vec3f, b: wp.vec3f, m: Jones, w: float, inside: int,
-    depth: int, mode: int,
+    st: _Stack,
+    n: int,
+    o: wp.vec3f,
+    d: wp.vec3f,
+    s: wp.vec3f,
+    b: wp.vec3f,
+    m: Jones,
+    w: float,
+    inside: int,
+    depth: int,
+    mode: int,
 ):
     for c in range(3):
         st[n, _O + c] = o[c]
@@ -206,7 +216,9 @@ def _crystal(p: ForwardParams, mats: MaterialTable, obj: int, wavelength: float)
 
 
 @wp.func
-def _segment_alpha(p: ForwardParams, mats: MaterialTable, obj: int, mode: int, s: wp.vec3f, wavelength: float):
+def _segment_alpha(
+    p: ForwardParams, mats: MaterialTable, obj: int, mode: int, s: wp.vec3f, wavelength: float
+):
     # Bouguer-Lambert coefficient (1/mm) of a ray segment inside object obj (Guy & Soler eq. 6, 7)
     mid = p.object_material[obj]
     ao, ae = material_alpha(mats, mid, wavelength)
@@ -386,30 +398,68 @@ def forward_trace_kernel(
                 m_in = jones_mul(jones_real(frame_change(s_in, bx, so.incident.e_re)), m)
                 f_in = so.incident.flux
                 if so.ro.propagating == 1:
-                    m_r = jones_scale(jones_mul(jones(so.r_o, se.r_o, so.r_e, se.r_e), m_in),
-                                      _flux_scale(so.ro.flux, f_in))
+                    m_r = jones_scale(
+                        jones_mul(jones(so.r_o, se.r_o, so.r_e, se.r_e), m_in), _flux_scale(so.ro.flux, f_in)
+                    )
                     e_r = ray_power(m_r, w, csrc)
                     if e_r > 0.0:
-                        st = _push(st, n + c, x + so.ro.ray * fp.epsilon, so.ro.ray, so.ro.wave_normal,
-                                   so.ro.e_re, m_r, w, obj_a, depth + 1, -1)
+                        st = _push(
+                            st,
+                            n + c,
+                            x + so.ro.ray * fp.epsilon,
+                            so.ro.ray,
+                            so.ro.wave_normal,
+                            so.ro.e_re,
+                            m_r,
+                            w,
+                            obj_a,
+                            depth + 1,
+                            -1,
+                        )
                         ea[c] = e_r
                         e_sum += e_r
                         c += 1
                 if so.to.propagating == 1:
-                    m_o = jones_scale(jones_mul(jones(so.t_o, se.t_o, zero, zero), m_in), _flux_scale(so.to.flux, f_in))
+                    m_o = jones_scale(
+                        jones_mul(jones(so.t_o, se.t_o, zero, zero), m_in), _flux_scale(so.to.flux, f_in)
+                    )
                     e_o = ray_power(m_o, w, csrc)
                     if e_o > 0.0:
-                        st = _push(st, n + c, x + so.to.ray * fp.epsilon, so.to.ray, so.to.wave_normal,
-                                   so.to.e_re, m_o, w, obj_b, depth + 1, 0)
+                        st = _push(
+                            st,
+                            n + c,
+                            x + so.to.ray * fp.epsilon,
+                            so.to.ray,
+                            so.to.wave_normal,
+                            so.to.e_re,
+                            m_o,
+                            w,
+                            obj_b,
+                            depth + 1,
+                            0,
+                        )
                         ea[c] = e_o
                         e_sum += e_o
                         c += 1
                 if so.te.propagating == 1:
-                    m_e = jones_scale(jones_mul(jones(so.t_e, se.t_e, zero, zero), m_in), _flux_scale(so.te.flux, f_in))
+                    m_e = jones_scale(
+                        jones_mul(jones(so.t_e, se.t_e, zero, zero), m_in), _flux_scale(so.te.flux, f_in)
+                    )
                     e_e = ray_power(m_e, w, csrc)
                     if e_e > 0.0:
-                        st = _push(st, n + c, x + so.te.ray * fp.epsilon, so.te.ray, so.te.wave_normal,
-                                   so.te.e_re, m_e, w, obj_b, depth + 1, 1)
+                        st = _push(
+                            st,
+                            n + c,
+                            x + so.te.ray * fp.epsilon,
+                            so.te.ray,
+                            so.te.wave_normal,
+                            so.te.e_re,
+                            m_e,
+                            w,
+                            obj_b,
+                            depth + 1,
+                            1,
+                        )
                         ea[c] = e_e
                         e_sum += e_e
                         c += 1
@@ -418,51 +468,115 @@ def forward_trace_kernel(
                 sol = generalized_fresnel(s_in, mode, nrm, ma, mb)
                 f_in = sol.incident.flux
                 if sol.ro.propagating == 1:
-                    m_ro = jones_scale(jones_mul(jones_diag(sol.r_o, zero), m), _flux_scale(sol.ro.flux, f_in))
+                    m_ro = jones_scale(
+                        jones_mul(jones_diag(sol.r_o, zero), m), _flux_scale(sol.ro.flux, f_in)
+                    )
                     e_ro = ray_power(m_ro, w, csrc)
                     if e_ro > 0.0:
-                        st = _push(st, n + c, x + sol.ro.ray * fp.epsilon, sol.ro.ray, sol.ro.wave_normal,
-                                   sol.ro.e_re, m_ro, w, obj_a, depth + 1, 0)
+                        st = _push(
+                            st,
+                            n + c,
+                            x + sol.ro.ray * fp.epsilon,
+                            sol.ro.ray,
+                            sol.ro.wave_normal,
+                            sol.ro.e_re,
+                            m_ro,
+                            w,
+                            obj_a,
+                            depth + 1,
+                            0,
+                        )
                         ea[c] = e_ro
                         e_sum += e_ro
                         c += 1
                 if sol.re.propagating == 1:
-                    m_re = jones_scale(jones_mul(jones_diag(sol.r_e, zero), m), _flux_scale(sol.re.flux, f_in))
+                    m_re = jones_scale(
+                        jones_mul(jones_diag(sol.r_e, zero), m), _flux_scale(sol.re.flux, f_in)
+                    )
                     e_re = ray_power(m_re, w, csrc)
                     if e_re > 0.0:
-                        st = _push(st, n + c, x + sol.re.ray * fp.epsilon, sol.re.ray, sol.re.wave_normal,
-                                   sol.re.e_re, m_re, w, obj_a, depth + 1, 1)
+                        st = _push(
+                            st,
+                            n + c,
+                            x + sol.re.ray * fp.epsilon,
+                            sol.re.ray,
+                            sol.re.wave_normal,
+                            sol.re.e_re,
+                            m_re,
+                            w,
+                            obj_a,
+                            depth + 1,
+                            1,
+                        )
                         ea[c] = e_re
                         e_sum += e_re
                         c += 1
                 if _is_uniaxial(fp, mats, obj_b) == 0:
                     # into an isotropic medium: the o/e amplitudes are its s/p components
                     if sol.to.propagating == 1:
-                        m_t = jones_scale(jones_mul(jones(sol.t_o, zero, sol.t_e, zero), m),
-                                          _flux_scale(sol.to.flux, f_in))
+                        m_t = jones_scale(
+                            jones_mul(jones(sol.t_o, zero, sol.t_e, zero), m), _flux_scale(sol.to.flux, f_in)
+                        )
                         e_t = ray_power(m_t, w, csrc)
                         if e_t > 0.0:
-                            st = _push(st, n + c, x + sol.to.ray * fp.epsilon, sol.to.ray, sol.to.wave_normal,
-                                       sol.to.e_re, m_t, w, obj_b, depth + 1, -1)
+                            st = _push(
+                                st,
+                                n + c,
+                                x + sol.to.ray * fp.epsilon,
+                                sol.to.ray,
+                                sol.to.wave_normal,
+                                sol.to.e_re,
+                                m_t,
+                                w,
+                                obj_b,
+                                depth + 1,
+                                -1,
+                            )
                             ea[c] = e_t
                             e_sum += e_t
                             c += 1
                 else:
                     if sol.to.propagating == 1:
-                        m_to = jones_scale(jones_mul(jones_diag(sol.t_o, zero), m), _flux_scale(sol.to.flux, f_in))
+                        m_to = jones_scale(
+                            jones_mul(jones_diag(sol.t_o, zero), m), _flux_scale(sol.to.flux, f_in)
+                        )
                         e_to = ray_power(m_to, w, csrc)
                         if e_to > 0.0:
-                            st = _push(st, n + c, x + sol.to.ray * fp.epsilon, sol.to.ray, sol.to.wave_normal,
-                                       sol.to.e_re, m_to, w, obj_b, depth + 1, 0)
+                            st = _push(
+                                st,
+                                n + c,
+                                x + sol.to.ray * fp.epsilon,
+                                sol.to.ray,
+                                sol.to.wave_normal,
+                                sol.to.e_re,
+                                m_to,
+                                w,
+                                obj_b,
+                                depth + 1,
+                                0,
+                            )
                             ea[c] = e_to
                             e_sum += e_to
                             c += 1
                     if sol.te.propagating == 1:
-                        m_te = jones_scale(jones_mul(jones_diag(sol.t_e, zero), m), _flux_scale(sol.te.flux, f_in))
+                        m_te = jones_scale(
+                            jones_mul(jones_diag(sol.t_e, zero), m), _flux_scale(sol.te.flux, f_in)
+                        )
                         e_te = ray_power(m_te, w, csrc)
                         if e_te > 0.0:
-                            st = _push(st, n + c, x + sol.te.ray * fp.epsilon, sol.te.ray, sol.te.wave_normal,
-                                       sol.te.e_re, m_te, w, obj_b, depth + 1, 1)
+                            st = _push(
+                                st,
+                                n + c,
+                                x + sol.te.ray * fp.epsilon,
+                                sol.te.ray,
+                                sol.te.wave_normal,
+                                sol.te.e_re,
+                                m_te,
+                                w,
+                                obj_b,
+                                depth + 1,
+                                1,
+                            )
                             ea[c] = e_te
                             e_sum += e_te
                             c += 1
@@ -522,8 +636,11 @@ def forward_params(
     p.max_deposits = int(config.max_deposits)
     p.seed = int(config.seed)
     p.object_material = wp.array(np.asarray(object_material, dtype=np.int32), dtype=wp.int32, device=device)
-    p.object_absorption_scale = wp.array(np.asarray(absorption_scale, dtype=np.float32), dtype=wp.float32,
-                                         device=device)
-    p.object_axis = wp.array(np.asarray(object_axis, dtype=np.float32).reshape(-1, 3), dtype=wp.vec3f, device=device)
+    p.object_absorption_scale = wp.array(
+        np.asarray(absorption_scale, dtype=np.float32), dtype=wp.float32, device=device
+    )
+    p.object_axis = wp.array(
+        np.asarray(object_axis, dtype=np.float32).reshape(-1, 3), dtype=wp.vec3f, device=device
+    )
     p.object_coating = wp.array(np.asarray(object_coating, dtype=np.int32), dtype=wp.int32, device=device)
     return p

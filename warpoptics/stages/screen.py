@@ -97,10 +97,15 @@ class Screen:
         if abs(float(n @ u)) > 1.0 - 1e-9:
             raise InputError("up must not be parallel to the normal", field=f + "up", value=list(self.up))
         if len(self.size) != 2 or not all(math.isfinite(s) and s > 0 for s in self.size):
-            raise InputError("must be two sizes > 0 [width, height] in mm", field=f + "size", value=list(self.size))
+            raise InputError(
+                "must be two sizes > 0 [width, height] in mm", field=f + "size", value=list(self.size)
+            )
         if len(self.resolution) != 2 or not all(int(r) == r and 1 <= r <= 16384 for r in self.resolution):
-            raise InputError("must be two pixel counts 1..16384 [width, height]", field=f + "resolution",
-                             value=list(self.resolution))
+            raise InputError(
+                "must be two pixel counts 1..16384 [width, height]",
+                field=f + "resolution",
+                value=list(self.resolution),
+            )
 
     def frame(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(normal, right, up) orthonormal, right = normal x up (up re-orthogonalised)."""
@@ -168,7 +173,9 @@ class ScreenImage:
         ref = float(np.percentile(lit, 99.9)) if lit.size else 1.0
         auto = -math.log2(ref) if ref > 0 else 0.0
         alpha = (self.stokes[..., 0] > 0).astype(np.float64)
-        return Image(xyz=self.xyz, stokes=self.stokes, alpha=alpha, exposure=auto + self.exposure, tone=self.tone)
+        return Image(
+            xyz=self.xyz, stokes=self.stokes, alpha=alpha, exposure=auto + self.exposure, tone=self.tone
+        )
 
     def save(self, path):
         """EXR (R, G, B, A, S0..S3, X, Y, Z; unscaled) or PNG (auto-exposed, tone mapped)."""
