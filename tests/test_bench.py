@@ -396,3 +396,85 @@ def test_spot_beam_cone(device):
     assert rad.max() == pytest.approx(20.0 * math.tan(math.radians(10.0)), rel=2e-3)
     np.testing.assert_allclose(dp["power"], 1.0 / 400, rtol=1e-5)
     assert r.ledger["screen"] == pytest.approx(1.0, abs=1e-6)
+
+
+def _e_ray(kt, m, no, ne, a):
+    """Independent float64 e-wave: k = kt + q m on the index ellipsoid k^T M k = 1,
+    M = I/ne^2 + (1/no^2 - 1/ne^2) a a^T, the root whose ray M k points along m; returns the unit
+    ray (Poynting) direction (Born & Wolf §15.3; Beyerle & McDermid 1998)."""
+    M = np.eye(3) / ne**2 + (1 / no**2 - 1 / ne**2) * np.outer(a, a)
+    qa, qb, qc = m @ M @ m, kt @ M @ m, kt @ M @ kt - 1.0
+    for q in ((-qb + math.sqrt(qb * qb - qa * qc)) / qa, (-qb - math.sqrt(qb * qb - qa * qc)) / qa):
+        t = M @ (kt + q * m)
+        if t @ m > 0:
+            return t / np.linalg.norm(t)
+    raise AssertionError("no e root")
+
+
+def test_calcite_oblique_o_and_e_rays(device):
+    """30 deg incidence in the y-z plane (the optic axis tilts in x-z, so the e ray leaves the plane
+    of incidence): both spots where a float64 Snell (o) and index-ellipsoid (e) trace put them."""
+    th = math.radians(30.0)
+    d = np.array([0.0, math.sin(th), -math.cos(th)])
+    scene = BenchScene.load(SCENES / "calcite.toml").with_overrides(
+        {
+            "source.rays": 16,
+            "source.width": 0.0,
+            "source.direction": list(d),
+            "object.0.width": 60.0,
+            "object.0.length": 60.0,
+            "sensor.0.center": [0.0, 8.0, -10.0],
+            "sensor.0.size": [8.0, 8.0],
+        }
+    )
+    r = bench(scene, device=device)
+    cal = wo.materials.get("calcite")
+    no, ne = float(cal.ordinary.n(589.3)), float(cal.extraordinary.n(589.3))
+    a = np.array([1.0, 0.0, 1.0]) / math.sqrt(2.0)
+    o = np.array([0.0, 0.0, 10.0])
+    entry = o + d * (5.0 / math.cos(th))  # top face z = 5
+    kt = d - np.array([0.0, 0.0, d[2]])  # tangential wave vector (units of k0), air n = 1
+    m = np.array([0.0, 0.0, -1.0])
+    t_o = kt + m * math.sqrt(no**2 - kt @ kt)
+    t_o /= np.linalg.norm(t_o)
+    t_e = _e_ray(kt, m, no, ne, a)
+    spots_ref = []
+    for t in (t_o, t_e):
+        exit_ = entry + t * (10.0 / -t[2])  # bottom face z = -5
+        hit = exit_ + d * (5.0 / math.cos(th))  # screen z = -10, leaving parallel to d
+        spots_ref.append((-(hit[0] - 0.0), hit[1] - 8.0))  # screen right = -x, up = y
+    s = r.spots(0, count=2, radius=0.2)
+    got = sorted((x["u"], x["v"]) for x in s)
+    np.testing.assert_allclose(got, sorted(spots_ref), atol=2e-3)
+    assert abs(r.balance()) < 1e-2
+    for x in s:
+        assert x["dop"] > 0.999
+
+
+def test_rgb_beam_colour(device):
+    """A beam of sRGB red lands with the chromaticity of the sRGB red primary (0.64, 0.33)
+    (Mallett-Yuksel spectra, 64 stratified samples)."""
+    data = {
+        "source": {
+            "type": "beam",
+            "position": [0.0, 0.0, 10.0],
+            "direction": [0.0, 0.0, -1.0],
+            "width": 0.1,
+            "spectrum": [1.0, 0.0, 0.0],
+            "rays": 4,
+        },
+        "render": {"wavelengths": 64},
+        "sensor": [
+            {
+                "type": "screen",
+                "center": [0.0, 0.0, -10.0],
+                "normal": [0.0, 0.0, 1.0],
+                "size": [2.0, 2.0],
+                "resolution": [4, 4],
+            }
+        ],
+    }
+    r = bench(BenchScene.from_dict(data), device=device)
+    xyz = r.screens[0].xyz.reshape(-1, 3).sum(axis=0)
+    assert xyz[1] == pytest.approx(1.0, rel=1e-6)  # the whole beam on the screen: Y = 1 by definition
+    np.testing.assert_allclose(xyz[:2] / xyz.sum(), (0.64, 0.33), atol=0.01)
