@@ -23,6 +23,7 @@ from .errors import InputError
 from .geometry import cuts
 from .optics import thinfilm
 from .render import Image, Renderer, render
+from .bench import BenchScene, bench
 from .scene import Scene
 
 __all__ = [
@@ -36,6 +37,8 @@ __all__ = [
     "spectra",
     "thinfilm",
     "InputError",
+    "BenchScene",
+    "bench",
     "Image",
     "Renderer",
     "Scene",

@@ -6,10 +6,16 @@ import sys
 
 
 def run(args) -> int:
+    from ..bench import is_bench_scene
     from ..errors import InputError
     from ..render import Renderer
     from ..scene import Scene, parse_value
 
+    if is_bench_scene(args.scene):
+        # an optical-bench scene ([source] type = "beam"): trace it forward onto its screens
+        from . import bench as bench_command
+
+        return bench_command.run(args)
     scene = Scene.load(args.scene)
     overrides = {}
     for item in args.set or []:

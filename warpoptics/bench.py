@@ -1,0 +1,618 @@
+"""The optical bench pipeline: Beam -> forward trace -> Screens, with an energy ledger.
+
+``bench(scene, **overrides) -> BenchResult``.  A bench scene is a TOML file like a camera
+scene, with a ``[source]`` beam instead of the camera and ``[[sensor]]`` screens::
+
+    [source]
+    type = "beam"                 # the only source type of a bench
+    kind = "collimated"           # "collimated" | "spot"
+    position = [-20.0, 0.0, 0.0]  # mm
+    direction = [1.0, 0.0, 0.0]
+    width = 0.5                   # beam diameter, mm (collimated)
+    divergence = 10.0             # full cone angle, degrees (spot)
+    spectrum = "E"                # "E" | "D65" | "A" | [r, g, b] (linear sRGB)
+    lines = [589.3]               # optional: only these wavelengths (nm), equal power
+    polarization = "unpolarized"  # "linear" (with polarization_angle, deg) | "right" | "left"
+    power = 1.0                   # W
+    rays = 256                    # beam positions (each traced at every wavelength sample)
+
+    [render]                      # all optional
+    wavelengths = 32              # spectral samples (strata of 360-830 nm)
+    max_depth = 16
+    split_threshold = 1e-4        # relative power above which rays split deterministically
+    max_deposits = 24             # screen deposits kept per beam ray
+    seed = 0
+    ambient_index = 1.0
+
+    [[sensor]]
+    type = "screen"
+    name = "wall"
+    center = [200.0, 0.0, 0.0]
+    normal = [-1.0, 0.0, 0.0]     # toward the light
+    up = [0.0, 0.0, 1.0]
+    size = [40.0, 20.0]           # mm
+    resolution = [400, 200]       # pixels
+
+    [[object]]                    # as in camera scenes, plus an optional coating (front to substrate)
+    shape = "plate"
+    material = "bk7"
+    coating = [{ n = 2.0, k = 0.0, thickness_nm = 300.0 }]   # or { material = "water", thickness_nm = ... }
+
+Objects are validated by ``warpoptics.scene``'s object rules (the same keys and errors as camera
+scenes); ``coating`` coats every face of its object (the stack faces the ambient medium).
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import time
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import SimpleNamespace
+from typing import Any
+
+import numpy as np
+import warp as wp
+
+from . import scene as _scene
+from .device import get_device, launch_tiled, load_module
+from .errors import InputError
+from .stages.beam import Beam
+from .stages.forward import LEDGER, ForwardConfig, forward_params, forward_trace_kernel
+from .stages.screen import Screen, ScreenImage, screen_set
+
+__all__ = ["BenchConfig", "BenchScene", "BenchResult", "Bench", "bench", "is_bench_scene"]
+
+_SOURCE_KEYS = {
+    "type",
+    "kind",
+    "position",
+    "direction",
+    "width",
+    "divergence",
+    "spectrum",
+    "lines",
+    "polarization",
+    "polarization_angle",
+    "polarization_x",
+    "power",
+    "rays",
+}
+_SENSOR_KEYS = {"type", "name", "center", "normal", "up", "size", "resolution"}
+_TOP_KEYS = {"source", "sensor", "render", "object"}
+_LAYER_KEYS = {"n", "k", "material", "thickness_nm"}
+
+
+@dataclass(frozen=True)
+class BenchConfig:
+    """``[render]`` of a bench scene."""
+
+    wavelengths: int = 32
+    max_depth: int = 16
+    split_threshold: float = 1.0e-4
+    max_deposits: int = 24
+    seed: int = 0
+    ambient_index: float = 1.0
+    exposure: float = 0.0
+    tone: str = "filmic"
+
+
+def is_bench_scene(path: str | Path) -> bool:
+    """True if the TOML file has a ``[source]`` table (an optical-bench scene)."""
+    try:
+        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError):
+        return False
+    return isinstance(data.get("source"), dict)
+
+
+def _render_config(t: dict, file) -> BenchConfig:
+    if not isinstance(t, dict):
+        raise InputError("must be a table [render]", file=file, field="render")
+    _scene._check_keys(t, set(BenchConfig.__dataclass_fields__), file=file, prefix="render.")
+    for k, lo, hi in (
+        ("wavelengths", 1, 4096),
+        ("max_depth", 0, 256),
+        ("max_deposits", 1, 1024),
+        ("seed", 0, 2**31 - 1),
+    ):
+        if k in t:
+            _scene._number(t[k], file=file, field_name=f"render.{k}", lo=lo, hi=hi, integer=True)
+    for k, lo, hi in (("split_threshold", 0.0, 1.0), ("ambient_index", 1.0, 10.0), ("exposure", -40.0, 40.0)):
+        if k in t:
+            _scene._number(t[k], file=file, field_name=f"render.{k}", lo=lo, hi=hi)
+    if "tone" in t:
+        _scene._choice(t["tone"], _scene.TONE_CURVES, file=file, field_name="render.tone")
+    return BenchConfig(**t)
+
+
+def _source(t: dict, file) -> Beam:
+    if not isinstance(t, dict):
+        raise InputError("must be a table [source]", file=file, field="source")
+    _scene._check_keys(t, _SOURCE_KEYS, file=file, prefix="source.")
+    _scene._choice(t.get("type", "beam"), ("beam",), file=file, field_name="source.type")
+    kw: dict[str, Any] = {}
+    if "kind" in t:
+        kw["type"] = _scene._choice(t["kind"], ("collimated", "spot"), file=file, field_name="source.kind")
+    for k in ("position", "direction", "polarization_x"):
+        if k in t:
+            kw[k] = _scene._vec3(t[k], file=file, field_name=f"source.{k}")
+    for k, lo in (("width", 0.0), ("divergence", 0.0), ("polarization_angle", -math.inf), ("power", 0.0)):
+        if k in t:
+            kw[k] = float(_scene._number(t[k], file=file, field_name=f"source.{k}", lo=lo))
+    if "rays" in t:
+        kw["rays"] = int(
+            _scene._number(t["rays"], file=file, field_name="source.rays", lo=1, hi=1 << 24, integer=True)
+        )
+    if "spectrum" in t:
+        s = t["spectrum"]
+        kw["spectrum"] = s if isinstance(s, str) else _scene._vec3(s, file=file, field_name="source.spectrum")
+    if "lines" in t:
+        lines = t["lines"]
+        if not isinstance(lines, list) or not lines:
+            raise InputError(
+                "must be a list of wavelengths in nm", file=file, field="source.lines", value=lines
+            )
+        kw["lines"] = tuple(
+            float(_scene._number(v, file=file, field_name="source.lines", lo=360.0, hi=830.0)) for v in lines
+        )
+    if "polarization" in t:
+        kw["polarization"] = _scene._choice(
+            t["polarization"],
+            ("unpolarized", "linear", "right", "left"),
+            file=file,
+            field_name="source.polarization",
+        )
+    try:
+        return Beam(**kw)
+    except InputError as exc:
+        raise InputError(
+            exc.message, file=file, field=exc.field, value=exc.value, allowed=exc.allowed
+        ) from None
+
+
+def _sensor(t: dict, index: int, file) -> Screen:
+    prefix = f"sensor.{index}."
+    if not isinstance(t, dict):
+        raise InputError("must be a table", file=file, field=f"sensor.{index}")
+    _scene._check_keys(t, _SENSOR_KEYS, file=file, prefix=prefix)
+    _scene._choice(t.get("type", "screen"), ("screen",), file=file, field_name=prefix + "type")
+    kw: dict[str, Any] = {"name": str(t.get("name", f"screen{index}"))}
+    for k in ("center", "normal", "up"):
+        if k in t:
+            kw[k] = _scene._vec3(t[k], file=file, field_name=prefix + k)
+    for k, integer in (("size", False), ("resolution", True)):
+        if k in t:
+            v = t[k]
+            if not isinstance(v, list) or len(v) != 2:
+                raise InputError(
+                    "must be a list of two numbers [width, height]", file=file, field=prefix + k, value=v
+                )
+            kw[k] = tuple(
+                _scene._number(c, file=file, field_name=prefix + k, lo=0, lo_open=True, integer=integer)
+                for c in v
+            )
+    try:
+        return Screen(**kw)
+    except InputError as exc:
+        raise InputError(
+            exc.message,
+            file=file,
+            field=prefix + (exc.field or "").split(".")[-1],
+            value=exc.value,
+            allowed=exc.allowed,
+        ) from None
+
+
+def _coating(v, index: int, file) -> tuple:
+    prefix = f"object.{index}.coating"
+    if isinstance(v, dict):
+        v = [v]
+    if not isinstance(v, list):
+        raise InputError("must be an array of layer tables", file=file, field=prefix, value=v)
+    layers = []
+    for j, layer in enumerate(v):
+        f = f"{prefix}.{j}."
+        if not isinstance(layer, dict):
+            raise InputError("must be a table", file=file, field=f[:-1], value=layer)
+        _scene._check_keys(layer, _LAYER_KEYS, file=file, prefix=f)
+        if "thickness_nm" not in layer:
+            raise InputError("missing key", file=file, field=f + "thickness_nm")
+        d = float(_scene._number(layer["thickness_nm"], file=file, field_name=f + "thickness_nm", lo=0.0))
+        if ("n" in layer) == ("material" in layer):
+            raise InputError(
+                'a layer needs exactly one of n = ... or material = "name"', file=file, field=f + "n"
+            )
+        if "n" in layer:
+            n = float(_scene._number(layer["n"], file=file, field_name=f + "n", lo=1.0e-3))
+            k = float(_scene._number(layer.get("k", 0.0), file=file, field_name=f + "k", lo=0.0))
+            layers.append((complex(n, k), d))
+        else:
+            if not isinstance(layer["material"], str):
+                raise InputError(
+                    "must be a material name", file=file, field=f + "material", value=layer["material"]
+                )
+            layers.append((str(layer["material"]), d))
+    return tuple(layers)
+
+
+@dataclass(frozen=True)
+class BenchScene:
+    """A validated bench scene (``data`` keeps the raw TOML for overrides)."""
+
+    source: Beam
+    sensors: tuple[Screen, ...]
+    objects: tuple[_scene.ObjectConfig, ...]
+    coatings: tuple[tuple | None, ...]
+    render: BenchConfig
+    data: dict = field(repr=False, compare=False, default_factory=dict)
+    path: str | None = None
+
+    @classmethod
+    def load(cls, path: str | Path) -> BenchScene:
+        p = Path(path)
+        if not p.is_file():
+            raise InputError("scene file not found", file=str(p))
+        try:
+            data = tomllib.loads(p.read_text(encoding="utf-8"))
+        except tomllib.TOMLDecodeError as exc:
+            raise InputError(f"not valid TOML ({exc})", file=str(p)) from None
+        return cls.from_dict(data, path=str(p))
+
+    @classmethod
+    def from_dict(cls, data: dict, *, path: str | None = None) -> BenchScene:
+        file = path or "<scene>"
+        base_dir = Path(path).parent if path else Path.cwd()
+        _scene._check_keys(data, _TOP_KEYS, file=file, prefix="")
+        if "source" not in data:
+            raise InputError(
+                'a bench scene needs a [source] table (type = "beam")', file=file, field="source"
+            )
+        source = _source(data["source"], file)
+        sensors_t = data.get("sensor", [])
+        if isinstance(sensors_t, dict):
+            sensors_t = [sensors_t]
+        if not isinstance(sensors_t, list) or not sensors_t:
+            raise InputError("a bench scene needs at least one [[sensor]] screen", file=file, field="sensor")
+        sensors = tuple(_sensor(t, i, file) for i, t in enumerate(sensors_t))
+        objs_t = data.get("object", [])
+        if not isinstance(objs_t, list):
+            raise InputError("must be an array of tables [[object]]", file=file, field="object")
+        objects, coatings = [], []
+        for i, t in enumerate(objs_t):
+            if not isinstance(t, dict):
+                raise InputError("must be a table", file=file, field=f"object.{i}")
+            t = dict(t)
+            coat = t.pop("coating", None)
+            objects.append(_scene._object_config(t, i, file, base_dir))
+            coatings.append(None if coat is None else _coating(coat, i, file))
+        render = _render_config(data.get("render", {}), file)
+        return cls(
+            source=source,
+            sensors=sensors,
+            objects=tuple(objects),
+            coatings=tuple(coatings),
+            render=render,
+            data=copy.deepcopy(data),
+            path=path,
+        )
+
+    def with_overrides(self, overrides: dict[str, Any] | None = None) -> BenchScene:
+        """A copy with dotted-path overrides, e.g. ``{"source.rays": 64, "object.0.position": [...]}``."""
+        data = copy.deepcopy(self.data)
+        for dotted, value in (overrides or {}).items():
+            parts = dotted.split(".")
+            if parts[0] == "sensor" and isinstance(data.get("sensor"), dict):
+                data["sensor"] = [data["sensor"]]
+            _scene.set_dotted(data, dotted, value, file=self.path or "<scene>")
+        return BenchScene.from_dict(data, path=self.path)
+
+
+@dataclass
+class BenchResult:
+    """What a bench run measured.
+
+    ``screens``: one :class:`ScreenImage` per sensor.  ``ledger``: power (W) per fate
+    (``emitted`` and the columns of ``stages.forward.LEDGER``).  ``deposits``: every recorded
+    screen hit, as NumPy arrays in a fixed order - ``screen``, ``u``, ``v`` (mm on the screen),
+    ``wavelength`` (nm), ``power`` (W), ``stokes`` (N, 4; W), ``depth`` (interfaces crossed),
+    ``ray`` (beam position index), ``xyz`` (N, 3; this deposit's share of the XYZ image).
+    ``wavelengths``, ``weights``: the beam's spectral samples and
+    their power fractions."""
+
+    screens: list[ScreenImage]
+    ledger: dict[str, float]
+    deposits: dict[str, np.ndarray]
+    wavelengths: np.ndarray
+    weights: np.ndarray
+    stats: dict = field(default_factory=dict)
+    sensors: tuple[Screen, ...] = ()
+    exposure: float = 0.0
+    tone: str = "filmic"
+
+    def screen_image(self, screen: int = 0, *, select: np.ndarray | None = None) -> ScreenImage:
+        """Bin the deposits on ``screen`` (optionally only those where the boolean array ``select``
+        over all deposits is true, e.g. ``result.deposits["depth"] >= 2``) into XYZ and Stokes
+        pixels, in deposit order (deterministic)."""
+        sc = self.sensors[screen]
+        dp = self.deposits
+        s = dp["screen"] == screen
+        if select is not None:
+            s &= np.asarray(select, dtype=bool)
+        pix = sc.pixel_index(dp["u"][s], dp["v"][s])
+        nx, ny = (int(r) for r in sc.resolution)
+        npx = nx * ny
+        xyz = np.stack([np.bincount(pix, weights=dp["xyz"][s, c], minlength=npx) for c in range(3)], axis=-1)
+        st = np.stack(
+            [np.bincount(pix, weights=dp["stokes"][s, c], minlength=npx) for c in range(4)], axis=-1
+        )
+        return ScreenImage(
+            screen=sc,
+            xyz=xyz.reshape(ny, nx, 3),
+            stokes=st.reshape(ny, nx, 4),
+            power=float(dp["power"][s].sum()),
+            exposure=self.exposure,
+            tone=self.tone,
+        )
+
+    def balance(self) -> float:
+        """(screen + absorbed + escaped) / emitted - 1: the part of the power the ledger's three
+        physical fates miss (truncated, lost, overflow, interface)."""
+        lg = self.ledger
+        return (lg["screen"] + lg["absorbed"] + lg["escaped"]) / lg["emitted"] - 1.0
+
+    def spot_positions(self, screen: int = 0, *, depth: int | None = None) -> dict[str, np.ndarray]:
+        """Per wavelength sample: power-weighted centroid ``u``, ``v`` (mm; NaN where nothing
+        arrived) and ``power`` (W) on ``screen`` (optionally only deposits with that ``depth``)."""
+        dp = self.deposits
+        sel = dp["screen"] == screen
+        if depth is not None:
+            sel &= dp["depth"] == depth
+        idx = np.searchsorted(self.wavelengths, dp["wavelength"][sel])
+        nw = self.wavelengths.size
+        p = np.bincount(idx, weights=dp["power"][sel], minlength=nw)
+        pu = np.bincount(idx, weights=dp["power"][sel] * dp["u"][sel], minlength=nw)
+        pv = np.bincount(idx, weights=dp["power"][sel] * dp["v"][sel], minlength=nw)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            u = np.where(p > 0, pu / p, np.nan)
+            v = np.where(p > 0, pv / p, np.nan)
+        return {"wavelength": self.wavelengths.copy(), "u": u, "v": v, "power": p}
+
+    def spots(self, screen: int = 0, *, count: int = 2, radius: float | None = None) -> list[dict]:
+        """The ``count`` brightest spots on ``screen``: greedily, from the brightest pixel, the
+        deposits within ``radius`` mm (default 10 pixels) of their own centroid (mean shift),
+        removed before the next spot.  Each spot:
+        ``u``, ``v`` (power-weighted centroid, mm), ``power`` (W), ``stokes`` (summed, W),
+        ``dop`` (degree of polarization), ``angle`` (deg, of linear polarization from the
+        screen's x toward y)."""
+        img = self.screens[screen]
+        sc = img.screen
+        if radius is None:
+            radius = 10.0 * max(sc.size[0] / sc.resolution[0], sc.size[1] / sc.resolution[1])
+        dp = self.deposits
+        sel = np.nonzero(dp["screen"] == screen)[0]
+        u, v, p, st = dp["u"][sel], dp["v"][sel], dp["power"][sel], dp["stokes"][sel]
+        alive = np.ones(sel.size, dtype=bool)
+        out = []
+        for _ in range(count):
+            if not alive.any():
+                break
+            pix = sc.pixel_index(u[alive], v[alive])
+            nx, ny = (int(r) for r in sc.resolution)
+            best = int(np.argmax(np.bincount(pix, weights=p[alive], minlength=nx * ny)))
+            cu, cv = sc.pixel_centers()
+            u0, v0 = cu.ravel()[best], cv.ravel()[best]
+            for _it in range(8):  # mean shift: re-centre on the centroid within the radius
+                near = alive & ((u - u0) ** 2 + (v - v0) ** 2 <= radius**2)
+                u1 = float((p[near] * u[near]).sum() / p[near].sum())
+                v1 = float((p[near] * v[near]).sum() / p[near].sum())
+                if (u1 - u0) ** 2 + (v1 - v0) ** 2 < 1e-18:
+                    break
+                u0, v0 = u1, v1
+            near = alive & ((u - u0) ** 2 + (v - v0) ** 2 <= radius**2)
+            pw = p[near].sum()
+            s = st[near].sum(axis=0)
+            out.append(
+                {
+                    "u": float((p[near] * u[near]).sum() / pw),
+                    "v": float((p[near] * v[near]).sum() / pw),
+                    "power": float(pw),
+                    "stokes": s,
+                    "dop": float(np.linalg.norm(s[1:]) / s[0]),
+                    "angle": float(np.degrees(0.5 * np.arctan2(s[2], s[1]))),
+                }
+            )
+            alive &= ~near
+        return out
+
+    def save(self, path: str | Path, screen: int = 0) -> Path:
+        return self.screens[screen].save(path)
+
+
+class Bench:
+    """The bench pipeline for a scene; owns every stage's device data.  ``run()`` traces."""
+
+    def __init__(self, scene: BenchScene, *, device=None):
+        from . import materials as wo_materials
+        from .geometry.query import GeometryScene
+        from .materials.dispersion import build_material_table
+        from .optics.thinfilm import make_coating_stack
+        from .render import _build_objects
+
+        self.scene = scene
+        self.device = get_device(device)
+        r = scene.render
+        self.wavelengths, self.weights = scene.source.spectral_samples(r.wavelengths)
+        if scene.objects:
+            meshes, mats, axes = _build_objects(
+                SimpleNamespace(objects=scene.objects, path=scene.path), self.device
+            )
+        else:
+            # an empty bench: one tiny object far away keeps the geometry struct valid
+            from .geometry import cuts
+
+            far = np.eye(4)
+            far[:3, 3] = (1.0e5, 1.0e5, 1.0e5)
+            meshes, mats, axes = [(cuts.cube(1.0e-3), far)], [wo_materials.get("water")], [None]
+        self.geometry = GeometryScene(meshes, device=self.device)
+        self.materials, ids = build_material_table(mats, self.device, rgb3=False)
+        world_axes = []
+        for i, (mat, ax) in enumerate(zip(mats, axes, strict=True)):
+            a = np.asarray(
+                ax if ax is not None else getattr(mat, "optic_axis", (0.0, 0.0, 1.0)), dtype=np.float64
+            )
+            if scene.objects:
+                a = scene.objects[i].rotation_matrix() @ a
+            world_axes.append(a / max(np.linalg.norm(a), 1e-30))
+        # coatings: one CoatingStack for all coated objects
+        coat_ids, layers = [], []
+        grid = 360.0 + 5.0 * np.arange(95)
+        for c in scene.coatings if scene.objects else (None,):
+            if c is None:
+                coat_ids.append(-1)
+                continue
+            coat_ids.append(len(layers))
+            rows = []
+            for index, d in c:
+                if isinstance(index, str):
+                    m = wo_materials.get(index)
+                    nn = np.asarray(m.n(grid), dtype=np.float64)
+                    kk = np.asarray(m.k(grid), dtype=np.float64) if hasattr(m, "k") else np.zeros_like(nn)
+                    rows.append((nn + 1j * kk, d))
+                else:
+                    rows.append((np.full(grid.size, index), d))
+            layers.append(rows)
+        self.coatings = make_coating_stack(
+            layers or [[]], wavelength_start_nm=360.0, wavelength_step_nm=5.0, device=self.device
+        )
+        self.config = ForwardConfig(
+            max_depth=r.max_depth, split_threshold=r.split_threshold, max_deposits=r.max_deposits, seed=r.seed
+        )
+        absorption = [ob.absorption_scale for ob in scene.objects] or [1.0]
+        self.params = forward_params(
+            np.asarray(ids, dtype=np.int32),
+            np.asarray(absorption, dtype=np.float32),
+            np.asarray(world_axes),
+            np.asarray(coat_ids, dtype=np.int32),
+            config=self.config,
+            ambient=(r.ambient_index, 0.0),
+            device=self.device,
+        )
+        self.beam = scene.source.params()
+        self.screens = screen_set(list(scene.sensors), self.device)
+        self.wl_device = wp.array(self.wavelengths.astype(np.float32), dtype=wp.float32, device=self.device)
+
+    def run(
+        self, *, threads: int | None = None, tile_size: int | None = None, chunk: int = 1 << 15
+    ) -> BenchResult:
+        """Trace every beam ray; ``chunk`` beam rays (times wavelengths) per launch round."""
+        from .spectra import cmf
+
+        src = self.scene.source
+        n_wl = self.wavelengths.size
+        total = src.rays * n_wl
+        k_dep = self.config.max_deposits
+        ray_power = src.power / src.rays * self.weights  # W per beam ray, per wavelength sample
+        chunk = max(n_wl, (int(chunk) // n_wl) * n_wl)
+        dev = self.device
+        dep_screen = wp.empty(chunk * k_dep, dtype=wp.int32, device=dev)
+        dep_uv = wp.empty(chunk * k_dep, dtype=wp.vec2f, device=dev)
+        dep_stokes = wp.empty(chunk * k_dep, dtype=wp.vec4f, device=dev)
+        dep_depth = wp.empty(chunk * k_dep, dtype=wp.int32, device=dev)
+        ledger_dev = wp.zeros((chunk, len(LEDGER)), dtype=wp.float64, device=dev)
+        load_module(forward_trace_kernel, dev)
+        ledger_rows = []  # per beam ray, summed once at the end: the same sums for any chunking
+        parts: dict[str, list] = {
+            k: [] for k in ("screen", "u", "v", "wl_index", "stokes", "depth", "ray", "scale")
+        }
+        t0 = time.perf_counter()
+        for start in range(0, total, chunk):
+            count = min(chunk, total - start)
+            inputs = [
+                self.params,
+                self.geometry.geometry,
+                self.materials,
+                self.coatings,
+                self.beam,
+                self.screens,
+                self.wl_device,
+                dep_screen,
+                dep_uv,
+                dep_stokes,
+                dep_depth,
+                ledger_dev,
+            ]
+            launch_tiled(
+                forward_trace_kernel,
+                count,
+                [start, *inputs],
+                device=dev,
+                threads=threads,
+                tile_size=tile_size,
+            )
+            thread = np.arange(start, start + count)
+            p_ray = ray_power[thread % n_wl]
+            ledger_rows.append(ledger_dev.numpy()[:count] * p_ray[:, None])
+            scr = dep_screen.numpy()[: count * k_dep]
+            sel = np.nonzero(scr >= 0)[0]
+            th = start + sel // k_dep
+            parts["screen"].append(scr[sel])
+            uv = dep_uv.numpy()[: count * k_dep][sel].astype(np.float64)
+            parts["u"].append(uv[:, 0])
+            parts["v"].append(uv[:, 1])
+            parts["wl_index"].append(th % n_wl)
+            parts["stokes"].append(dep_stokes.numpy()[: count * k_dep][sel].astype(np.float64))
+            parts["depth"].append(dep_depth.numpy()[: count * k_dep][sel])
+            parts["ray"].append(th // n_wl)
+            parts["scale"].append(ray_power[th % n_wl])
+        elapsed = time.perf_counter() - t0
+        ledger = np.concatenate(ledger_rows).sum(axis=0)
+        cat = {k: np.concatenate(v) for k, v in parts.items()}
+        stokes = cat["stokes"] * cat["scale"][:, None]
+        wl = self.wavelengths[cat["wl_index"]]
+        deposits = {
+            "screen": cat["screen"].astype(np.int64),
+            "u": cat["u"],
+            "v": cat["v"],
+            "wavelength": wl,
+            "power": stokes[:, 0].copy(),
+            "stokes": stokes,
+            "depth": cat["depth"].astype(np.int64),
+            "ray": cat["ray"].astype(np.int64),
+        }
+        # XYZ normalised so that the whole beam in one pixel has Y = 1
+        cm = cmf(self.wavelengths)
+        y_norm = float((self.weights * cm[:, 1]).sum())
+        y_norm = y_norm if y_norm > 0 else 1.0
+        xyz_w = cm[cat["wl_index"]] * (deposits["power"] / (src.power * y_norm))[:, None]
+        deposits["xyz"] = xyz_w
+        led = {"emitted": float(src.power)}
+        led.update({name: float(v) for name, v in zip(LEDGER, ledger, strict=True)})
+        stats = {"seconds": elapsed, "beam_rays": total, "deposits": int(deposits["power"].size)}
+        result = BenchResult(
+            screens=[],
+            ledger=led,
+            deposits=deposits,
+            wavelengths=self.wavelengths.copy(),
+            weights=self.weights.copy(),
+            stats=stats,
+            sensors=tuple(self.scene.sensors),
+            exposure=self.scene.render.exposure,
+            tone=self.scene.render.tone,
+        )
+        result.screens = [result.screen_image(k) for k in range(len(self.scene.sensors))]
+        return result
+
+
+def bench(
+    scene: BenchScene | str | Path, *, device=None, threads: int | None = None, overrides: dict | None = None
+) -> BenchResult:
+    """Run an optical-bench scene (a :class:`BenchScene` or a TOML path) and return what its
+    screens recorded, with the energy ledger.  ``overrides``: dotted paths (``{"source.rays": 64}``)."""
+    if not isinstance(scene, BenchScene):
+        scene = BenchScene.load(scene)
+    if overrides:
+        scene = scene.with_overrides(overrides)
+    return Bench(scene, device=device).run(threads=threads)

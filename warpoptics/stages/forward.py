@@ -1,0 +1,646 @@
+"""Forward (light) tracing for the optical bench: beams through solids onto screens.
+
+One thread follows one beam ray (one position of the :class:`~warpoptics.stages.beam.Beam` at one
+wavelength sample) and the whole tree of rays it splits into, with the physics of the camera
+tracer (``stages.trace``): closest hits by ``geometry.query.scene_closest_hit``, indices and
+absorption by ``materials.dispersion.material_eval`` / ``material_alpha``, isotropic interfaces
+by ``optics.fresnel.fresnel_amplitudes`` (or ``optics.thinfilm.coating_amplitudes`` for a coated
+object), uniaxial interfaces by the generalized Fresnel solution ``optics.birefringence
+.generalized_fresnel`` (Guy & Soler 2004 eq. 5 after McClain et al. 1993), frames and Jones
+algebra by ``optics.jones``.
+
+Forward transport
+-----------------
+A ray carries a 2x2 complex Jones matrix ``M`` mapping the source field (in the beam's frame)
+to the ray's field, and a scalar weight ``w``; its power is ``w tr(M C M^dagger)`` with ``C``
+the beam's source coherency matrix (trace 1), times the ray's emitted power.  Amplitudes are
+normalised by the square root of the normal Poynting-flux ratio at every interface so that
+``|M|^2`` is power (for isotropic media ``Re(N2 cos t) / Re(N1 cos i)``, as in ``stages.trace``;
+for uniaxial media the ``flux`` of each wave of eq. 5).
+
+Media and modes: in an isotropic medium (``mode = -1``) the field has two components in the
+frame ``(x, d x x)``.  In a uniaxial crystal a ray is one eigenmode, o (``mode = 0``) or e
+(``mode = 1``), and row 0 of ``M`` holds its scalar amplitude (row 1 is zero): entering a crystal
+an unpolarized ray splits into an o ray and an e ray.  An e ray travels along its Poynting (ray)
+direction, while its wave normal (kept on the ray) enters the next interface's eq. 5 - Beyerle &
+McDermid 1998.  Leaving the crystal, the o and e amplitudes of each transmitted wave become the
+s/p components of an isotropic ray.  Pleochroic absorption: kappa_o for o rays, kappa^e(theta)
+of eq. 7 (``kappa_extraordinary``) for e rays, Bouguer-Lambert along the ray path.
+
+Splitting: while a ray's tree node carries at least ``split_threshold`` of the ray's emitted
+power (and the stack has room), every child (reflected, refracted; o and e) is followed -
+deterministically.  Below it one child is chosen with probability proportional to its power and
+weighted by 1/probability, which carries the parent's power exactly, so the energy ledger
+closes per ray, not only on average.  An interface never returns more power than arrives (with an
+absorbing incident medium the Fresnel flux split can, near total reflection: the children are
+then scaled to the incident power).  Paths end on a screen, escape, are absorbed, or are cut
+at ``max_depth`` interfaces ("truncated").
+
+Energy ledger per ray (relative to its emitted power), columns of ``LEDGER``: screen, absorbed
+(Bouguer-Lambert in the media), escaped (left the scene), truncated (cut at ``max_depth``), lost
+(a ray inside a solid that found no exit: a crack in a mesh, or float32 round-off), overflow
+(screen deposits beyond the ``max_deposits`` slots of the ray: counted, not recorded),
+interface (power not accounted for by the Fresnel amplitudes at an interface: zero for
+transparent media up to float32 rounding, the interface absorption of absorbing ones).
+emitted = screen + absorbed + escaped + truncated + lost + overflow + interface.
+
+Determinism: each thread writes only its own ledger row and deposit slots and draws its own
+random stream ``rand_init(seed, ray index)``; the reductions run on the host in a fixed order,
+so results are identical for any thread count or tiling.
+
+References:
+    Guy, S., Soler, C. 2004. Graphics Gems Revisited. ACM TOG 23(3). eq. 2-7, 12.
+    Beyerle, G., McDermid, I. S. 1998. Ray-tracing formulas for refraction and internal
+        reflection in uniaxial crystals. Applied Optics 37(34).
+    Veach, E. 1997. Robust Monte Carlo Methods for Light Transport Simulation, ch. 4
+        (splitting and random selection weighted by 1/probability).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import warp as wp
+
+from ..geometry.query import SceneGeometry, scene_closest_hit
+from ..materials.dispersion import MaterialTable, material_alpha, material_eval
+from ..optics.birefringence import generalized_fresnel, kappa_extraordinary, uniaxial_medium
+from ..optics.fresnel import fresnel_amplitudes
+from ..optics.jones import (
+    Jones,
+    coherency_transform,
+    frame_change,
+    jones,
+    jones_diag,
+    jones_identity,
+    jones_mul,
+    jones_real,
+    jones_scale,
+    perpendicular,
+    s_vector,
+    stokes_from_coherency,
+)
+from ..optics.thinfilm import CoatingStack, coating_amplitudes
+from .beam import BeamParams, beam_ray
+from .screen import ScreenSet, screen_hit
+
+__all__ = ["ForwardParams", "ForwardConfig", "forward_params", "forward_trace_kernel", "LEDGER", "STACK_SIZE"]
+
+#: names of the ledger columns (see the module docstring)
+LEDGER = ("screen", "absorbed", "escaped", "truncated", "lost", "overflow", "interface")
+_L_SCREEN, _L_ABS, _L_ESC, _L_TRUNC, _L_LOST, _L_OVER, _L_IFACE = 0, 1, 2, 3, 4, 5, 6
+
+STACK_SIZE = 40
+_COLS = 24
+_Stack = wp.types.matrix(shape=(STACK_SIZE, _COLS), dtype=wp.float32)
+_O = 0  # origin xyz
+_D = 3  # ray (energy) direction xyz
+_S = 6  # wave normal xyz (= ray direction except for e rays)
+_B = 9  # polarization basis x (isotropic rays)
+_MR = 12  # Jones real part (4)
+_MI = 16  # Jones imaginary part (4)
+_W = 20  # scalar weight (absorption, random selection)
+_IN = 21  # object the ray runs inside (-1: ambient)
+_DEPTH = 22  # interfaces crossed
+_MODE = 23  # -1 isotropic, 0 ordinary, 1 extraordinary
+
+
+@wp.struct
+class ForwardParams:
+    """Per-run settings of the forward trace (values, not compile-time constants)."""
+
+    max_depth: int
+    split_threshold: float  # relative power above which a node splits deterministically
+    t_max: float  # mm
+    epsilon: float  # origin offset along a new direction, mm
+    ambient: wp.vec2f  # complex index around the objects
+    max_deposits: int  # screen deposit slots per beam ray
+    seed: int
+    object_material: wp.array(dtype=wp.int32)
+    object_absorption_scale: wp.array(dtype=wp.float32)
+    object_axis: wp.array(dtype=wp.vec3f)  # world-space unit optic axis (uniaxial objects)
+    object_coating: wp.array(dtype=wp.int32)  # coating index in the CoatingStack, -1: bare
+
+
+@dataclass(frozen=True)
+class ForwardConfig:
+    max_depth: int = 16
+    split_threshold: float = 1.0e-4
+    max_deposits: int = 24
+    seed: int = 0
+
+
+@wp.func
+def _push(
+    st: _Stack,
+    n: int,
+    o: wp.vec3f,
+    d: wp.vec3f,
+    s: wp.vec3f,
+    b: wp.vec3f,
+    m: Jones,
+    w: float,
+    inside: int,
+    depth: int,
+    mode: int,
+):
+    for c in range(3):
+        st[n, _O + c] = o[c]
+        st[n, _D + c] = d[c]
+        st[n, _S + c] = s[c]
+        st[n, _B + c] = b[c]
+    st[n, _MR + 0] = m.re[0, 0]
+    st[n, _MR + 1] = m.re[0, 1]
+    st[n, _MR + 2] = m.re[1, 0]
+    st[n, _MR + 3] = m.re[1, 1]
+    st[n, _MI + 0] = m.im[0, 0]
+    st[n, _MI + 1] = m.im[0, 1]
+    st[n, _MI + 2] = m.im[1, 0]
+    st[n, _MI + 3] = m.im[1, 1]
+    st[n, _W] = w
+    st[n, _IN] = float(inside)
+    st[n, _DEPTH] = float(depth)
+    st[n, _MODE] = float(mode)
+    return st
+
+
+@wp.func
+def _row_vec(st: _Stack, n: int, c0: int):
+    return wp.vec3f(st[n, c0], st[n, c0 + 1], st[n, c0 + 2])
+
+
+@wp.func
+def _row_jones(st: _Stack, n: int):
+    m = Jones()
+    m.re = wp.mat22(st[n, _MR], st[n, _MR + 1], st[n, _MR + 2], st[n, _MR + 3])
+    m.im = wp.mat22(st[n, _MI], st[n, _MI + 1], st[n, _MI + 2], st[n, _MI + 3])
+    return m
+
+
+@wp.func
+def _copy_row(st: _Stack, src: int, dst: int):
+    for c in range(_COLS):
+        st[dst, c] = st[src, c]
+    return st
+
+
+@wp.func
+def ray_power(m: Jones, w: float, source: Jones):
+    """Relative power w tr(M C M^dagger) of a ray (C: source coherency, trace 1)."""
+    j = coherency_transform(m, source)
+    return w * (j.re[0, 0] + j.re[1, 1])
+
+
+@wp.func
+def _medium_index(p: ForwardParams, mats: MaterialTable, obj: int, wavelength: float):
+    if obj < 0:
+        return p.ambient, p.ambient
+    return material_eval(mats, p.object_material[obj], wavelength)
+
+
+@wp.func
+def _is_uniaxial(p: ForwardParams, mats: MaterialTable, obj: int):
+    if obj < 0:
+        return 0
+    return mats.uniaxial[p.object_material[obj]]
+
+
+@wp.func
+def _crystal(p: ForwardParams, mats: MaterialTable, obj: int, wavelength: float):
+    # real indices and world optic axis (zero axis: isotropic) for generalized_fresnel
+    no, ne = _medium_index(p, mats, obj, wavelength)
+    if _is_uniaxial(p, mats, obj) == 0:
+        return uniaxial_medium(no[0], no[0], wp.vec3f(0.0))
+    return uniaxial_medium(no[0], ne[0], p.object_axis[obj])
+
+
+@wp.func
+def _segment_alpha(
+    p: ForwardParams, mats: MaterialTable, obj: int, mode: int, s: wp.vec3f, wavelength: float
+):
+    # Bouguer-Lambert coefficient (1/mm) of a ray segment inside object obj (Guy & Soler eq. 6, 7)
+    mid = p.object_material[obj]
+    ao, ae = material_alpha(mats, mid, wavelength)
+    a = ao
+    if mode == 1:
+        no, ne = material_eval(mats, mid, wavelength)
+        a = kappa_extraordinary(wp.dot(s, p.object_axis[obj]), ao, ae, no[0], ne[0])
+    return a * p.object_absorption_scale[obj]
+
+
+@wp.func
+def _flux_scale(out_flux: float, in_flux: float):
+    if in_flux <= 0.0 or out_flux <= 0.0:
+        return 0.0
+    return wp.sqrt(out_flux / in_flux)
+
+
+@wp.kernel
+def forward_trace_kernel(
+    offset: int,
+    base_ray: int,
+    fp: ForwardParams,
+    geom: SceneGeometry,
+    mats: MaterialTable,
+    coatings: CoatingStack,
+    beam: BeamParams,
+    screens: ScreenSet,
+    wavelengths: wp.array(dtype=wp.float32),
+    dep_screen: wp.array(dtype=wp.int32),
+    dep_uv: wp.array(dtype=wp.vec2f),
+    dep_stokes: wp.array(dtype=wp.vec4f),
+    dep_depth: wp.array(dtype=wp.int32),
+    ledger: wp.array2d(dtype=wp.float64),
+):
+    """One beam ray (position i / n_wl, wavelength sample i % n_wl, i = base_ray + thread) and its
+    whole split tree; deposit slots and ledger rows are indexed by the thread (chunk-relative)."""
+    li = wp.tid() + offset
+    i = base_ray + li
+    n_wl = wavelengths.shape[0]
+    wl = wavelengths[i % n_wl]
+    o0, d0, bx0 = beam_ray(beam, i / n_wl)
+    csrc = beam.source_coherency
+    rng = wp.rand_init(fp.seed, i)
+    st = _Stack()
+    st = _push(st, 0, o0, d0, d0, bx0, jones_identity(), 1.0, -1, 0, -1)
+    n = int(1)
+    ndep = int(0)
+    e_screen = float(0.0)
+    e_abs = float(0.0)
+    e_esc = float(0.0)
+    e_trunc = float(0.0)
+    e_over = float(0.0)
+    e_lost = float(0.0)
+    e_iface = float(0.0)
+    base = li * fp.max_deposits
+    for k in range(fp.max_deposits):
+        dep_screen[base + k] = -1
+    while n > 0:
+        n -= 1
+        o = _row_vec(st, n, _O)
+        d = _row_vec(st, n, _D)
+        s_in = _row_vec(st, n, _S)
+        bx = _row_vec(st, n, _B)
+        m = _row_jones(st, n)
+        w = st[n, _W]
+        inside = int(st[n, _IN])
+        depth = int(st[n, _DEPTH])
+        mode = int(st[n, _MODE])
+        e = ray_power(m, w, csrc)
+        hit = scene_closest_hit(geom, o, d, fp.t_max)
+        if inside < 0:
+            t_s, k_s, su, sv = screen_hit(screens, o, d, hit.t)
+            if k_s >= 0:
+                # deposit: coherency in the screen frame (x = screen right projected perpendicular to d)
+                xs = screens.right[k_s] - d * wp.dot(d, screens.right[k_s])
+                if wp.dot(xs, xs) < 1.0e-12:
+                    xs = perpendicular(d)
+                xs = wp.normalize(xs)
+                rot = jones_real(frame_change(d, bx, xs))
+                coh = coherency_transform(jones_mul(rot, m), csrc)
+                sv4 = stokes_from_coherency(coh) * w
+                if ndep < fp.max_deposits:
+                    slot = base + ndep
+                    dep_screen[slot] = k_s
+                    dep_uv[slot] = wp.vec2f(su, sv)
+                    dep_stokes[slot] = sv4
+                    dep_depth[slot] = depth
+                    ndep += 1
+                    e_screen += sv4[0]
+                else:
+                    e_over += sv4[0]
+                continue
+            if hit.object < 0:
+                e_esc += e
+                continue
+        elif hit.object < 0:
+            e_lost += e  # a ray inside a solid found no exit
+            continue
+        if inside >= 0:
+            att = wp.exp(-_segment_alpha(fp, mats, inside, mode, s_in, wl) * hit.t)
+            e_abs += e * (1.0 - att)
+            w = w * att
+            e = e * att
+        if depth >= fp.max_depth:
+            e_trunc += e
+            continue
+        if e <= 0.0:
+            continue
+        x = o + d * hit.t
+        n_out = hit.normal
+        entering = wp.dot(d, n_out) < 0.0
+        nrm = n_out  # unit normal on the incident side
+        obj_b = hit.object
+        if not entering:
+            nrm = -n_out
+            obj_b = -1
+        obj_a = inside
+        # candidates are written to rows n .. n + c - 1, then kept (split) or one is chosen
+        c = int(0)
+        e_sum = float(0.0)
+        ea = wp.vec4f(0.0)
+        if _is_uniaxial(fp, mats, obj_a) == 0 and _is_uniaxial(fp, mats, obj_b) == 0:
+            # isotropic interface: Fresnel (or the coating's stack) in the s/p frame
+            n_a, n_a_e = _medium_index(fp, mats, obj_a, wl)
+            n_b, n_b_e = _medium_index(fp, mats, obj_b, wl)
+            # Light arriving from an absorbing medium: Fresnel with the real part of its index
+            # (the weak-absorption approximation; its absorption is Bouguer-Lambert along the
+            # path).  ``c_normal_component`` takes the Im >= 0 root of N2 cos t, which for an
+            # absorbing *incident* medium is the backward-travelling one (|r| >> 1).
+            n_a = wp.vec2f(n_a[0], 0.0)
+            cos_a = wp.clamp(-wp.dot(d, nrm), 0.0, 1.0)
+            s = s_vector(d, n_out)
+            f = fresnel_amplitudes(cos_a, n_a, n_b)
+            rs = f.rs
+            rp = f.rp
+            ts = f.ts
+            tp = f.tp
+            coat = fp.object_coating[hit.object]
+            if coat >= 0:
+                if entering:
+                    rs, rp, ts, tp = coating_amplitudes(coatings, coat, wl, cos_a, n_a, n_b, 0)
+                else:
+                    rs, rp, ts, tp = coating_amplitudes(coatings, coat, wl, cos_a, n_b, n_a, 1)
+            m_sp = jones_mul(jones_real(frame_change(d, bx, s)), m)
+            d_r = wp.normalize(d + nrm * (2.0 * cos_a))
+            m_r = jones_mul(jones_diag(rs, rp), m_sp)
+            e_r = ray_power(m_r, w, csrc)
+            if e_r > 0.0:
+                st = _push(st, n + c, x + d_r * fp.epsilon, d_r, d_r, s, m_r, w, obj_a, depth + 1, -1)
+                ea[c] = e_r
+                e_sum += e_r
+                c += 1
+            eta = n_a[0] / n_b[0]
+            sin2_b = eta * eta * (1.0 - cos_a * cos_a)
+            if sin2_b < 1.0:
+                cos_b = wp.sqrt(1.0 - sin2_b)
+                d_t = wp.normalize(d * eta + nrm * (eta * cos_a - cos_b))
+                ratio = float(0.0)
+                if f.n1_cos_i[0] > 0.0:
+                    ratio = wp.max(f.n2_cos_t[0], 0.0) / f.n1_cos_i[0]
+                m_t = jones_scale(jones_mul(jones_diag(ts, tp), m_sp), wp.sqrt(ratio))
+                e_t = ray_power(m_t, w, csrc)
+                if e_t > 0.0:
+                    st = _push(st, n + c, x + d_t * fp.epsilon, d_t, d_t, s, m_t, w, obj_b, depth + 1, -1)
+                    ea[c] = e_t
+                    e_sum += e_t
+                    c += 1
+        else:
+            # a uniaxial side: generalized Fresnel amplitudes (eq. 5) per incident mode
+            ma = _crystal(fp, mats, obj_a, wl)
+            mb = _crystal(fp, mats, obj_b, wl)
+            zero = wp.vec2f(0.0, 0.0)
+            if mode < 0:
+                # isotropic incident ray: its s/p (= o/e) components both excite every wave
+                so = generalized_fresnel(s_in, 0, nrm, ma, mb)
+                se = generalized_fresnel(s_in, 1, nrm, ma, mb)
+                m_in = jones_mul(jones_real(frame_change(s_in, bx, so.incident.e_re)), m)
+                f_in = so.incident.flux
+                if so.ro.propagating == 1:
+                    m_r = jones_scale(
+                        jones_mul(jones(so.r_o, se.r_o, so.r_e, se.r_e), m_in), _flux_scale(so.ro.flux, f_in)
+                    )
+                    e_r = ray_power(m_r, w, csrc)
+                    if e_r > 0.0:
+                        st = _push(
+                            st,
+                            n + c,
+                            x + so.ro.ray * fp.epsilon,
+                            so.ro.ray,
+                            so.ro.wave_normal,
+                            so.ro.e_re,
+                            m_r,
+                            w,
+                            obj_a,
+                            depth + 1,
+                            -1,
+                        )
+                        ea[c] = e_r
+                        e_sum += e_r
+                        c += 1
+                if so.to.propagating == 1:
+                    m_o = jones_scale(
+                        jones_mul(jones(so.t_o, se.t_o, zero, zero), m_in), _flux_scale(so.to.flux, f_in)
+                    )
+                    e_o = ray_power(m_o, w, csrc)
+                    if e_o > 0.0:
+                        st = _push(
+                            st,
+                            n + c,
+                            x + so.to.ray * fp.epsilon,
+                            so.to.ray,
+                            so.to.wave_normal,
+                            so.to.e_re,
+                            m_o,
+                            w,
+                            obj_b,
+                            depth + 1,
+                            0,
+                        )
+                        ea[c] = e_o
+                        e_sum += e_o
+                        c += 1
+                if so.te.propagating == 1:
+                    m_e = jones_scale(
+                        jones_mul(jones(so.t_e, se.t_e, zero, zero), m_in), _flux_scale(so.te.flux, f_in)
+                    )
+                    e_e = ray_power(m_e, w, csrc)
+                    if e_e > 0.0:
+                        st = _push(
+                            st,
+                            n + c,
+                            x + so.te.ray * fp.epsilon,
+                            so.te.ray,
+                            so.te.wave_normal,
+                            so.te.e_re,
+                            m_e,
+                            w,
+                            obj_b,
+                            depth + 1,
+                            1,
+                        )
+                        ea[c] = e_e
+                        e_sum += e_e
+                        c += 1
+            else:
+                # one eigenmode inside a crystal: row 0 of M is its amplitude
+                sol = generalized_fresnel(s_in, mode, nrm, ma, mb)
+                f_in = sol.incident.flux
+                if sol.ro.propagating == 1:
+                    m_ro = jones_scale(
+                        jones_mul(jones_diag(sol.r_o, zero), m), _flux_scale(sol.ro.flux, f_in)
+                    )
+                    e_ro = ray_power(m_ro, w, csrc)
+                    if e_ro > 0.0:
+                        st = _push(
+                            st,
+                            n + c,
+                            x + sol.ro.ray * fp.epsilon,
+                            sol.ro.ray,
+                            sol.ro.wave_normal,
+                            sol.ro.e_re,
+                            m_ro,
+                            w,
+                            obj_a,
+                            depth + 1,
+                            0,
+                        )
+                        ea[c] = e_ro
+                        e_sum += e_ro
+                        c += 1
+                if sol.re.propagating == 1:
+                    m_re = jones_scale(
+                        jones_mul(jones_diag(sol.r_e, zero), m), _flux_scale(sol.re.flux, f_in)
+                    )
+                    e_re = ray_power(m_re, w, csrc)
+                    if e_re > 0.0:
+                        st = _push(
+                            st,
+                            n + c,
+                            x + sol.re.ray * fp.epsilon,
+                            sol.re.ray,
+                            sol.re.wave_normal,
+                            sol.re.e_re,
+                            m_re,
+                            w,
+                            obj_a,
+                            depth + 1,
+                            1,
+                        )
+                        ea[c] = e_re
+                        e_sum += e_re
+                        c += 1
+                if _is_uniaxial(fp, mats, obj_b) == 0:
+                    # into an isotropic medium: the o/e amplitudes are its s/p components
+                    if sol.to.propagating == 1:
+                        m_t = jones_scale(
+                            jones_mul(jones(sol.t_o, zero, sol.t_e, zero), m), _flux_scale(sol.to.flux, f_in)
+                        )
+                        e_t = ray_power(m_t, w, csrc)
+                        if e_t > 0.0:
+                            st = _push(
+                                st,
+                                n + c,
+                                x + sol.to.ray * fp.epsilon,
+                                sol.to.ray,
+                                sol.to.wave_normal,
+                                sol.to.e_re,
+                                m_t,
+                                w,
+                                obj_b,
+                                depth + 1,
+                                -1,
+                            )
+                            ea[c] = e_t
+                            e_sum += e_t
+                            c += 1
+                else:
+                    if sol.to.propagating == 1:
+                        m_to = jones_scale(
+                            jones_mul(jones_diag(sol.t_o, zero), m), _flux_scale(sol.to.flux, f_in)
+                        )
+                        e_to = ray_power(m_to, w, csrc)
+                        if e_to > 0.0:
+                            st = _push(
+                                st,
+                                n + c,
+                                x + sol.to.ray * fp.epsilon,
+                                sol.to.ray,
+                                sol.to.wave_normal,
+                                sol.to.e_re,
+                                m_to,
+                                w,
+                                obj_b,
+                                depth + 1,
+                                0,
+                            )
+                            ea[c] = e_to
+                            e_sum += e_to
+                            c += 1
+                    if sol.te.propagating == 1:
+                        m_te = jones_scale(
+                            jones_mul(jones_diag(sol.t_e, zero), m), _flux_scale(sol.te.flux, f_in)
+                        )
+                        e_te = ray_power(m_te, w, csrc)
+                        if e_te > 0.0:
+                            st = _push(
+                                st,
+                                n + c,
+                                x + sol.te.ray * fp.epsilon,
+                                sol.te.ray,
+                                sol.te.wave_normal,
+                                sol.te.e_re,
+                                m_te,
+                                w,
+                                obj_b,
+                                depth + 1,
+                                1,
+                            )
+                            ea[c] = e_te
+                            e_sum += e_te
+                            c += 1
+        if e_sum > e:
+            # a passive interface creates no power: with an absorbing incident medium the
+            # plane-wave flux split is not unique and |r|^2 can exceed 1 near total reflection
+            g = e / e_sum
+            for j in range(c):
+                st[n + j, _W] = st[n + j, _W] * g
+                ea[j] = ea[j] * g
+            e_sum = e
+        e_iface += e - e_sum
+        if c == 0:
+            continue
+        if e_sum >= fp.split_threshold and n + c <= STACK_SIZE - 3:
+            n += c
+        else:
+            # one child by power, weighted by 1/probability: carries e_sum exactly
+            u = wp.randf(rng) * e_sum
+            j = int(0)
+            acc = ea[0]
+            while j < c - 1 and u >= acc:
+                j += 1
+                acc += ea[j]
+            if j != 0:
+                st = _copy_row(st, n + j, n)
+            st[n, _W] = st[n, _W] * (e_sum / ea[j])
+            n += 1
+    ledger[li, _L_SCREEN] = wp.float64(e_screen)
+    ledger[li, _L_ABS] = wp.float64(e_abs)
+    ledger[li, _L_ESC] = wp.float64(e_esc)
+    ledger[li, _L_TRUNC] = wp.float64(e_trunc)
+    ledger[li, _L_LOST] = wp.float64(e_lost)
+    ledger[li, _L_OVER] = wp.float64(e_over)
+    ledger[li, _L_IFACE] = wp.float64(e_iface)
+
+
+def forward_params(
+    object_material,
+    absorption_scale,
+    object_axis,
+    object_coating,
+    *,
+    config: ForwardConfig,
+    ambient=(1.0, 0.0),
+    t_max: float = 1.0e6,
+    epsilon: float = 1.0e-4,
+    device=None,
+) -> ForwardParams:
+    """The kernel struct of a forward trace; per-object arrays have one entry per object."""
+    p = ForwardParams()
+    p.max_depth = int(config.max_depth)
+    p.split_threshold = float(config.split_threshold)
+    p.t_max = float(t_max)
+    p.epsilon = float(epsilon)
+    p.ambient = wp.vec2f(*ambient)
+    p.max_deposits = int(config.max_deposits)
+    p.seed = int(config.seed)
+    p.object_material = wp.array(np.asarray(object_material, dtype=np.int32), dtype=wp.int32, device=device)
+    p.object_absorption_scale = wp.array(
+        np.asarray(absorption_scale, dtype=np.float32), dtype=wp.float32, device=device
+    )
+    p.object_axis = wp.array(
+        np.asarray(object_axis, dtype=np.float32).reshape(-1, 3), dtype=wp.vec3f, device=device
+    )
+    p.object_coating = wp.array(np.asarray(object_coating, dtype=np.int32), dtype=wp.int32, device=device)
+    return p
