@@ -22,6 +22,7 @@ SUBCOMMAND_MODULES = [
     "warpoptics.commands.material",
     "warpoptics.commands.cut",
     "warpoptics.commands.thinfilm",
+    "warpoptics.commands.sweep",
 ]
 
 
