@@ -90,14 +90,20 @@ D65_WHITE_XYZ = np.array([0.31270 / 0.32900, 1.0, (1.0 - 0.31270 - 0.32900) / 0.
 def _xyz_alpha(xyz, alpha) -> tuple[np.ndarray, np.ndarray]:
     x = np.asarray(xyz, dtype=np.float64)
     if x.ndim < 1 or x.shape[-1] != 3:
-        raise InputError("an XYZ image must have shape (..., 3)", field="xyz", value=getattr(x, "shape", None))
+        raise InputError(
+            "an XYZ image must have shape (..., 3)", field="xyz", value=getattr(x, "shape", None)
+        )
     if alpha is None:
         a = np.ones(x.shape[:-1])
     else:
         a = np.asarray(alpha, dtype=np.float64)
         if a.shape != x.shape[:-1]:
-            raise InputError("alpha must have the image's shape without the colour axis", field="alpha",
-                             value=a.shape, allowed=str(x.shape[:-1]))
+            raise InputError(
+                "alpha must have the image's shape without the colour axis",
+                field="alpha",
+                value=a.shape,
+                allowed=str(x.shape[:-1]),
+            )
     if not (np.isfinite(x).all() and np.isfinite(a).all()):
         raise InputError("the image has non-finite pixels", field="xyz")
     if (a < 0).any():
@@ -125,8 +131,17 @@ def mean_color(xyz, alpha=None, *, white_xyz=None) -> dict[str, float]:
     lab = color.xyz_to_lab(m, white_xyz)
     c = float(math.hypot(lab[1], lab[2]))
     h = float(math.degrees(math.atan2(lab[2], lab[1])) % 360.0) if c > 0 else 0.0
-    return {"X": float(m[0]), "Y": float(m[1]), "Z": float(m[2]), "L": float(lab[0]), "a": float(lab[1]),
-            "b": float(lab[2]), "C": c, "h": h, "coverage": float(a.sum() / max(a.size, 1))}
+    return {
+        "X": float(m[0]),
+        "Y": float(m[1]),
+        "Z": float(m[2]),
+        "L": float(lab[0]),
+        "a": float(lab[1]),
+        "b": float(lab[2]),
+        "C": c,
+        "h": h,
+        "coverage": float(a.sum() / max(a.size, 1)),
+    }
 
 
 def delta_e_image(xyz_a, xyz_b, *, white_xyz=None) -> np.ndarray:
@@ -134,8 +149,9 @@ def delta_e_image(xyz_a, xyz_b, *, white_xyz=None) -> np.ndarray:
     a = np.asarray(xyz_a, dtype=np.float64)
     b = np.asarray(xyz_b, dtype=np.float64)
     if a.shape != b.shape or a.shape[-1:] != (3,):
-        raise InputError("the two images must have the same shape (..., 3)", field="xyz",
-                         value=(a.shape, b.shape))
+        raise InputError(
+            "the two images must have the same shape (..., 3)", field="xyz", value=(a.shape, b.shape)
+        )
     return np.asarray(color.delta_e2000(a, b, white_xyz), dtype=np.float64)
 
 
@@ -263,8 +279,9 @@ def scintillation(base_xyz, base_alpha, tilted: Sequence[tuple]) -> float:
     for xk, ak in tilted:
         xk, ak = _xyz_alpha(xk, ak)
         if xk.shape != x0.shape:
-            raise InputError("tilted views must have the base view's shape", field="tilts",
-                             value=(xk.shape, x0.shape))
+            raise InputError(
+                "tilted views must have the base view's shape", field="tilts", value=(xk.shape, x0.shape)
+            )
         w = np.minimum(a0, ak)
         y0, yk = np.maximum(x0[..., 1], 0.0), np.maximum(xk[..., 1], 0.0)
         den = (w * (y0 + yk)).sum()

@@ -8,7 +8,8 @@ metrics of :mod:`warpoptics.metrics`.  It is defined in TOML (``Sweep.load``) or
     description = "Light return and fire of a round brilliant against its pavilion angle"
     scene = "round_brilliant_faceup.toml"  # the base scene, relative to this file
     mode = "product"                       # how axes combine: "product" or "zip"
-    label = "{pavilion:.2f} deg"           # optional: a job's label (str.format of the variables)
+    label = "{pavilion:.2f} deg"           # optional: a job's label (str.format of the variables;
+                                           # an axis with labels shows its label)
 
     [set]                                  # fixed overrides of every job (dotted paths)
     "render.wavelengths" = 16
@@ -117,25 +118,50 @@ _PAIR_COLUMNS = ("dE_mean", "dE_p95", "dE_max", "dE_mean_color")
 # ----------------------------------------------------------------------------------------------
 
 _FUNCTIONS: dict[str, Callable] = {
-    "abs": abs, "min": min, "max": max, "round": round, "float": float, "int": int, "bool": bool,
-    "sqrt": math.sqrt, "exp": math.exp, "log": math.log, "log10": math.log10, "sin": math.sin,
-    "cos": math.cos, "tan": math.tan, "asin": math.asin, "acos": math.acos, "atan": math.atan,
-    "atan2": math.atan2, "radians": math.radians, "degrees": math.degrees,
+    "abs": abs,
+    "min": min,
+    "max": max,
+    "round": round,
+    "float": float,
+    "int": int,
+    "bool": bool,
+    "sqrt": math.sqrt,
+    "exp": math.exp,
+    "log": math.log,
+    "log10": math.log10,
+    "sin": math.sin,
+    "cos": math.cos,
+    "tan": math.tan,
+    "asin": math.asin,
+    "acos": math.acos,
+    "atan": math.atan,
+    "atan2": math.atan2,
+    "radians": math.radians,
+    "degrees": math.degrees,
 }
 _CONSTANTS = {"pi": math.pi, "e": math.e, "true": True, "false": False}
 _BINOPS = {
-    ast.Add: lambda a, b: a + b, ast.Sub: lambda a, b: a - b, ast.Mult: lambda a, b: a * b,
-    ast.Div: lambda a, b: a / b, ast.FloorDiv: lambda a, b: a // b, ast.Mod: lambda a, b: a % b,
+    ast.Add: lambda a, b: a + b,
+    ast.Sub: lambda a, b: a - b,
+    ast.Mult: lambda a, b: a * b,
+    ast.Div: lambda a, b: a / b,
+    ast.FloorDiv: lambda a, b: a // b,
+    ast.Mod: lambda a, b: a % b,
     ast.Pow: lambda a, b: a**b,
 }
 _CMPOPS = {
-    ast.Eq: lambda a, b: a == b, ast.NotEq: lambda a, b: a != b, ast.Lt: lambda a, b: a < b,
-    ast.LtE: lambda a, b: a <= b, ast.Gt: lambda a, b: a > b, ast.GtE: lambda a, b: a >= b,
+    ast.Eq: lambda a, b: a == b,
+    ast.NotEq: lambda a, b: a != b,
+    ast.Lt: lambda a, b: a < b,
+    ast.LtE: lambda a, b: a <= b,
+    ast.Gt: lambda a, b: a > b,
+    ast.GtE: lambda a, b: a >= b,
 }
 
 
-def evaluate_expression(text: str, variables: dict[str, Any], *, file: str | None = None,
-                        field_name: str | None = None) -> Any:
+def evaluate_expression(
+    text: str, variables: dict[str, Any], *, file: str | None = None, field_name: str | None = None
+) -> Any:
     """Evaluate a sweep expression (restricted Python syntax, see the module docstring)."""
 
     def fail(msg: str):
@@ -157,8 +183,11 @@ def evaluate_expression(text: str, variables: dict[str, Any], *, file: str | Non
             if node.id in _CONSTANTS:
                 return _CONSTANTS[node.id]
             hint = difflib.get_close_matches(node.id, list(variables) + list(_CONSTANTS), n=1)
-            fail(f"unknown name {node.id!r}" + (f"; did you mean {hint[0]!r}?" if hint else "")
-                 + f" (variables: {', '.join(variables) or 'none'})")
+            fail(
+                f"unknown name {node.id!r}"
+                + (f"; did you mean {hint[0]!r}?" if hint else "")
+                + f" (variables: {', '.join(variables) or 'none'})"
+            )
         if isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
             return _BINOPS[type(node.op)](ev(node.left), ev(node.right))
         if isinstance(node, ast.UnaryOp):
@@ -174,7 +203,7 @@ def evaluate_expression(text: str, variables: dict[str, Any], *, file: str | Non
             return all(vals) if isinstance(node.op, ast.And) else any(vals)
         if isinstance(node, ast.Compare):
             left = ev(node.left)
-            for op, right_node in zip(node.ops, node.comparators):
+            for op, right_node in zip(node.ops, node.comparators, strict=True):
                 if type(op) not in _CMPOPS:
                     fail("unsupported comparison")
                 right = ev(right_node)
@@ -189,7 +218,7 @@ def evaluate_expression(text: str, variables: dict[str, Any], *, file: str | Non
         if isinstance(node, ast.Dict):
             if any(k is None for k in node.keys):
                 fail("** in a table is not supported")
-            return {ev(k): ev(v) for k, v in zip(node.keys, node.values)}
+            return {ev(k): ev(v) for k, v in zip(node.keys, node.values, strict=True)}
         if isinstance(node, ast.Subscript):
             return ev(node.value)[ev(node.slice)]
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and not node.keywords:
@@ -216,8 +245,12 @@ _NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
 def _check_name(name, *, file, field_name) -> str:
     if not isinstance(name, str) or not _NAME_RE.match(name) or name in _FUNCTIONS or name in _CONSTANTS:
-        raise InputError("must be an identifier (letters, digits, _) that is not a function or constant name",
-                         file=file, field=field_name, value=name)
+        raise InputError(
+            "must be an identifier (letters, digits, _) that is not a function or constant name",
+            file=file,
+            field=field_name,
+            value=name,
+        )
     return name
 
 
@@ -241,8 +274,12 @@ class Axis:
         if self.labels is not None:
             object.__setattr__(self, "labels", tuple(str(v) for v in self.labels))
             if len(self.labels) != len(self.values):
-                raise InputError("needs one label per value", field=f"axis.{self.name}.labels",
-                                 value=len(self.labels), allowed=str(len(self.values)))
+                raise InputError(
+                    "needs one label per value",
+                    field=f"axis.{self.name}.labels",
+                    value=len(self.labels),
+                    allowed=str(len(self.values)),
+                )
 
     def label_of(self, i: int) -> str:
         return self.labels[i] if self.labels is not None else _format_value(self.values[i])
@@ -272,16 +309,21 @@ class View:
         object.__setattr__(self, "metrics", tuple(self.metrics))
         for m in self.metrics:
             if m not in METRICS:
-                raise InputError("unknown metric", field=f"view.{self.name}.metrics", value=m,
-                                 allowed=", ".join(METRICS))
+                raise InputError(
+                    "unknown metric", field=f"view.{self.name}.metrics", value=m, allowed=", ".join(METRICS)
+                )
         object.__setattr__(self, "tilts", tuple(tuple(float(c) for c in t) for t in self.tilts))
         if any(len(t) != 3 for t in self.tilts):
             raise InputError("each tilt is [x, y, z] in degrees", field=f"view.{self.name}.tilts")
         if "scintillation" in self.metrics and not self.tilts:
             raise InputError("scintillation needs tilts", field=f"view.{self.name}.tilts")
         if self.fire_reference not in ("white", "mean"):
-            raise InputError("unknown value", field=f"view.{self.name}.fire_reference",
-                             value=self.fire_reference, allowed="white, mean")
+            raise InputError(
+                "unknown value",
+                field=f"view.{self.name}.fire_reference",
+                value=self.fire_reference,
+                allowed="white, mean",
+            )
 
 
 @dataclass(frozen=True)
@@ -318,18 +360,44 @@ def _format_value(v) -> str:
 
 
 def _linspace(spec, *, file, field_name) -> list[float]:
-    if (not isinstance(spec, list) or len(spec) != 3 or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
-                                                              for v in spec)
-            or int(spec[2]) != spec[2] or spec[2] < 1):
+    if (
+        not isinstance(spec, list)
+        or len(spec) != 3
+        or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in spec)
+        or int(spec[2]) != spec[2]
+        or spec[2] < 1
+    ):
         raise InputError("must be [start, stop, count]", file=file, field=field_name, value=spec)
     n = int(spec[2])
     return [float(v) for v in np.round(np.linspace(spec[0], spec[1], n), 12)]
 
 
-_TOP_KEYS = {"name", "description", "scene", "mode", "label", "metrics", "set", "expr", "axis", "view", "compare"}
+_TOP_KEYS = {
+    "name",
+    "description",
+    "scene",
+    "mode",
+    "label",
+    "metrics",
+    "set",
+    "expr",
+    "axis",
+    "view",
+    "compare",
+}
 _AXIS_KEYS = {"name", "path", "values", "linspace", "group", "labels"}
-_VIEW_KEYS = {"name", "set", "expr", "metrics", "tilts", "tilt_object", "white_y", "fire_reference",
-              "fire_min_saturation", "save"}
+_VIEW_KEYS = {
+    "name",
+    "set",
+    "expr",
+    "metrics",
+    "tilts",
+    "tilt_object",
+    "white_y",
+    "fire_reference",
+    "fire_min_saturation",
+    "save",
+}
 _COMPARE_KEYS = {"axis", "reference", "scale"}
 
 
@@ -339,8 +407,12 @@ def _check_keys(table, allowed, *, file, prefix):
     for k in table:
         if k not in allowed:
             close = difflib.get_close_matches(k, list(allowed), n=1, cutoff=0.6)
-            raise InputError("unknown key" + (f"; did you mean {close[0]!r}?" if close else ""), file=file,
-                             field=f"{prefix}{k}", allowed=", ".join(sorted(allowed)))
+            raise InputError(
+                "unknown key" + (f"; did you mean {close[0]!r}?" if close else ""),
+                file=file,
+                field=f"{prefix}{k}",
+                allowed=", ".join(sorted(allowed)),
+            )
 
 
 @dataclass(frozen=True)
@@ -382,25 +454,39 @@ class Sweep:
             if "." not in k:
                 _check_name(k, file=file, field_name=f"expr.{k}")
                 if k in names:
-                    raise InputError("an expression variable cannot reuse an axis name", file=file,
-                                     field=f"expr.{k}")
+                    raise InputError(
+                        "an expression variable cannot reuse an axis name", file=file, field=f"expr.{k}"
+                    )
         if self.compare is not None:
             ax = next((a for a in self.axes if a.name == self.compare.axis), None)
             if ax is None:
-                raise InputError("unknown axis", file=file, field="compare.axis", value=self.compare.axis,
-                                 allowed=", ".join(names))
+                raise InputError(
+                    "unknown axis",
+                    file=file,
+                    field="compare.axis",
+                    value=self.compare.axis,
+                    allowed=", ".join(names),
+                )
             if self.compare.reference not in ax.values:
-                raise InputError("the reference must be one of the axis values", file=file,
-                                 field="compare.reference", value=self.compare.reference,
-                                 allowed=", ".join(_format_value(v) for v in ax.values))
+                raise InputError(
+                    "the reference must be one of the axis values",
+                    file=file,
+                    field="compare.reference",
+                    value=self.compare.reference,
+                    allowed=", ".join(_format_value(v) for v in ax.values),
+                )
             if not self.compare.scale > 0:
                 raise InputError("must be > 0", file=file, field="compare.scale", value=self.compare.scale)
         groups = self._groups()
         for g in groups:
             lens = {len(a.values) for a in g}
             if len(lens) > 1:
-                raise InputError("zipped axes must have the same number of values", file=file,
-                                 field="axis", value={a.name: len(a.values) for a in g})
+                raise InputError(
+                    "zipped axes must have the same number of values",
+                    file=file,
+                    field="axis",
+                    value={a.name: len(a.values) for a in g},
+                )
 
     # -- loading -----------------------------------------------------------------------------
 
@@ -418,8 +504,14 @@ class Sweep:
         return cls.from_dict(data, base_dir=p.parent, source=file, extra_set=extra_set)
 
     @classmethod
-    def from_dict(cls, data: dict, *, base_dir: str | Path | None = None, source: str | None = None,
-                  extra_set: dict | None = None) -> Sweep:
+    def from_dict(
+        cls,
+        data: dict,
+        *,
+        base_dir: str | Path | None = None,
+        source: str | None = None,
+        extra_set: dict | None = None,
+    ) -> Sweep:
         file = source or "<sweep>"
         _check_keys(data, _TOP_KEYS, file=file, prefix="")
         if "scene" not in data or not isinstance(data["scene"], str):
@@ -435,23 +527,34 @@ class Sweep:
                 raise InputError("missing key", file=file, field=pre + "name")
             _check_name(t["name"], file=file, field_name=pre + "name")
             if ("values" in t) == ("linspace" in t):
-                raise InputError("give exactly one of values = [...] or linspace = [start, stop, count]",
-                                 file=file, field=pre + "values")
-            values = t["values"] if "values" in t else _linspace(t["linspace"], file=file, field_name=pre + "linspace")
+                raise InputError(
+                    "give exactly one of values = [...] or linspace = [start, stop, count]",
+                    file=file,
+                    field=pre + "values",
+                )
+            values = (
+                t["values"]
+                if "values" in t
+                else _linspace(t["linspace"], file=file, field_name=pre + "linspace")
+            )
             if not isinstance(values, list) or not values:
                 raise InputError("must be a non-empty list", file=file, field=pre + "values", value=values)
             path = t.get("path")
             if path is not None and (not isinstance(path, str) or "." not in path):
-                raise InputError("must be a dotted path like object.0.diameter", file=file, field=pre + "path",
-                                 value=path)
+                raise InputError(
+                    "must be a dotted path like object.0.diameter", file=file, field=pre + "path", value=path
+                )
             labels = t.get("labels")
             if labels is not None and (not isinstance(labels, list) or len(labels) != len(values)):
                 raise InputError("needs one label per value", file=file, field=pre + "labels", value=labels)
             group = t.get("group")
             if group is not None and not isinstance(group, str):
                 raise InputError("must be a string", file=file, field=pre + "group", value=group)
-            axes.append(Axis(t["name"], tuple(values), path=path, group=group,
-                             labels=tuple(labels) if labels else None))
+            axes.append(
+                Axis(
+                    t["name"], tuple(values), path=path, group=group, labels=tuple(labels) if labels else None
+                )
+            )
         fixed = dict(data.get("set", {}))
         _check_keys(fixed, set(fixed), file=file, prefix="set.")
         for k in fixed:
@@ -482,18 +585,32 @@ class Sweep:
             if "metrics" in kw:
                 ms = kw["metrics"]
                 if not isinstance(ms, list) or not all(isinstance(m, str) for m in ms):
-                    raise InputError("must be a list of metric names", file=file, field=pre + "metrics", value=ms,
-                                     allowed=", ".join(METRICS))
+                    raise InputError(
+                        "must be a list of metric names",
+                        file=file,
+                        field=pre + "metrics",
+                        value=ms,
+                        allowed=", ".join(METRICS),
+                    )
                 for m in ms:
                     if m not in METRICS:
                         close = difflib.get_close_matches(m, list(METRICS), n=1)
-                        raise InputError("unknown metric" + (f"; did you mean {close[0]!r}?" if close else ""),
-                                         file=file, field=pre + "metrics", value=m, allowed=", ".join(METRICS))
+                        raise InputError(
+                            "unknown metric" + (f"; did you mean {close[0]!r}?" if close else ""),
+                            file=file,
+                            field=pre + "metrics",
+                            value=m,
+                            allowed=", ".join(METRICS),
+                        )
             if "tilts" in kw:
                 tl = kw["tilts"]
                 if not isinstance(tl, list) or not all(isinstance(x, list) and len(x) == 3 for x in tl):
-                    raise InputError("must be a list of [x, y, z] rotations in degrees", file=file,
-                                     field=pre + "tilts", value=tl)
+                    raise InputError(
+                        "must be a list of [x, y, z] rotations in degrees",
+                        file=file,
+                        field=pre + "tilts",
+                        value=tl,
+                    )
             try:
                 views.append(View(name=name, **kw))
             except TypeError as exc:
@@ -503,16 +620,24 @@ class Sweep:
             c = data["compare"]
             _check_keys(c, _COMPARE_KEYS, file=file, prefix="compare.")
             if "axis" not in c or "reference" not in c:
-                raise InputError("needs axis = \"name\" and reference = value", file=file, field="compare")
+                raise InputError('needs axis = "name" and reference = value', file=file, field="compare")
             compare = Compare(c["axis"], c["reference"], float(c.get("scale", 10.0)))
         label = data.get("label")
         if label is not None and not isinstance(label, str):
             raise InputError("must be a format string", file=file, field="label", value=label)
         return cls(
-            scene=data["scene"], axes=tuple(axes), mode=data.get("mode", "product"), set=fixed, expr=expr,
-            views=tuple(views), compare=compare, name=str(data.get("name", Path(file).stem)),
-            description=str(data.get("description", "")), label=label,
-            base_dir=Path(base_dir) if base_dir is not None else Path.cwd(), source=source,
+            scene=data["scene"],
+            axes=tuple(axes),
+            mode=data.get("mode", "product"),
+            set=fixed,
+            expr=expr,
+            views=tuple(views),
+            compare=compare,
+            name=str(data.get("name", Path(file).stem)),
+            description=str(data.get("description", "")),
+            label=label,
+            base_dir=Path(base_dir) if base_dir is not None else Path.cwd(),
+            source=source,
         )
 
     # -- jobs --------------------------------------------------------------------------------
@@ -529,7 +654,9 @@ class Sweep:
         if not p.is_absolute():
             p = self.base_dir / p
         if not p.is_file():
-            raise InputError("base scene file not found", file=self.source, field="scene", value=str(self.scene))
+            raise InputError(
+                "base scene file not found", file=self.source, field="scene", value=str(self.scene)
+            )
         text = p.read_text(encoding="utf-8")
         try:
             data = tomllib.loads(text)
@@ -558,7 +685,7 @@ class Sweep:
         out = []
         for combo in itertools.product(*[range(len(g[0].values)) for g in groups]):
             idx = {}
-            for g, i in zip(groups, combo):
+            for g, i in zip(groups, combo, strict=True):
                 for a in g:
                     idx[a.name] = i
             out.append(idx)
@@ -570,15 +697,22 @@ class Sweep:
                 try:
                     value = v(dict(variables))
                 except Exception as exc:  # a user's callable: report which one failed
-                    raise InputError(f"expression failed ({type(exc).__name__}: {exc})", file=self.source,
-                                     field=f"{prefix}{k}") from None
+                    raise InputError(
+                        f"expression failed ({type(exc).__name__}: {exc})",
+                        file=self.source,
+                        field=f"{prefix}{k}",
+                    ) from None
             elif isinstance(v, str):
                 value = evaluate_expression(v, variables, file=self.source, field_name=f"{prefix}{k}")
             else:
                 value = v
             if isinstance(value, float) and not math.isfinite(value):
-                raise InputError("evaluates to a non-finite number", file=self.source, field=f"{prefix}{k}",
-                                 value=v if isinstance(v, str) else None)
+                raise InputError(
+                    "evaluates to a non-finite number",
+                    file=self.source,
+                    field=f"{prefix}{k}",
+                    value=v if isinstance(v, str) else None,
+                )
             if "." in k:
                 overrides[k] = value
             else:
@@ -605,18 +739,39 @@ class Sweep:
                 views.append((v.name, vo))
             if self.label:
                 try:
-                    label = self.label.format(**variables)
+                    # axes with display labels show them; other variables their values
+                    shown = {**variables, **{a.name: labels[a.name] for a in self.axes if a.labels is not None}}
+                    label = self.label.format(**shown)
                 except (KeyError, ValueError, IndexError) as exc:
-                    raise InputError(f"cannot format the label ({exc})", file=self.source, field="label",
-                                     value=self.label) from None
+                    raise InputError(
+                        f"cannot format the label ({exc})", file=self.source, field="label", value=self.label
+                    ) from None
             else:
-                label = ", ".join(f"{a.name}={labels[a.name]}" for a in self.axes if len(a.values) > 1) or "job"
-            blob = json.dumps({"scene": digest, "overrides": overrides, "views": views,
-                               "view_settings": [_view_settings(v) for v in self.views]},
-                              sort_keys=True, default=repr)
+                label = (
+                    ", ".join(f"{a.name}={labels[a.name]}" for a in self.axes if len(a.values) > 1) or "job"
+                )
+            blob = json.dumps(
+                {
+                    "scene": digest,
+                    "overrides": overrides,
+                    "views": views,
+                    "view_settings": [_view_settings(v) for v in self.views],
+                },
+                sort_keys=True,
+                default=repr,
+            )
             key = f"{index:04d}_{hashlib.sha1(blob.encode()).hexdigest()[:10]}"
-            jobs.append(Job(index=index, key=key, label=label, values=values, labels=labels, overrides=overrides,
-                            views=tuple(views)))
+            jobs.append(
+                Job(
+                    index=index,
+                    key=key,
+                    label=label,
+                    values=values,
+                    labels=labels,
+                    overrides=overrides,
+                    views=tuple(views),
+                )
+            )
         return jobs
 
     def columns(self) -> list[str]:
@@ -638,9 +793,16 @@ class Sweep:
 
 
 def _view_settings(v: View) -> dict:
-    return {"name": v.name, "metrics": list(v.metrics), "tilts": [list(t) for t in v.tilts],
-            "tilt_object": v.tilt_object, "white_y": v.white_y, "fire_reference": v.fire_reference,
-            "fire_min_saturation": v.fire_min_saturation, "save": v.save}
+    return {
+        "name": v.name,
+        "metrics": list(v.metrics),
+        "tilts": [list(t) for t in v.tilts],
+        "tilt_object": v.tilt_object,
+        "white_y": v.white_y,
+        "fire_reference": v.fire_reference,
+        "fire_min_saturation": v.fire_min_saturation,
+        "save": v.save,
+    }
 
 
 # ----------------------------------------------------------------------------------------------
@@ -687,8 +849,10 @@ def scene_for(data: dict, scene_path: str | None, overrides: dict, sweep_dir: Pa
     for light in d.get("light", []) if isinstance(d.get("light"), list) else []:
         if isinstance(light, dict) and "map" in light:
             light["map"] = _resolve_map(light["map"], base_dir)
-    ov = {k: (_resolve_map(v, Path(sweep_dir)) if _MAP_RE.match(k) and sweep_dir is not None else v)
-          for k, v in overrides.items()}
+    ov = {
+        k: (_resolve_map(v, Path(sweep_dir)) if _MAP_RE.match(k) and sweep_dir is not None else v)
+        for k, v in overrides.items()
+    }
     return Scene.from_dict(apply_overrides(d, ov, file=scene_path or "<scene>"), path=scene_path)
 
 
@@ -726,8 +890,12 @@ def run_job(payload: dict) -> dict:
             elif m == "light_return":
                 vals["light_return"] = wm.light_return(img.xyz, img.alpha, white_y=vs["white_y"])
             elif m == "fire":
-                vals["fire"] = wm.fire(img.xyz, img.alpha, reference=vs["fire_reference"],
-                                       min_saturation=vs["fire_min_saturation"])
+                vals["fire"] = wm.fire(
+                    img.xyz,
+                    img.alpha,
+                    reference=vs["fire_reference"],
+                    min_saturation=vs["fire_min_saturation"],
+                )
             elif m == "scintillation":
                 i = int(vs["tilt_object"])
                 if not 0 <= i < len(scene.objects):
@@ -735,7 +903,9 @@ def run_job(payload: dict) -> dict:
                 rot = np.asarray(scene.objects[i].rotation, dtype=np.float64)
                 tilted = []
                 for t in vs["tilts"]:
-                    st = scene.with_overrides({f"object.{i}.rotation": [float(c) for c in rot + np.asarray(t)]})
+                    st = scene.with_overrides(
+                        {f"object.{i}.rotation": [float(c) for c in rot + np.asarray(t)]}
+                    )
                     ti = _render(st, device, threads)
                     rays += int(ti.stats.get("rays", 0))
                     tilted.append((ti.xyz, ti.alpha))
@@ -744,10 +914,21 @@ def run_job(payload: dict) -> dict:
             for c in METRICS[m]:
                 out_metrics[f"{vname}_{c}" if several else c] = float(vals[c])
         if vs["save"]:
-            images[vname] = {"xyz": img.xyz.astype(np.float32), "alpha": img.alpha.astype(np.float32),
-                             "stokes": img.stokes.astype(np.float32), "exposure": img.exposure, "tone": img.tone}
-    return {"key": job["key"], "index": job["index"], "metrics": out_metrics, "images": images, "rays": rays,
-            "seconds": time.perf_counter() - t0}
+            images[vname] = {
+                "xyz": img.xyz.astype(np.float32),
+                "alpha": img.alpha.astype(np.float32),
+                "stokes": img.stokes.astype(np.float32),
+                "exposure": img.exposure,
+                "tone": img.tone,
+            }
+    return {
+        "key": job["key"],
+        "index": job["index"],
+        "metrics": out_metrics,
+        "images": images,
+        "rays": rays,
+        "seconds": time.perf_counter() - t0,
+    }
 
 
 # ----------------------------------------------------------------------------------------------
@@ -783,7 +964,7 @@ def read_results(path: str | Path, *, repair: bool = False) -> tuple[list[str] |
     header, rows = lines[0], []
     for ln in lines[1:]:
         if len(ln) == len(header):
-            rows.append(dict(zip(header, ln)))
+            rows.append(dict(zip(header, ln, strict=True)))
     return header, rows
 
 
@@ -841,18 +1022,27 @@ def _dask_results(payloads, *, scheduler: str | None, dask_local: int | None) ->
     try:
         from distributed import Client, LocalCluster, as_completed
     except ImportError:
-        raise InputError("Dask is not installed: pip install 'warpoptics[distributed]' (dask[distributed])",
-                         field="--scheduler" if scheduler else "--dask-local") from None
+        raise InputError(
+            "Dask is not installed: pip install 'warpoptics[distributed]' (dask[distributed])",
+            field="--scheduler" if scheduler else "--dask-local",
+        ) from None
     cluster = None
     if scheduler:
         client = Client(scheduler)
     else:
-        cluster = LocalCluster(n_workers=int(dask_local), threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=40)
+        cluster = LocalCluster(
+            n_workers=int(dask_local),
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=40,
+        )
         client = Client(cluster)
     try:
-        futures = [client.submit(run_job, p, key=f"warpoptics-job-{p['job']['key']}-{i}", pure=False)
-                   for i, p in enumerate(payloads)]
+        futures = [
+            client.submit(run_job, p, key=f"warpoptics-job-{p['job']['key']}-{i}", pure=False)
+            for i, p in enumerate(payloads)
+        ]
         for fut in as_completed(futures):
             yield fut.result()
     finally:
@@ -888,10 +1078,21 @@ class SweepRunner:
     it such a folder is an error unless ``overwrite`` (which starts afresh).
     """
 
-    def __init__(self, sweep: Sweep, out_dir: str | Path, *, workers: int = 1, executor: str = "process",
-                 scheduler: str | None = None, dask_local: int | None = None, resume: bool = False,
-                 overwrite: bool = False, progress: bool = True, device: str | None = None,
-                 threads: int | None = None):
+    def __init__(
+        self,
+        sweep: Sweep,
+        out_dir: str | Path,
+        *,
+        workers: int = 1,
+        executor: str = "process",
+        scheduler: str | None = None,
+        dask_local: int | None = None,
+        resume: bool = False,
+        overwrite: bool = False,
+        progress: bool = True,
+        device: str | None = None,
+        threads: int | None = None,
+    ):
         if workers < 1:
             raise InputError("must be >= 1", field="--workers", value=workers)
         if executor not in ("process", "thread"):
@@ -924,8 +1125,12 @@ class SweepRunner:
         return self.out_dir / "images" / f"{name}.{ext}"
 
     def header(self) -> list[str]:
-        return (["index", "key", "label"] + [a.name for a in self.sweep.axes] + self.sweep.columns()
-                + ["rays", "seconds", "image"])
+        return (
+            ["index", "key", "label"]
+            + [a.name for a in self.sweep.axes]
+            + self.sweep.columns()
+            + ["rays", "seconds", "image"]
+        )
 
     # -- run ---------------------------------------------------------------------------------
 
@@ -937,12 +1142,32 @@ class SweepRunner:
         with self._lock():
             header = self.header()
             done = self._prepare_results(header, jobs)
-            _write_text_atomic(self.out_dir / "sweep.json", json.dumps(
-                {"name": sw.name, "description": sw.description, "source": sw.source, "mode": sw.mode,
-                 "axes": [{"name": a.name, "path": a.path, "values": list(a.values)} for a in sw.axes],
-                 "views": [_view_settings(v) for v in sw.views],
-                 "jobs": [{"index": j.index, "key": j.key, "label": j.label, "overrides": j.overrides,
-                           "views": j.views} for j in jobs]}, indent=1, default=repr) + "\n")
+            _write_text_atomic(
+                self.out_dir / "sweep.json",
+                json.dumps(
+                    {
+                        "name": sw.name,
+                        "description": sw.description,
+                        "source": sw.source,
+                        "mode": sw.mode,
+                        "axes": [{"name": a.name, "path": a.path, "values": list(a.values)} for a in sw.axes],
+                        "views": [_view_settings(v) for v in sw.views],
+                        "jobs": [
+                            {
+                                "index": j.index,
+                                "key": j.key,
+                                "label": j.label,
+                                "overrides": j.overrides,
+                                "views": j.views,
+                            }
+                            for j in jobs
+                        ],
+                    },
+                    indent=1,
+                    default=repr,
+                )
+                + "\n",
+            )
             pending = [j for j in jobs if j.key not in done]
             rendered = self._execute(pending, header, len(jobs) - len(pending), len(jobs))
             return self._finalize(jobs, header, rendered)
@@ -965,11 +1190,17 @@ class SweepRunner:
         path = self.results_path
         existing_header, rows = read_results(path, repair=True)
         if existing_header is not None and not (self.resume or self.overwrite):
-            raise InputError("this folder has results already: pass --resume to continue the sweep, or "
-                             "--overwrite to start again", file=str(path))
+            raise InputError(
+                "this folder has results already: pass --resume to continue the sweep, or "
+                "--overwrite to start again",
+                file=str(path),
+            )
         if existing_header is not None and existing_header != header and not self.overwrite:
-            raise InputError("results.csv has other columns (another sweep definition?): use another folder "
-                             "or --overwrite", file=str(path))
+            raise InputError(
+                "results.csv has other columns (another sweep definition?): use another folder "
+                "or --overwrite",
+                file=str(path),
+            )
         if existing_header is None or self.overwrite:
             _write_text_atomic(path, _csv_line(header))
             return set()
@@ -977,10 +1208,20 @@ class SweepRunner:
         return {r["key"] for r in rows if r["key"] in keys}
 
     def _payload(self, job: Job, data, path, threads) -> dict:
-        return {"scene_data": data, "scene_path": path, "sweep_dir": str(self.sweep.base_dir),
-                "job": {"index": job.index, "key": job.key, "overrides": job.overrides,
-                        "views": [list(v) for v in job.views]},
-                "views": [_view_settings(v) for v in self.sweep.views], "device": self.device, "threads": threads}
+        return {
+            "scene_data": data,
+            "scene_path": path,
+            "sweep_dir": str(self.sweep.base_dir),
+            "job": {
+                "index": job.index,
+                "key": job.key,
+                "overrides": job.overrides,
+                "views": [list(v) for v in job.views],
+            },
+            "views": [_view_settings(v) for v in self.sweep.views],
+            "device": self.device,
+            "threads": threads,
+        }
 
     def _execute(self, pending: list[Job], header: list[str], done: int, total: int) -> int:
         if not pending:
@@ -1002,8 +1243,14 @@ class SweepRunner:
         if self.progress:
             from tqdm import tqdm
 
-            bar = tqdm(total=total, initial=done, unit="job", desc=self.sweep.name, dynamic_ncols=True,
-                       file=sys.stderr)
+            bar = tqdm(
+                total=total,
+                initial=done,
+                unit="job",
+                desc=self.sweep.name,
+                dynamic_ncols=True,
+                file=sys.stderr,
+            )
         n = 0
         try:
             for res in results:
@@ -1022,16 +1269,31 @@ class SweepRunner:
         from .render import Image
 
         for vname, arrs in res["images"].items():
-            img = Image(xyz=arrs["xyz"], stokes=arrs["stokes"], alpha=arrs["alpha"], exposure=arrs["exposure"],
-                        tone=arrs["tone"])
+            img = Image(
+                xyz=arrs["xyz"],
+                stokes=arrs["stokes"],
+                alpha=arrs["alpha"],
+                exposure=arrs["exposure"],
+                tone=arrs["tone"],
+            )
             img.save(self.image_path(job, vname, "exr"))
             img.save(self.image_path(job, vname, "png"))
         first = self.sweep.views[0].name
         image = self.image_path(job, first, "png").relative_to(self.out_dir) if first in res["images"] else ""
-        row = {"index": job.index, "key": job.key, "label": job.label, **job.labels, **res["metrics"],
-               "rays": res["rays"], "seconds": f"{res['seconds']:.3f}", "image": str(image)}
-        _append_line(self.results_path, _csv_line([_format_value(row[h]) if not isinstance(row[h], str)
-                                                   else row[h] for h in header]))
+        row = {
+            "index": job.index,
+            "key": job.key,
+            "label": job.label,
+            **job.labels,
+            **res["metrics"],
+            "rays": res["rays"],
+            "seconds": f"{res['seconds']:.3f}",
+            "image": str(image),
+        }
+        _append_line(
+            self.results_path,
+            _csv_line([_format_value(row[h]) if not isinstance(row[h], str) else row[h] for h in header]),
+        )
 
     # -- outputs -----------------------------------------------------------------------------
 
@@ -1052,7 +1314,9 @@ class SweepRunner:
             files["contact_sheet"] = self._contact_sheet(jobs, pairs)
             files.update(self._plots(jobs, by_key, pairs))
             files["summary"] = self._summary(jobs, by_key, pairs, rendered)
-        return SweepResult(out_dir=self.out_dir, jobs=jobs, rows=ordered, pairs=pairs, rendered=rendered, files=files)
+        return SweepResult(
+            out_dir=self.out_dir, jobs=jobs, rows=ordered, pairs=pairs, rendered=rendered, files=files
+        )
 
     def _read_xyz_alpha(self, job: Job):
         from .image import read_image
@@ -1087,13 +1351,28 @@ class SweepRunner:
             st["dE_mean_color"] = wm.delta_e_mean_color(xa, aa, xb, ab)
             diff = self.out_dir / "diffs" / f"{j.key}__vs__{r.key}.png"
             write_png(diff, wm.difference_image(de, scale=cmp.scale))
-            out.append({"index": j.index, "key": j.key, "reference_key": r.key, "label": j.label,
-                        **{n: j.labels[n] for n in others}, cmp.axis: j.labels[cmp.axis], **st,
-                        "diff_image": str(diff.relative_to(self.out_dir))})
+            out.append(
+                {
+                    "index": j.index,
+                    "key": j.key,
+                    "reference_key": r.key,
+                    "label": j.label,
+                    **{n: j.labels[n] for n in others},
+                    cmp.axis: j.labels[cmp.axis],
+                    **st,
+                    "diff_image": str(diff.relative_to(self.out_dir)),
+                }
+            )
         if out:
             hdr = list(out[0])
-            _write_text_atomic(self.out_dir / "pairs.csv", _csv_line(hdr) + "".join(
-                _csv_line([_format_value(p[h]) if not isinstance(p[h], str) else p[h] for h in hdr]) for p in out))
+            _write_text_atomic(
+                self.out_dir / "pairs.csv",
+                _csv_line(hdr)
+                + "".join(
+                    _csv_line([_format_value(p[h]) if not isinstance(p[h], str) else p[h] for h in hdr])
+                    for p in out
+                ),
+            )
         return out
 
     def _contact_sheet(self, jobs: list[Job], pairs: list[dict]) -> Path:
@@ -1109,16 +1388,23 @@ class SweepRunner:
             p = self.image_path(j, self.sweep.views[0].name, "png")
             tiles.append((read_image(p)[0] if p.is_file() else None, j.label))
         for pr in pairs:
-            tiles.append((read_image(self.out_dir / pr["diff_image"])[0],
-                          f"ΔE00 {pr['label']}\nmean {pr['dE_mean']:.2f}, p95 {pr['dE_p95']:.1f}"))
+            tiles.append(
+                (
+                    read_image(self.out_dir / pr["diff_image"])[0],
+                    f"ΔE00 {pr['label']}\nmean {pr['dE_mean']:.2f}, p95 {pr['dE_p95']:.1f}",
+                )
+            )
         last = self.sweep.axes[-1]
-        ncols = len(last.values) if self.sweep.mode == "product" and 1 < len(last.values) <= 8 else \
-            max(1, math.ceil(math.sqrt(len(tiles))))
+        ncols = (
+            len(last.values)
+            if self.sweep.mode == "product" and 1 < len(last.values) <= 8
+            else max(1, math.ceil(math.sqrt(len(tiles))))
+        )
         nrows = math.ceil(len(tiles) / ncols)
         fig, axs = plt.subplots(nrows, ncols, figsize=(2.0 * ncols, 2.25 * nrows), squeeze=False)
         for ax in axs.ravel():
             ax.axis("off")
-        for ax, (img, label) in zip(axs.ravel(), tiles):
+        for ax, (img, label) in zip(axs.ravel(), tiles, strict=False):
             if img is not None:
                 ax.imshow(np.clip(img[..., :3], 0, 1), interpolation="nearest")
             ax.set_title(label, fontsize=7)
@@ -1135,7 +1421,7 @@ class SweepRunner:
         several = len(self.sweep.views) > 1
         for v in self.sweep.views:
             for m in v.metrics:
-                for c in (_PLOTTED_COLOR_COLUMNS if m == "color" else METRICS[m]):
+                for c in _PLOTTED_COLOR_COLUMNS if m == "color" else METRICS[m]:
                     cols.append(f"{v.name}_{c}" if several else c)
         return cols
 
@@ -1152,11 +1438,16 @@ class SweepRunner:
         series = [(c, lambda j, c=c: float(by_key[j.key][c]), jobs) for c in self._plot_columns()]
         if pairs:
             pj = [j for j in jobs if j.key in pair_by_key]
-            series += [(c, lambda j, c=c: float(pair_by_key[j.key][c]), pj) for c in ("dE_mean", "dE_mean_color")]
+            series += [
+                (c, lambda j, c=c: float(pair_by_key[j.key][c]), pj) for c in ("dE_mean", "dE_mean_color")
+            ]
         for col, get, subset in series:
             for ax_def in self.sweep.axes:
-                if len(ax_def.values) < 2 or (pairs and col.startswith("dE") and ax_def.name == self.sweep.compare.axis):
-                    continue
+                multi = [a for a in self.sweep.axes if len(a.values) > 1]
+                if len(ax_def.values) < 2 or (
+                    pairs and col.startswith("dE") and ax_def.name == self.sweep.compare.axis and len(multi) > 1
+                ):
+                    continue  # ΔE against the compared axis only when it is the only one
                 numeric = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in ax_def.values)
                 others = [a for a in self.sweep.axes if a.name != ax_def.name and len(a.values) > 1]
                 lines: dict[str, list] = {}
@@ -1197,41 +1488,71 @@ class SweepRunner:
             lines += [sw.description, ""]
         seconds = sum(float(r["seconds"]) for r in rows)
         shape = " x ".join(f"{a.name} ({len(a.values)})" for a in sw.axes)
-        lines += [f"- base scene: `{sw.scene if not hasattr(sw.scene, 'path') else sw.scene.path}`",
-                  f"- {len(jobs)} jobs ({sw.mode} of {shape}); rendered in this run: {rendered}; "
-                  f"render time of all jobs: {seconds:.1f} s",
-                  "- views: " + "; ".join(f"{v.name} ({', '.join(v.metrics)})" for v in sw.views), ""]
-        lines += ["## Results", "", "| job | " + " | ".join(a.name for a in sw.axes) + " | " + " | ".join(cols) + " |",
-                  "|" + "---|" * (1 + len(sw.axes) + len(cols))]
-        for j, r in zip(jobs, rows):
-            lines.append(f"| {j.index} | " + " | ".join(j.labels[a.name] for a in sw.axes) + " | "
-                         + " | ".join(_fmt_num(r[c]) for c in cols) + " |")
+        lines += [
+            f"- base scene: `{sw.scene if not hasattr(sw.scene, 'path') else sw.scene.path}`",
+            f"- {len(jobs)} jobs ({sw.mode} of {shape}); rendered in this run: {rendered}; "
+            f"render time of all jobs: {seconds:.1f} s",
+            "- views: " + "; ".join(f"{v.name} ({', '.join(v.metrics)})" for v in sw.views),
+            "",
+        ]
+        lines += [
+            "## Results",
+            "",
+            "| job | " + " | ".join(a.name for a in sw.axes) + " | " + " | ".join(cols) + " |",
+            "|" + "---|" * (1 + len(sw.axes) + len(cols)),
+        ]
+        for j, r in zip(jobs, rows, strict=True):
+            lines.append(
+                f"| {j.index} | "
+                + " | ".join(j.labels[a.name] for a in sw.axes)
+                + " | "
+                + " | ".join(_fmt_num(r[c]) for c in cols)
+                + " |"
+            )
         lines.append("")
         if len(jobs) > 1:
             lines += ["## Extremes", ""]
             for c in cols:
                 vals = [float(r[c]) for r in rows]
                 hi, lo = int(np.argmax(vals)), int(np.argmin(vals))
-                lines.append(f"- {c}: max {_fmt_num(vals[hi])} at {jobs[hi].label}; "
-                             f"min {_fmt_num(vals[lo])} at {jobs[lo].label}")
+                lines.append(
+                    f"- {c}: max {_fmt_num(vals[hi])} at {jobs[hi].label}; "
+                    f"min {_fmt_num(vals[lo])} at {jobs[lo].label}"
+                )
             lines.append("")
         if pairs:
             cmp = sw.compare
             others = [a.name for a in sw.axes if a.name != cmp.axis]
-            lines += [f"## Paired differences: {cmp.axis} vs {cmp.axis} = {_format_value(cmp.reference)}", "",
-                      "CIEDE2000 per pixel over the stones' pixels (mean, 95th percentile, max) and between the "
-                      "stones' mean colours; difference images in `diffs/` (full scale ΔE = "
-                      f"{cmp.scale:g}).", "",
-                      "| " + " | ".join(others + [cmp.axis]) + " | ΔE mean | ΔE p95 | ΔE max | ΔE of means | image |",
-                      "|" + "---|" * (len(others) + 6)]
+            lines += [
+                f"## Paired differences: {cmp.axis} vs {cmp.axis} = {_format_value(cmp.reference)}",
+                "",
+                "CIEDE2000 per pixel over the stones' pixels (mean, 95th percentile, max) and between the "
+                "stones' mean colours; difference images in `diffs/` (full scale ΔE = "
+                f"{cmp.scale:g}).",
+                "",
+                "| "
+                + " | ".join(others + [cmp.axis])
+                + " | ΔE mean | ΔE p95 | ΔE max | ΔE of means | image |",
+                "|" + "---|" * (len(others) + 6),
+            ]
             for p in pairs:
-                lines.append("| " + " | ".join(str(p[n]) for n in others + [cmp.axis]) + " | "
-                             + " | ".join(f"{p[c]:.3f}" for c in _PAIR_COLUMNS) + f" | [{Path(p['diff_image']).name}]"
-                             f"({p['diff_image']}) |")
+                lines.append(
+                    "| "
+                    + " | ".join(str(p[n]) for n in others + [cmp.axis])
+                    + " | "
+                    + " | ".join(f"{p[c]:.3f}" for c in _PAIR_COLUMNS)
+                    + f" | [{Path(p['diff_image']).name}]"
+                    f"({p['diff_image']}) |"
+                )
             lines.append("")
-        lines += ["## Files", "", "- `results.csv` — one row per job (metrics as defined in "
-                  "`warpoptics/metrics.py`)", "- `images/` — one EXR (RGB, A, S0-S3, XYZ) + PNG per job and view",
-                  "- `contact_sheet.png`", "- `plots/` — each metric against each axis"]
+        lines += [
+            "## Files",
+            "",
+            "- `results.csv` — one row per job (metrics as defined in `warpoptics/metrics.py`)",
+            "- `images/` — one EXR (RGB, A, S0-S3, XYZ) + PNG per job and view",
+            "- `contact_sheet.png`",
+            "- `plots/` — each metric against each axis",
+        ]
         if pairs:
             lines.append("- `pairs.csv`, `diffs/` — paired ΔE and difference images")
         lines.append("")
