@@ -40,6 +40,11 @@ metrics (Hemphill et al. 1998; Reinitz et al. 2001; Moses et al. 2004):
   rays; pixels integrate the light of a pixel footprint (resolution dependent: coarse pixels
   average dispersed colours back toward white); a coloured stone's body colour also counts as
   saturation unless ``reference="mean"`` measures saturation from the stone's mean chromaticity.
+  A spectral renderer also colours pixels that a bright feature covers only partly: each
+  wavelength stratum of a pixel takes its own sub-pixel position, so a small source's image
+  is seen at a random subset of wavelengths.  The sweeps' ``fire_excess`` metric therefore also
+  renders the stone with its dispersion removed (a constant index, ``sweep.nondispersive``)
+  with the same per-pixel camera samples and reports the difference of the two fires.
 - *Scintillation*: GIA (Moses et al. 2004) assessed sparkle and pattern by observation, not by a
   computed metric.  Ours is the luminance-weighted Michelson contrast between the face-up image
   and images of the stone tilted by small angles: 0 when nothing changes, 1 when all the light

@@ -108,6 +108,7 @@ METRICS: dict[str, tuple[str, ...]] = {
     "color": ("X", "Y", "Z", "L", "a", "b", "C", "h", "coverage"),
     "light_return": ("light_return",),
     "fire": ("fire",),
+    "fire_excess": ("fire_nondispersive", "fire_excess"),
     "scintillation": ("scintillation",),
 }
 _PLOTTED_COLOR_COLUMNS = ("L", "C", "h")
@@ -740,7 +741,10 @@ class Sweep:
             if self.label:
                 try:
                     # axes with display labels show them; other variables their values
-                    shown = {**variables, **{a.name: labels[a.name] for a in self.axes if a.labels is not None}}
+                    shown = {
+                        **variables,
+                        **{a.name: labels[a.name] for a in self.axes if a.labels is not None},
+                    }
                     label = self.label.format(**shown)
                 except (KeyError, ValueError, IndexError) as exc:
                     raise InputError(
@@ -856,6 +860,21 @@ def scene_for(data: dict, scene_path: str | None, overrides: dict, sweep_dir: Pa
     return Scene.from_dict(apply_overrides(d, ov, file=scene_path or "<scene>"), path=scene_path)
 
 
+def nondispersive(scene):
+    """``scene`` with every object's material replaced by a dispersion-free one: a constant index
+    equal to the material's (ordinary) n at 589.3 nm, no absorption.  Rendered with the same
+    per-pixel camera samples (wavelengths, jitter), it is the baseline of ``fire_excess``:
+    colour that sampling alone puts on small bright features cancels in the difference."""
+    from .materials import material_from_spec
+
+    ov = {}
+    for i, ob in enumerate(scene.objects):
+        mat = material_from_spec(ob.material)
+        n_d = float(np.real(np.asarray(mat.n(np.array([589.3])))).ravel()[0])
+        ov[f"object.{i}.material"] = {"cauchy": [n_d]}
+    return scene.with_overrides(ov)
+
+
 def _render(scene, device, threads):
     from .render import Renderer
 
@@ -889,13 +908,15 @@ def run_job(payload: dict) -> dict:
                 vals.update(wm.mean_color(img.xyz, img.alpha))
             elif m == "light_return":
                 vals["light_return"] = wm.light_return(img.xyz, img.alpha, white_y=vs["white_y"])
-            elif m == "fire":
-                vals["fire"] = wm.fire(
-                    img.xyz,
-                    img.alpha,
-                    reference=vs["fire_reference"],
-                    min_saturation=vs["fire_min_saturation"],
-                )
+            elif m in ("fire", "fire_excess"):
+                kw = {"reference": vs["fire_reference"], "min_saturation": vs["fire_min_saturation"]}
+                if "fire" not in vals:
+                    vals["fire"] = wm.fire(img.xyz, img.alpha, **kw)
+                if m == "fire_excess":
+                    flat = _render(nondispersive(scene), device, threads)
+                    rays += int(flat.stats.get("rays", 0))
+                    vals["fire_nondispersive"] = wm.fire(flat.xyz, flat.alpha, **kw)
+                    vals["fire_excess"] = vals["fire"] - vals["fire_nondispersive"]
             elif m == "scintillation":
                 i = int(vs["tilt_object"])
                 if not 0 <= i < len(scene.objects):
@@ -1445,7 +1466,10 @@ class SweepRunner:
             for ax_def in self.sweep.axes:
                 multi = [a for a in self.sweep.axes if len(a.values) > 1]
                 if len(ax_def.values) < 2 or (
-                    pairs and col.startswith("dE") and ax_def.name == self.sweep.compare.axis and len(multi) > 1
+                    pairs
+                    and col.startswith("dE")
+                    and ax_def.name == self.sweep.compare.axis
+                    and len(multi) > 1
                 ):
                     continue  # ΔE against the compared axis only when it is the only one
                 numeric = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in ax_def.values)
