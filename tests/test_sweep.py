@@ -328,26 +328,35 @@ def test_dask_local_cluster_same_table(reference, tmp_path):
 
 
 def test_scintillation_and_fire_views(tmp_path):
-    """A job with two views: fire and scintillation columns, per-view files."""
+    """A job with two views: fire and scintillation columns, per-view files; fire_excess of a
+    stone without dispersion is exactly 0 (its twin is the same render: same camera samples)."""
     (tmp_path / "scene.toml").write_text(SCENE)
+    studio = View(
+        "studio",
+        set={"light.0.map": "studio"},
+        metrics=("fire", "fire_excess", "scintillation"),
+        tilts=((3.0, 0.0, 0.0),),
+    )
     sw = Sweep(
         scene="scene.toml",
         base_dir=tmp_path,
-        axes=(Axis("pav", (40.0,), path="object.0.pavilion_angle"),),
-        views=(
-            View("dome", metrics=("light_return",)),
-            View(
-                "studio",
-                set={"light.0.map": "studio"},
-                metrics=("fire", "scintillation"),
-                tilts=((3.0, 0.0, 0.0),),
-            ),
+        axes=(
+            Axis("mat", ("diamond", {"cauchy": [2.4175]}), path="object.0.material", labels=("d", "flat")),
         ),
+        views=(View("dome", metrics=("light_return",)), studio),
     )
     r = SweepRunner(sw, tmp_path / "out", progress=False).run()
-    row = r.rows[0]
-    assert set(sw.columns()) == {"dome_light_return", "studio_fire", "studio_scintillation"}
-    assert 0.0 < float(row["studio_scintillation"]) < 1.0 and float(row["studio_fire"]) >= 0.0
+    assert sw.columns() == [
+        "dome_light_return",
+        "studio_fire",
+        "studio_fire_nondispersive",
+        "studio_fire_excess",
+        "studio_scintillation",
+    ]
+    diamond, flat = r.rows
+    assert 0.0 < float(diamond["studio_scintillation"]) < 1.0 and float(diamond["studio_fire"]) > 0.0
+    assert float(flat["studio_fire_excess"]) == 0.0
+    assert float(flat["studio_fire"]) == float(flat["studio_fire_nondispersive"]) > 0.0  # sampling colour
     assert (tmp_path / "out" / "images" / f"{r.jobs[0].key}.studio.exr").is_file()
 
 
