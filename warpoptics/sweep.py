@@ -1488,6 +1488,9 @@ class SweepRunner:
                     ax.set_xticklabels([ax_def.label_of(i) for i in range(len(ax_def.values))], fontsize=7)
                 elif all(v > 0 for v in ax_def.values) and max(ax_def.values) / min(ax_def.values) >= 100:
                     ax.set_xscale("log")
+                ys = [y for pts in lines.values() for _x, y in pts]
+                if ys and min(ys) > 0 and max(ys) / min(ys) >= 100:
+                    ax.set_yscale("log")  # e.g. ΔE over decades of stone size
                 ax.set_xlabel(ax_def.name + (f"  ({ax_def.path})" if ax_def.path else ""))
                 ax.set_ylabel(col)
                 ax.grid(alpha=0.3)
