@@ -18,7 +18,7 @@ try:
 except _metadata.PackageNotFoundError:  # running from a source tree without install
     __version__ = "0.0.0+unknown"
 
-from . import color, device, image, materials, optics, spectra
+from . import color, device, image, materials, metrics, optics, spectra, sweep
 from .errors import InputError
 from .geometry import cuts
 from .optics import thinfilm
@@ -33,8 +33,10 @@ __all__ = [
     "device",
     "image",
     "materials",
+    "metrics",
     "optics",
     "spectra",
+    "sweep",
     "thinfilm",
     "InputError",
     "BenchScene",

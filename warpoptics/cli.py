@@ -23,6 +23,7 @@ SUBCOMMAND_MODULES = [
     "warpoptics.commands.material",
     "warpoptics.commands.cut",
     "warpoptics.commands.thinfilm",
+    "warpoptics.commands.sweep",
 ]
 
 
