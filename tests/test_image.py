@@ -45,3 +45,10 @@ def test_read_errors_name_the_file(tmp_path):
     bad.write_bytes(b"not an image")
     with pytest.raises(InputError, match="bad.exr"):
         read_image(bad)
+
+
+def test_atomic_writes_get_normal_permissions(tmp_path):
+    p = write_png(tmp_path / "perm.png", np.zeros((2, 2, 3)))
+    umask = os.umask(0)
+    os.umask(umask)
+    assert (p.stat().st_mode & 0o777) == (0o666 & ~umask)
