@@ -1,12 +1,10 @@
 """The command line, run as a user runs it (subprocesses), and the README/CI contract."""
 
-import os
 import re
 import subprocess
 import sys
 from pathlib import Path
 
-import numpy as np
 
 import warpoptics as wo
 from warpoptics.image import read_image

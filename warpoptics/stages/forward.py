@@ -83,6 +83,22 @@ from ..optics.jones import (
 )
 from ..optics.thinfilm import CoatingStack, coating_amplitudes
 from .beam import BeamParams, beam_ray
+from .branches import (
+    _B,
+    _D,
+    _DEPTH,
+    _IN,
+    _MODE,
+    _O,
+    _W,
+    _WN,
+    STACK_SIZE,
+    Stack as _Stack,
+    copy_row,
+    row_jones as _row_jones,
+    row_vec as _row_vec,
+    write_row,
+)
 from .screen import ScreenSet, screen_hit
 
 __all__ = ["ForwardParams", "ForwardConfig", "forward_params", "forward_trace_kernel", "LEDGER", "STACK_SIZE"]
@@ -90,21 +106,6 @@ __all__ = ["ForwardParams", "ForwardConfig", "forward_params", "forward_trace_ke
 #: names of the ledger columns (see the module docstring)
 LEDGER = ("screen", "absorbed", "escaped", "truncated", "lost", "overflow", "interface")
 _L_SCREEN, _L_ABS, _L_ESC, _L_TRUNC, _L_LOST, _L_OVER, _L_IFACE = 0, 1, 2, 3, 4, 5, 6
-
-STACK_SIZE = 40
-_COLS = 24
-_Stack = wp.types.matrix(shape=(STACK_SIZE, _COLS), dtype=wp.float32)
-_O = 0  # origin xyz
-_D = 3  # ray (energy) direction xyz
-_S = 6  # wave normal xyz (= ray direction except for e rays)
-_B = 9  # polarization basis x (isotropic rays)
-_MR = 12  # Jones real part (4)
-_MI = 16  # Jones imaginary part (4)
-_W = 20  # scalar weight (absorption, random selection)
-_IN = 21  # object the ray runs inside (-1: ambient)
-_DEPTH = 22  # interfaces crossed
-_MODE = 23  # -1 isotropic, 0 ordinary, 1 extraordinary
-
 
 @wp.struct
 class ForwardParams:
@@ -145,44 +146,13 @@ def _push(
     depth: int,
     mode: int,
 ):
-    for c in range(3):
-        st[n, _O + c] = o[c]
-        st[n, _D + c] = d[c]
-        st[n, _S + c] = s[c]
-        st[n, _B + c] = b[c]
-    st[n, _MR + 0] = m.re[0, 0]
-    st[n, _MR + 1] = m.re[0, 1]
-    st[n, _MR + 2] = m.re[1, 0]
-    st[n, _MR + 3] = m.re[1, 1]
-    st[n, _MI + 0] = m.im[0, 0]
-    st[n, _MI + 1] = m.im[0, 1]
-    st[n, _MI + 2] = m.im[1, 0]
-    st[n, _MI + 3] = m.im[1, 1]
-    st[n, _W] = w
-    st[n, _IN] = float(inside)
-    st[n, _DEPTH] = float(depth)
-    st[n, _MODE] = float(mode)
-    return st
-
-
-@wp.func
-def _row_vec(st: _Stack, n: int, c0: int):
-    return wp.vec3f(st[n, c0], st[n, c0 + 1], st[n, c0 + 2])
-
-
-@wp.func
-def _row_jones(st: _Stack, n: int):
-    m = Jones()
-    m.re = wp.mat22(st[n, _MR], st[n, _MR + 1], st[n, _MR + 2], st[n, _MR + 3])
-    m.im = wp.mat22(st[n, _MI], st[n, _MI + 1], st[n, _MI + 2], st[n, _MI + 3])
-    return m
+    # the shared row layout keeps the wave normal s in the _WN columns
+    return write_row(st, n, o, d, b, m, w, inside, depth, mode, s)
 
 
 @wp.func
 def _copy_row(st: _Stack, src: int, dst: int):
-    for c in range(_COLS):
-        st[dst, c] = st[src, c]
-    return st
+    return copy_row(st, dst, st, src)
 
 
 @wp.func
@@ -280,7 +250,7 @@ def forward_trace_kernel(
         n -= 1
         o = _row_vec(st, n, _O)
         d = _row_vec(st, n, _D)
-        s_in = _row_vec(st, n, _S)
+        s_in = _row_vec(st, n, _WN)
         bx = _row_vec(st, n, _B)
         m = _row_jones(st, n)
         w = st[n, _W]
