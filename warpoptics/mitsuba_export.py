@@ -47,7 +47,6 @@ References:
 
 from __future__ import annotations
 
-import math
 import os
 import tempfile
 from pathlib import Path
@@ -68,6 +67,8 @@ __all__ = [
     "bake_environment",
     "environment_rgb",
     "mitsuba_directions",
+    "latlong_directions",
+    "bake_latlong",
     "mitsuba_scene_dict",
     "load_mitsuba_scene",
     "render_mitsuba",
@@ -147,6 +148,23 @@ def mitsuba_directions(width: int, height: int) -> np.ndarray:
     return local @ ENVMAP_TO_WORLD.T
 
 
+def latlong_directions(width: int, height: int) -> np.ndarray:
+    """World directions ``(height, width, 3)`` of the texel centres of *our* lat-long maps (z up,
+    u = 0.5 + atan2(y, x) / 2 pi, v = acos(z) / pi, centres at (i + 0.5) / W, (j + 0.5) / H)."""
+    phi = 2.0 * np.pi * ((np.arange(width) + 0.5) / width - 0.5)[None, :]
+    theta = np.pi * ((np.arange(height) + 0.5) / height)[:, None]
+    return np.stack(np.broadcast_arrays(np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi),
+                                        np.cos(theta) + 0 * phi), axis=-1)
+
+
+def bake_latlong(light: EnvironmentLight, width: int = 1024, height: int = 512, *, step: float = 1.0,
+                 device=None) -> np.ndarray:
+    """Our environment (procedural or not) as one of our lat-long maps ``(height, width, 3)``,
+    linear sRGB >= 0 (for an EXR that both renderers read)."""
+    rgb = environment_rgb(light, latlong_directions(width, height).astype(np.float32), step=step, device=device)
+    return np.ascontiguousarray(np.maximum(rgb, 0.0), dtype=np.float32)
+
+
 def bake_environment(light: EnvironmentLight, *, width: int | None = None, height: int | None = None,
                      step: float = 1.0, device=None) -> np.ndarray:
     """A Mitsuba lat-long bitmap ``(H, W, 3)`` (linear sRGB, >= 0) of our environment, to be used
@@ -204,13 +222,14 @@ def _stone_index(mat, wavelength: float, where: str, file) -> float:
 def mitsuba_scene_dict(scene: Scene, directory: str | os.PathLike, *, wavelength: float = 589.3,
                        spp: int = 64, seed: int = 0, max_depth: int | None = None, stokes: bool = False,
                        rr_depth: int = 5, sampler: str = "independent", env_width: int | None = None,
-                       env_height: int | None = None, device=None) -> dict:
+                       env_height: int | None = None, env_step: float = 1.0, device=None) -> dict:
     """A ``mi.load_dict`` dictionary of ``scene`` (a Mitsuba variant must be set).
 
     ``directory``: where the PLY meshes are written (must exist until ``mi.load_dict``).
     ``wavelength`` (nm): where each stone's index is taken.  ``max_depth``: ours (interfaces per
     path), default the scene's; Mitsuba gets ``max_depth + 1``.  ``stokes``: wrap the path
-    tracer in the ``stokes`` integrator (polarized variants).
+    tracer in the ``stokes`` integrator (polarized variants).  ``env_width``, ``env_height``,
+    ``env_step``: the envmap bake (see :func:`bake_environment`).
     """
     import mitsuba as mi
 
@@ -243,7 +262,7 @@ def mitsuba_scene_dict(scene: Scene, directory: str | os.PathLike, *, wavelength
     if light.struct.kind == 0:  # constant: a flat spectrum, as ours (CIE E)
         d["light"] = {"type": "constant", "radiance": {"type": "uniform", "value": float(light.config.intensity)}}
     else:
-        bitmap = bake_environment(light, width=env_width, height=env_height, device=device)
+        bitmap = bake_environment(light, width=env_width, height=env_height, step=env_step, device=device)
         m = np.eye(4)
         m[:3, :3] = ENVMAP_TO_WORLD
         d["light"] = {"type": "envmap", "bitmap": mi.Bitmap(bitmap), "to_world": mi.ScalarTransform4f(m.tolist())}
