@@ -151,3 +151,30 @@ def test_environment_and_camera_orientation(tmp_path, device):
     # and the same picture channel by channel (a mirrored map gives negative correlation)
     for c in range(3):
         assert np.corrcoef(a[..., c].ravel(), b[..., c].ravel())[0, 1] > 0.98
+
+
+def test_bench_script_smoke(tmp_path):
+    """scripts/bench/bench_mitsuba.py as a subprocess with tiny options (scalar variant: no LLVM)."""
+    import json
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    out = tmp_path / "bench.json"
+    env = {**os.environ, "PYTHONPATH": str(root) + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    proc = subprocess.run(
+        [sys.executable, str(root / "scripts" / "bench" / "bench_mitsuba.py"), "--quick", "--width", "16",
+         "--height", "16", "--variant", "scalar_spectral", "--min-passes", "4", "--max-passes", "4",
+         "--mitsuba-spp", "4", "--env-step", "20", "--json", str(out)],
+        capture_output=True, text=True, env=env, timeout=300,
+    )
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert "seconds to target" in proc.stdout
+    res = json.loads(out.read_text())
+    assert res["width"] == 16 and res["mitsuba_variant"] == "scalar_spectral"
+    for who in ("ours", "mitsuba"):
+        assert res[who]["passes"] == 4 and res[who]["seconds_to_target"] > 0
+    # the two renderers see the same stone: mean luminance within 15 % at this tiny budget
+    assert abs(res["agreement"]["mean_rel_diff"]) < 0.15

@@ -27,10 +27,14 @@ Conventions and how they are matched (each checked in ``tests/test_mitsuba.py``)
   emitter (a flat spectrum, CIE E, as ours).
 - Stokes vectors: Mitsuba's ``stokes`` integrator rotates the result into the frame whose x axis
   is ``ray.d x sensor_up`` (image right) and whose y axis is ``k x x`` with ``k = -ray.d`` the
-  propagation direction (its ``rotate_stokes_basis``/``rotator`` conventions), i.e. x = image
-  right, y = image up: the same frame as ours.  It reports each S_i as linear sRGB; we take
-  luminance Y.  The measured sign relation between its S1, S2, S3 and ours is in
-  :data:`STOKES_SIGNS` (see tests/test_mitsuba.py and the module's notes there).
+  propagation direction (``mueller::rotate_stokes_basis`` and ``rotator``: +45 deg linear
+  polarization lies between +x and +y), and it "observes the polarization ellipse from the
+  sensor, looking back along the propagation direction", with S3 > 0 right circular (Chipman's
+  circular polarizers): x = image right, y = image up, Born & Wolf handedness -- the frame and
+  handedness of ours.  Measured (tests/test_mitsuba.py, n = 1.8 brilliant): Mitsuba's S1, S2
+  and S3 agree with ours in sign and size (correlations +0.97, means within noise), so
+  :data:`STOKES_SIGNS` is all +1; flipping any sign breaks the test.  It reports each S_i as
+  linear sRGB; we take luminance Y (ours is Y-weighted).
 - ``max_depth``: Mitsuba counts path vertices including the emitter hit: ``ours + 1``.
 - ``ext_ior`` is set to our ambient index (Mitsuba's default "air" is 1.000277).
 
@@ -78,8 +82,8 @@ __all__ = [
 #: local y -> world z, local -z (u = 0) -> world x, local x -> world -y.  det = +1.
 ENVMAP_TO_WORLD = np.array([[0.0, 0.0, -1.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
 
-#: Multipliers that turn Mitsuba's stokes-integrator S0..S3 into ours (measured, see
-#: tests/test_mitsuba.py::test_stokes_frame and the report in the module notes).
+#: Multipliers that turn Mitsuba's stokes-integrator S0..S3 into ours: all +1 (same frame and
+#: handedness; measured by tests/test_mitsuba.py::test_stokes_against_mitsuba).
 STOKES_SIGNS = np.array([1.0, 1.0, 1.0, 1.0])
 
 
