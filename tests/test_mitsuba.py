@@ -43,14 +43,27 @@ def smooth_map(path):
 
 
 def stone_scene(map_path, polarization=True):
-    return wo.Scene.from_dict({
-        "camera": {"position": [0.0, -22.0, 30.0], "look_at": [0.0, 0.0, -0.3], "up": [0.0, 0.0, 1.0], "fov": 15.0,
-                   "width": 32, "height": 32},
-        "render": {"spectral": "stratified", "wavelengths": 4, "spp": 4, "max_depth": 12,
-                   "polarization": polarization},
-        "light": [{"type": "environment", "map": map_path}],
-        "object": [{"shape": "round_brilliant", "diameter": 6.5, "material": {"cauchy": [1.8]}}],
-    })
+    return wo.Scene.from_dict(
+        {
+            "camera": {
+                "position": [0.0, -22.0, 30.0],
+                "look_at": [0.0, 0.0, -0.3],
+                "up": [0.0, 0.0, 1.0],
+                "fov": 15.0,
+                "width": 32,
+                "height": 32,
+            },
+            "render": {
+                "spectral": "stratified",
+                "wavelengths": 4,
+                "spp": 4,
+                "max_depth": 12,
+                "polarization": polarization,
+            },
+            "light": [{"type": "environment", "map": map_path}],
+            "object": [{"shape": "round_brilliant", "diameter": 6.5, "material": {"cauchy": [1.8]}}],
+        }
+    )
 
 
 def passes_ours(scene, device, n=PASSES):
@@ -80,9 +93,12 @@ def compare(ours, theirs, components, label):
         assert np.all(blocks[block_se == 0] == 0)
         corr = np.corrcoef(a[..., i].ravel(), b[..., i].ravel())[0, 1]
         scale = np.abs(b[..., 0]).mean()
-        print(f"{label} S{i}: ours mean {a[..., i].mean():+.5f} mitsuba {b[..., i].mean():+.5f} "
-              f"(diff {d.mean() / scale:+.2e} of S0, z {z_mean:+.2f}), |block z| max {np.abs(z_blocks).max():.2f}, "
-              f"msd/var {ratio:.3f}, corr {corr:+.3f}, rms diff / mean S0 {np.sqrt((d**2).mean()) / scale:.4f}")
+        print(
+            f"{label} S{i}: ours mean {a[..., i].mean():+.5f} mitsuba {b[..., i].mean():+.5f} "
+            f"(diff {d.mean() / scale:+.2e} of S0, z {z_mean:+.2f}), "
+            f"|block z| max {np.abs(z_blocks).max():.2f}, "
+            f"msd/var {ratio:.3f}, corr {corr:+.3f}, rms diff / mean S0 {np.sqrt((d**2).mean()) / scale:.4f}"
+        )
         out[i] = (ratio, z_mean, np.abs(z_blocks).max(), corr)
     return out
 
@@ -114,7 +130,7 @@ def test_unpolarized_against_mitsuba(env_map, device):
     scene = stone_scene(env_map, polarization=False)
     ours = passes_ours(scene, device)
     theirs = passes_mitsuba(scene, "scalar_spectral", 256, device)
-    (ratio, z_mean, z_block, corr), = compare(ours, theirs, [0], "unpolarized").values()
+    ((ratio, z_mean, z_block, corr),) = compare(ours, theirs, [0], "unpolarized").values()
     assert 0.6 < ratio < 1.6 and abs(z_mean) < 4.0 and z_block < 4.5 and corr > 0.9
     assert np.all(ours[..., 1:] == 0)
 
@@ -126,16 +142,31 @@ def test_environment_and_camera_orientation(tmp_path, device):
     h, w = 32, 64
     colours = np.array([[1.0, 0.2, 0.1], [0.1, 1.0, 0.2], [0.1, 0.2, 1.0], [1.0, 1.0, 0.2]], dtype=np.float32)
     img = np.repeat(colours, w // 4, axis=0)[None].repeat(h, 0)
-    img[h // 2:] *= 0.3
+    img[h // 2 :] *= 0.3
     path = tmp_path / "quadrants.exr"
     write_exr(path, img, ["R", "G", "B"])
-    scene = wo.Scene.from_dict({
-        "camera": {"position": [0.0, 0.0, 0.0], "look_at": [1.0, 0.3, 0.3], "up": [0.0, 0.0, 1.0], "fov": 100.0,
-                   "width": 48, "height": 32},
-        "render": {"spectral": "stratified", "wavelengths": 32, "spp": 2, "max_depth": 2},
-        "light": [{"type": "environment", "map": str(path)}],
-        "object": [{"shape": "cube", "size": 1.0, "position": [1.0e4, 1.0e4, 1.0e4], "material": {"cauchy": [1.5]}}],
-    })
+    scene = wo.Scene.from_dict(
+        {
+            "camera": {
+                "position": [0.0, 0.0, 0.0],
+                "look_at": [1.0, 0.3, 0.3],
+                "up": [0.0, 0.0, 1.0],
+                "fov": 100.0,
+                "width": 48,
+                "height": 32,
+            },
+            "render": {"spectral": "stratified", "wavelengths": 32, "spp": 2, "max_depth": 2},
+            "light": [{"type": "environment", "map": str(path)}],
+            "object": [
+                {
+                    "shape": "cube",
+                    "size": 1.0,
+                    "position": [1.0e4, 1.0e4, 1.0e4],
+                    "material": {"cauchy": [1.5]},
+                }
+            ],
+        }
+    )
     ours = wo.render(scene, device=device, spp=4).xyz
     mi.set_variant("scalar_spectral")
     theirs = mx.render_mitsuba(scene, spp=32, device=device)["rgb"] @ SRGB_TO_XYZ.T
@@ -165,10 +196,31 @@ def test_bench_script_smoke(tmp_path):
     out = tmp_path / "bench.json"
     env = {**os.environ, "PYTHONPATH": str(root) + os.pathsep + os.environ.get("PYTHONPATH", "")}
     proc = subprocess.run(
-        [sys.executable, str(root / "scripts" / "bench" / "bench_mitsuba.py"), "--quick", "--width", "16",
-         "--height", "16", "--variant", "scalar_spectral", "--min-passes", "4", "--max-passes", "4",
-         "--mitsuba-spp", "4", "--env-step", "20", "--json", str(out)],
-        capture_output=True, text=True, env=env, timeout=300,
+        [
+            sys.executable,
+            str(root / "scripts" / "bench" / "bench_mitsuba.py"),
+            "--quick",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--variant",
+            "scalar_spectral",
+            "--min-passes",
+            "4",
+            "--max-passes",
+            "4",
+            "--mitsuba-spp",
+            "4",
+            "--env-step",
+            "20",
+            "--json",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
     )
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert "seconds to target" in proc.stdout

@@ -146,7 +146,9 @@ def mitsuba_directions(width: int, height: int) -> np.ndarray:
     phi = 2.0 * np.pi * u[None, :]
     theta = np.pi * v[:, None]
     local = np.stack(
-        np.broadcast_arrays(np.sin(phi) * np.sin(theta), np.cos(theta) + 0 * phi, -np.cos(phi) * np.sin(theta)),
+        np.broadcast_arrays(
+            np.sin(phi) * np.sin(theta), np.cos(theta) + 0 * phi, -np.cos(phi) * np.sin(theta)
+        ),
         axis=-1,
     )
     return local @ ENVMAP_TO_WORLD.T
@@ -157,20 +159,33 @@ def latlong_directions(width: int, height: int) -> np.ndarray:
     u = 0.5 + atan2(y, x) / 2 pi, v = acos(z) / pi, centres at (i + 0.5) / W, (j + 0.5) / H)."""
     phi = 2.0 * np.pi * ((np.arange(width) + 0.5) / width - 0.5)[None, :]
     theta = np.pi * ((np.arange(height) + 0.5) / height)[:, None]
-    return np.stack(np.broadcast_arrays(np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi),
-                                        np.cos(theta) + 0 * phi), axis=-1)
+    return np.stack(
+        np.broadcast_arrays(
+            np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta) + 0 * phi
+        ),
+        axis=-1,
+    )
 
 
-def bake_latlong(light: EnvironmentLight, width: int = 1024, height: int = 512, *, step: float = 1.0,
-                 device=None) -> np.ndarray:
+def bake_latlong(
+    light: EnvironmentLight, width: int = 1024, height: int = 512, *, step: float = 1.0, device=None
+) -> np.ndarray:
     """Our environment (procedural or not) as one of our lat-long maps ``(height, width, 3)``,
     linear sRGB >= 0 (for an EXR that both renderers read)."""
-    rgb = environment_rgb(light, latlong_directions(width, height).astype(np.float32), step=step, device=device)
+    rgb = environment_rgb(
+        light, latlong_directions(width, height).astype(np.float32), step=step, device=device
+    )
     return np.ascontiguousarray(np.maximum(rgb, 0.0), dtype=np.float32)
 
 
-def bake_environment(light: EnvironmentLight, *, width: int | None = None, height: int | None = None,
-                     step: float = 1.0, device=None) -> np.ndarray:
+def bake_environment(
+    light: EnvironmentLight,
+    *,
+    width: int | None = None,
+    height: int | None = None,
+    step: float = 1.0,
+    device=None,
+) -> np.ndarray:
     """A Mitsuba lat-long bitmap ``(H, W, 3)`` (linear sRGB, >= 0) of our environment, to be used
     with ``to_world`` = :data:`ENVMAP_TO_WORLD`.  Lat-long maps of ``w x h`` default to ``w x
     (2h + 1)`` (texel-exact, see the module docstring); procedural maps to 1024 x 513."""
@@ -178,13 +193,18 @@ def bake_environment(light: EnvironmentLight, *, width: int | None = None, heigh
         h, w = light.texture.shape[:2]
         width, height = w, 2 * h + 1
         if w % 2:
-            raise InputError("a lat-long map exported to Mitsuba needs an even width", field="light.map", value=w)
+            raise InputError(
+                "a lat-long map exported to Mitsuba needs an even width", field="light.map", value=w
+            )
     width = int(width or 1024)
     height = int(height or (width // 2 + 1))
     if width < 2 or height < 3:
-        raise InputError("environment bake too small", field="width x height", value=(width, height),
-                         allowed=">= 2 x 3")
-    rgb = environment_rgb(light, mitsuba_directions(width, height).astype(np.float32), step=step, device=device)
+        raise InputError(
+            "environment bake too small", field="width x height", value=(width, height), allowed=">= 2 x 3"
+        )
+    rgb = environment_rgb(
+        light, mitsuba_directions(width, height).astype(np.float32), step=step, device=device
+    )
     return np.ascontiguousarray(np.maximum(rgb, 0.0), dtype=np.float32)
 
 
@@ -213,20 +233,39 @@ def _stone_index(mat, wavelength: float, where: str, file) -> float:
     from .materials.dispersion import Uniaxial
 
     if isinstance(mat, Uniaxial):
-        raise InputError("Mitsuba's dielectric is isotropic: a birefringent stone cannot be exported",
-                         file=file, field=f"{where}.material")
+        raise InputError(
+            "Mitsuba's dielectric is isotropic: a birefringent stone cannot be exported",
+            file=file,
+            field=f"{where}.material",
+        )
     n = float(np.asarray(mat.n(np.array([wavelength]))).ravel()[0])
     a = float(np.asarray(mat.alpha(np.array([wavelength]))).ravel()[0])
     if a > 0.0:
-        raise InputError("Mitsuba's dielectric is clear: an absorbing stone cannot be exported",
-                         file=file, field=f"{where}.material", value=f"alpha = {a:g} /mm at {wavelength} nm")
+        raise InputError(
+            "Mitsuba's dielectric is clear: an absorbing stone cannot be exported",
+            file=file,
+            field=f"{where}.material",
+            value=f"alpha = {a:g} /mm at {wavelength} nm",
+        )
     return n
 
 
-def mitsuba_scene_dict(scene: Scene, directory: str | os.PathLike, *, wavelength: float = 589.3,
-                       spp: int = 64, seed: int = 0, max_depth: int | None = None, stokes: bool = False,
-                       rr_depth: int = 5, sampler: str = "independent", env_width: int | None = None,
-                       env_height: int | None = None, env_step: float = 1.0, device=None) -> dict:
+def mitsuba_scene_dict(
+    scene: Scene,
+    directory: str | os.PathLike,
+    *,
+    wavelength: float = 589.3,
+    spp: int = 64,
+    seed: int = 0,
+    max_depth: int | None = None,
+    stokes: bool = False,
+    rr_depth: int = 5,
+    sampler: str = "independent",
+    env_width: int | None = None,
+    env_height: int | None = None,
+    env_step: float = 1.0,
+    device=None,
+) -> dict:
     """A ``mi.load_dict`` dictionary of ``scene`` (a Mitsuba variant must be set).
 
     ``directory``: where the PLY meshes are written (must exist until ``mi.load_dict``).
@@ -242,8 +281,13 @@ def mitsuba_scene_dict(scene: Scene, directory: str | os.PathLike, *, wavelength
     device = get_device(device)
     cam = scene.camera
     if cam.type != "perspective":
-        raise InputError("only perspective cameras are exported to Mitsuba", file=scene.path, field="camera.type",
-                         value=cam.type, allowed="perspective")
+        raise InputError(
+            "only perspective cameras are exported to Mitsuba",
+            file=scene.path,
+            field="camera.type",
+            value=cam.type,
+            allowed="perspective",
+        )
     directory = Path(directory)
     meshes, mats, _axes = _build_objects(scene, device)
     d = {"type": "scene"}
@@ -264,12 +308,19 @@ def mitsuba_scene_dict(scene: Scene, directory: str | os.PathLike, *, wavelength
         }
     light = EnvironmentLight(scene.lights[0], device)
     if light.struct.kind == 0:  # constant: a flat spectrum, as ours (CIE E)
-        d["light"] = {"type": "constant", "radiance": {"type": "uniform", "value": float(light.config.intensity)}}
+        d["light"] = {
+            "type": "constant",
+            "radiance": {"type": "uniform", "value": float(light.config.intensity)},
+        }
     else:
         bitmap = bake_environment(light, width=env_width, height=env_height, step=env_step, device=device)
         m = np.eye(4)
         m[:3, :3] = ENVMAP_TO_WORLD
-        d["light"] = {"type": "envmap", "bitmap": mi.Bitmap(bitmap), "to_world": mi.ScalarTransform4f(m.tolist())}
+        d["light"] = {
+            "type": "envmap",
+            "bitmap": mi.Bitmap(bitmap),
+            "to_world": mi.ScalarTransform4f(m.tolist()),
+        }
     depth = scene.render.max_depth if max_depth is None else int(max_depth)
     integrator = {"type": "path", "max_depth": depth + 1, "rr_depth": int(rr_depth), "hide_emitters": False}
     d["integrator"] = {"type": "stokes", "integrator": integrator} if stokes else integrator
@@ -279,10 +330,17 @@ def mitsuba_scene_dict(scene: Scene, directory: str | os.PathLike, *, wavelength
         "fov_axis": "y",
         "near_clip": 1.0e-3,
         "far_clip": 1.0e7,
-        "to_world": mi.ScalarTransform4f().look_at(origin=list(cam.position), target=list(cam.look_at),
-                                                   up=list(cam.up)),
-        "film": {"type": "hdrfilm", "width": int(cam.width), "height": int(cam.height), "rfilter": {"type": "box"},
-                 "pixel_format": "rgb", "sample_border": False},
+        "to_world": mi.ScalarTransform4f().look_at(
+            origin=list(cam.position), target=list(cam.look_at), up=list(cam.up)
+        ),
+        "film": {
+            "type": "hdrfilm",
+            "width": int(cam.width),
+            "height": int(cam.height),
+            "rfilter": {"type": "box"},
+            "pixel_format": "rgb",
+            "sample_border": False,
+        },
         "sampler": {"type": sampler, "sample_count": int(spp), "seed": int(seed)},
     }
     return d
@@ -301,8 +359,15 @@ def _luminance(rgb: np.ndarray) -> np.ndarray:
     return rgb @ SRGB_TO_XYZ[1]
 
 
-def render_mitsuba(scene: Scene | str | os.PathLike, *, spp: int = 64, seed: int = 0, variant: str | None = None,
-                   mi_scene=None, **kw) -> dict:
+def render_mitsuba(
+    scene: Scene | str | os.PathLike,
+    *,
+    spp: int = 64,
+    seed: int = 0,
+    variant: str | None = None,
+    mi_scene=None,
+    **kw,
+) -> dict:
     """Render ``scene`` with Mitsuba 3 and return ``{"rgb": (H, W, 3) linear sRGB, "y": (H, W)
     luminance, "stokes": (H, W, 4) Y-weighted S0..S3 in our frame (polarized variants, else
     S1..S3 = 0), "seconds": render time}``.  ``variant`` (e.g. "scalar_spectral_polarized",

@@ -56,7 +56,7 @@ def rel_noise(passes: np.ndarray) -> float:
 def half_split_check(passes: np.ndarray) -> tuple[float, float]:
     """(measured, predicted) relative RMSE between the means of the two halves."""
     k = len(passes) // 2
-    a, b = passes[:k].mean(0), passes[k:2 * k].mean(0)
+    a, b = passes[:k].mean(0), passes[k : 2 * k].mean(0)
     mean = passes.mean()
     measured = float(np.sqrt(((a - b) ** 2).mean()) / mean)
     return measured, float(np.sqrt(2.0 / k) * rel_noise(passes))
@@ -65,8 +65,8 @@ def half_split_check(passes: np.ndarray) -> tuple[float, float]:
 def converged_difference(ours: np.ndarray, theirs: np.ndarray) -> dict:
     """Noise-free estimate of the relative RMSE between the converged images (split halves)."""
     ka, kb = len(ours) // 2, len(theirs) // 2
-    a1, a2 = ours[:ka].mean(0), ours[ka:2 * ka].mean(0)
-    b1, b2 = theirs[:kb].mean(0), theirs[kb:2 * kb].mean(0)
+    a1, a2 = ours[:ka].mean(0), ours[ka : 2 * ka].mean(0)
+    b1, b2 = theirs[:kb].mean(0), theirs[kb : 2 * kb].mean(0)
     prod = ((a1 - b1) * (a2 - b2)).ravel()
     est, se = float(prod.mean()), float(prod.std(ddof=1) / np.sqrt(prod.size))
     ref = float(theirs.mean())
@@ -85,9 +85,15 @@ def time_to_target(passes: np.ndarray, times: list[float], samples_per_pass: int
     s1 = rel_noise(passes)
     t_pass = float(np.median(times))
     k = (s1 / target) ** 2
-    out = {"passes": len(passes), "seconds_per_pass": t_pass, "samples_per_pass": samples_per_pass,
-           "rel_noise_one_pass": s1, "passes_to_target": k, "seconds_to_target": k * t_pass,
-           "samples_to_target": k * samples_per_pass}
+    out = {
+        "passes": len(passes),
+        "seconds_per_pass": t_pass,
+        "samples_per_pass": samples_per_pass,
+        "rel_noise_one_pass": s1,
+        "passes_to_target": k,
+        "seconds_to_target": k * t_pass,
+        "samples_to_target": k * samples_per_pass,
+    }
     # direct reading when the run itself got there
     if len(passes) >= 2 and s1 / np.sqrt(len(passes)) <= target:
         out["seconds_to_target_measured"] = float(np.sum(times[: int(np.ceil(k))]))
@@ -114,7 +120,9 @@ class OursRunner:
 
 
 class MitsubaRunner:
-    def __init__(self, scene, variant: str, spp: int, log, env_step: float = 1.0):
+    def __init__(
+        self, scene, variant: str, spp: int, log, env_step: float = 1.0, sampler: str = "independent"
+    ):
         import mitsuba as mi
 
         from warpoptics import mitsuba_export as mx
@@ -122,7 +130,7 @@ class MitsubaRunner:
         mi.set_variant(variant)
         self.mx, self.scene, self.spp, self.ims, self.times = mx, scene, spp, [], []
         t0 = time.perf_counter()
-        self.loaded = mx.load_mitsuba_scene(scene, env_step=env_step)
+        self.loaded = mx.load_mitsuba_scene(scene, env_step=env_step, sampler=sampler)
         log(f"mitsuba: scene export (envmap bake) + load {time.perf_counter() - t0:.1f} s")
         t0 = time.perf_counter()
         mx.render_mitsuba(scene, spp=spp, seed=10_000, mi_scene=self.loaded)  # warm-up: JIT compilation
@@ -134,8 +142,15 @@ class MitsubaRunner:
         self.ims.append(r["y"])
 
 
-def run_interleaved(ours: OursRunner, theirs: MitsubaRunner, ours_budget: float, theirs_budget: float,
-                    min_passes: int, max_passes: int, log) -> None:
+def run_interleaved(
+    ours: OursRunner,
+    theirs: MitsubaRunner,
+    ours_budget: float,
+    theirs_budget: float,
+    min_passes: int,
+    max_passes: int,
+    log,
+) -> None:
     """Alternate the two renderers so that both see the same (shared-machine) load: each round
     runs one pass of ours and Mitsuba passes until Mitsuba's time catches up with ours (scaled by
     the ratio of the budgets)."""
@@ -153,14 +168,16 @@ def run_interleaved(ours: OursRunner, theirs: MitsubaRunner, ours_budget: float,
             theirs.step()
         if time.perf_counter() - last > 60:
             last = time.perf_counter()
-            log(f"ours {len(ours.ims)} passes {sum(ours.times):.0f} s; mitsuba {len(theirs.ims)} passes "
-                f"{sum(theirs.times):.0f} s")
+            log(
+                f"ours {len(ours.ims)} passes {sum(ours.times):.0f} s; mitsuba {len(theirs.ims)} passes "
+                f"{sum(theirs.times):.0f} s"
+            )
 
 
 def pick_variant(requested: str | None, log) -> str:
     import mitsuba as mi
 
-    for v in ([requested] if requested else ["llvm_ad_spectral", "scalar_spectral"]):
+    for v in [requested] if requested else ["llvm_ad_spectral", "scalar_spectral"]:
         try:
             mi.set_variant(v)
             if v.startswith("llvm"):
@@ -180,16 +197,27 @@ def main(argv=None) -> int:
     ap.add_argument("--width", type=int)
     ap.add_argument("--height", type=int)
     ap.add_argument("--target", type=float, default=0.01, help="relative RMSE (default 1 %%)")
-    ap.add_argument("--wavelengths", type=int, help="our stratified wavelengths per spp (default: the scene's)")
+    ap.add_argument(
+        "--wavelengths", type=int, help="our stratified wavelengths per spp (default: the scene's)"
+    )
     ap.add_argument("--spp", type=int, help="our spp per pass (default: the scene's)")
     ap.add_argument("--ours-seconds", type=float, default=1200.0, help="time budget of our passes")
     ap.add_argument("--mitsuba-seconds", type=float, default=900.0, help="time budget of Mitsuba's passes")
     ap.add_argument("--mitsuba-spp", type=int, default=32, help="Mitsuba spp per pass")
+    ap.add_argument(
+        "--mitsuba-sampler",
+        default="independent",
+        help="Mitsuba sampler (independent, multijitter, stratified, ...)",
+    )
     ap.add_argument("--min-passes", type=int, default=4)
     ap.add_argument("--max-passes", type=int, default=100_000)
     ap.add_argument("--variant", help="Mitsuba variant (default llvm_ad_spectral, else scalar_spectral)")
-    ap.add_argument("--env-step", type=float, default=1.0,
-                    help="wavelength step (nm) of the envmap bake for Mitsuba (quick: 10)")
+    ap.add_argument(
+        "--env-step",
+        type=float,
+        default=1.0,
+        help="wavelength step (nm) of the envmap bake for Mitsuba (quick: 10)",
+    )
     ap.add_argument("--json", help="write the results here")
     ap.add_argument("--save", help="write the mean images (ours, Mitsuba) to this .npz")
     args = ap.parse_args(argv)
@@ -211,8 +239,12 @@ def main(argv=None) -> int:
         args.mitsuba_seconds = min(args.mitsuba_seconds, 5.0)
         args.mitsuba_spp = min(args.mitsuba_spp, 16)
         args.env_step = max(args.env_step, 10.0)
-    for key, val in (("camera.width", args.width), ("camera.height", args.height),
-                     ("render.wavelengths", args.wavelengths), ("render.spp", args.spp)):
+    for key, val in (
+        ("camera.width", args.width),
+        ("camera.height", args.height),
+        ("render.wavelengths", args.wavelengths),
+        ("render.spp", args.spp),
+    ):
         if val is not None:
             over[key] = val
     scene = scene.with_overrides(over)
@@ -221,19 +253,31 @@ def main(argv=None) -> int:
         scene = scene.with_overrides({"render.polarization": False})
     w, h = scene.camera.width, scene.camera.height
     per_pass = r.spp * (r.wavelengths if r.spectral == "stratified" else 1)
-    log(f"scene {args.scene}: {w}x{h}, ours {r.spectral} {r.wavelengths} wavelengths x spp {r.spp}, "
-        f"max_depth {r.max_depth} (Mitsuba {r.max_depth + 1}); cpu cores {os.cpu_count()}")
+    log(
+        f"scene {args.scene}: {w}x{h}, ours {r.spectral} {r.wavelengths} wavelengths x spp {r.spp}, "
+        f"max_depth {r.max_depth} (Mitsuba {r.max_depth + 1}); cpu cores {os.cpu_count()}"
+    )
     variant = pick_variant(args.variant, log)
-    log(f"mitsuba {__import__('mitsuba').__version__} variant {variant}")
+    log(
+        f"mitsuba {__import__('mitsuba').__version__} variant {variant}, sampler {args.mitsuba_sampler}, "
+        f"{args.mitsuba_spp} spp per pass"
+    )
 
-    mr = MitsubaRunner(scene, variant, args.mitsuba_spp, log, env_step=args.env_step)
+    mr = MitsubaRunner(
+        scene, variant, args.mitsuba_spp, log, env_step=args.env_step, sampler=args.mitsuba_sampler
+    )
     orun = OursRunner(scene, log)
     run_interleaved(orun, mr, args.ours_seconds, args.mitsuba_seconds, args.min_passes, args.max_passes, log)
     ours, t_ours = np.array(orun.ims), orun.times
     theirs, t_theirs = np.array(mr.ims), mr.times
 
     res = {
-        "scene": args.scene, "width": w, "height": h, "target": args.target, "mitsuba_variant": variant,
+        "scene": args.scene,
+        "width": w,
+        "height": h,
+        "target": args.target,
+        "mitsuba_variant": variant,
+        "mitsuba_sampler": args.mitsuba_sampler,
         "ours": time_to_target(ours, t_ours, per_pass, args.target),
         "mitsuba": time_to_target(theirs, t_theirs, args.mitsuba_spp, args.target),
         "agreement": converged_difference(ours, theirs),
@@ -241,30 +285,43 @@ def main(argv=None) -> int:
     res["speedup_at_target"] = res["mitsuba"]["seconds_to_target"] / res["ours"]["seconds_to_target"]
     o, t, a = res["ours"], res["mitsuba"], res["agreement"]
     print()
-    print(f"| {w}x{h}, to {100 * args.target:g} % rel. RMSE of Y | warpoptics ({r.spectral}, unpolarized) "
-          f"| Mitsuba {variant} |")
+    print(
+        f"| {w}x{h}, to {100 * args.target:g} % rel. RMSE of Y | warpoptics ({r.spectral}, unpolarized) "
+        f"| Mitsuba {variant} |"
+    )
     print("|---|---|---|")
     print(f"| samples per pixel per pass | {o['samples_per_pass']} | {t['samples_per_pass']} |")
-    print(f"| seconds per pass (median of {o['passes']} / {t['passes']}) | {o['seconds_per_pass']:.3f} "
-          f"| {t['seconds_per_pass']:.3f} |")
+    print(
+        f"| seconds per pass (median of {o['passes']} / {t['passes']}) | {o['seconds_per_pass']:.3f} "
+        f"| {t['seconds_per_pass']:.3f} |"
+    )
     print(f"| rel. RMSE of one pass | {o['rel_noise_one_pass']:.4f} | {t['rel_noise_one_pass']:.4f} |")
-    print(f"| half-split check measured / predicted | {o['half_split_rel_rmse_measured']:.4f} / "
-          f"{o['half_split_rel_rmse_predicted']:.4f} | {t['half_split_rel_rmse_measured']:.4f} / "
-          f"{t['half_split_rel_rmse_predicted']:.4f} |")
+    print(
+        f"| half-split check measured / predicted | {o['half_split_rel_rmse_measured']:.4f} / "
+        f"{o['half_split_rel_rmse_predicted']:.4f} | {t['half_split_rel_rmse_measured']:.4f} / "
+        f"{t['half_split_rel_rmse_predicted']:.4f} |"
+    )
     print(f"| samples per pixel to target | {o['samples_to_target']:.0f} | {t['samples_to_target']:.0f} |")
     print(f"| **seconds to target** | **{o['seconds_to_target']:.0f}** | **{t['seconds_to_target']:.0f}** |")
     print(f"| speed-up (Mitsuba time / ours) | {res['speedup_at_target']:.3f} | 1 |")
     print(f"| mean Y | {a['mean_y_ours']:.5f} | {a['mean_y_mitsuba']:.5f} |")
     print()
-    print(f"converged images: relative RMSE {100 * a['converged_rel_rmse']:.2f} % (2-sigma upper bound "
-          f"{100 * a['converged_rel_rmse_upper_2sigma']:.2f} %, target < 2 %); raw RMSE of the two means "
-          f"{100 * a['raw_rel_rmse_of_means']:.2f} % (noise included); mean Y differs by "
-          f"{100 * a['mean_rel_diff']:+.3f} %")
+    print(
+        f"converged images: relative RMSE {100 * a['converged_rel_rmse']:.2f} % (2-sigma upper bound "
+        f"{100 * a['converged_rel_rmse_upper_2sigma']:.2f} %, target < 2 %); raw RMSE of the two means "
+        f"{100 * a['raw_rel_rmse_of_means']:.2f} % (noise included); mean Y differs by "
+        f"{100 * a['mean_rel_diff']:+.3f} %"
+    )
     if args.json:
         Path(args.json).write_text(json.dumps(res, indent=2))
     if args.save:
-        np.savez_compressed(args.save, ours=ours.mean(0), mitsuba=theirs.mean(0), ours_passes=len(ours),
-                            mitsuba_passes=len(theirs))
+        np.savez_compressed(
+            args.save,
+            ours=ours.mean(0),
+            mitsuba=theirs.mean(0),
+            ours_passes=len(ours),
+            mitsuba_passes=len(theirs),
+        )
     return 0
 
 
