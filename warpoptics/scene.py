@@ -221,7 +221,7 @@ def _object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfi
 _LIGHT_KEYS = {"type", "map", "intensity", "tint", "rotation"}
 
 
-def _light_config(table: dict, index: int, file) -> EnvironmentConfig:
+def _light_config(table: dict, index: int, file, base_dir: Path | None = None) -> EnvironmentConfig:
     prefix = f"light.{index}."
     ltype = table.get("type", "environment")
     _choice(ltype, ("environment", "constant"), file=file, field_name=prefix + "type")
@@ -233,6 +233,8 @@ def _light_config(table: dict, index: int, file) -> EnvironmentConfig:
         m = table["map"]
         if not isinstance(m, str):
             raise InputError("must be a map name or a file path", file=file, field=prefix + "map", value=m)
+        if Path(m).suffix and not Path(m).is_absolute() and base_dir is not None:
+            m = str(base_dir / m)  # a map file is found next to the scene file, like mesh paths
         kw["map"] = m
     if "intensity" in table:
         kw["intensity"] = float(_number(table["intensity"], file=file, field_name=prefix + "intensity", lo=0.0))
@@ -294,7 +296,7 @@ class Scene:
         lights_t = data.get("light", [{"type": "environment", "map": "studio"}])
         if not isinstance(lights_t, list):
             raise InputError("must be an array of tables [[light]]", file=file, field="light")
-        lights = tuple(_light_config(t, i, file) for i, t in enumerate(lights_t))
+        lights = tuple(_light_config(t, i, file, base_dir) for i, t in enumerate(lights_t))
         if len(lights) != 1:
             raise InputError("exactly one environment light is supported", file=file, field="light",
                              value=len(lights))
