@@ -75,12 +75,19 @@ def _render_pixels(
     hits = float(0.0)
     rays = int(0)
     total = film.spp * film.count
+    # pixel positions: the R2 low-discrepancy sequence (Roberts 2018) with a random per-pixel
+    # rotation (Cranley–Patterson): every sample is uniform over the pixel (unbiased), and the
+    # samples of a pixel cover it evenly, which is where a gem's noise comes from (facet edges)
+    rot_x = wp.randf(rng)
+    rot_y = wp.randf(rng)
     for k in range(total):
         stratum = k % film.count
         u = wp.randf(rng)
         wl, w = sample_wavelength(tables, film.strategy, u, stratum, film.count)
-        jx = wp.randf(rng)
-        jy = wp.randf(rng)
+        jx = rot_x + float(k) * 0.7548776662466927
+        jy = rot_y + float(k) * 0.5698402909980532
+        jx = jx - wp.floor(jx)
+        jy = jy - wp.floor(jy)
         lu = wp.randf(rng)
         lv = wp.randf(rng)
         o, d, b = camera_ray(cam, float(px) + jx, float(py) + jy, lu, lv)
