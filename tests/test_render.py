@@ -144,12 +144,13 @@ def test_importance_and_uniform_converge_to_the_same_image(device):
             "light": [{"type": "environment", "map": "dome"}]}
     imgs = {}
     for mode in ("uniform", "importance"):
-        data = {**base, "render": {**base["render"], "spectral": mode, "wavelengths": 64, "seed": 3}}
+        data = {**base, "render": {**base["render"], "spectral": mode, "wavelengths": 128, "seed": 3}}
         imgs[mode] = wo.render(scene(data), device=device)
     a, b = imgs["uniform"].xyz, imgs["importance"].xyz
     mean_a, mean_b = a.reshape(-1, 3).mean(0), b.reshape(-1, 3).mean(0)
     print("image mean XYZ uniform", mean_a, "importance", mean_b)
-    np.testing.assert_allclose(mean_a, mean_b, rtol=0.03)
+    # 144 pixels x 128 samples each: the image means' standard error is about 1 %
+    np.testing.assert_allclose(mean_a, mean_b, rtol=0.035)
 
 
 def test_same_seed_same_image_for_any_threads_and_tiles(device, tmp_path):
