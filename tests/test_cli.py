@@ -5,7 +5,6 @@ import subprocess
 import sys
 from pathlib import Path
 
-
 import warpoptics as wo
 from warpoptics.image import read_image
 

@@ -19,11 +19,11 @@ except _metadata.PackageNotFoundError:  # running from a source tree without ins
     __version__ = "0.0.0+unknown"
 
 from . import color, device, image, materials, metrics, optics, spectra, sweep
+from .bench import BenchScene, bench
 from .errors import InputError
 from .geometry import cuts
 from .optics import thinfilm
 from .render import Image, Renderer, render
-from .bench import BenchScene, bench
 from .scene import Scene
 
 __all__ = [

@@ -10,8 +10,8 @@ device-side interface (``MaterialTable``, ``build_material_table``, ``material_e
 from __future__ import annotations
 
 from .absorption import (
-    SEED002_ALPHA_PER_MM,
     RGB_CMFS,
+    SEED002_ALPHA_PER_MM,
     SEED002_GEMS,
     AbsorptionSpectrum,
     Band,

@@ -93,11 +93,17 @@ from .branches import (
     _W,
     _WN,
     STACK_SIZE,
-    Stack as _Stack,
     copy_row,
-    row_jones as _row_jones,
-    row_vec as _row_vec,
     write_row,
+)
+from .branches import (
+    Stack as _Stack,
+)
+from .branches import (
+    row_jones as _row_jones,
+)
+from .branches import (
+    row_vec as _row_vec,
 )
 from .screen import ScreenSet, screen_hit
 

@@ -55,8 +55,8 @@ from ..optics.jones import (
     coherency_transform,
     coherency_unpolarized,
     frame_change,
-    jones_add,
     jones,
+    jones_add,
     jones_diag,
     jones_entry,
     jones_identity,
@@ -77,12 +77,26 @@ from .branches import (
     _W,
     _WN,
     STACK_SIZE,
+)
+from .branches import (
     Cand as _Cand,
+)
+from .branches import (
     Stack as _Stack,
+)
+from .branches import (
     copy_row as _copy_row,
+)
+from .branches import (
     row_jones as _row_jones,
+)
+from .branches import (
     row_vec as _row_vec,
+)
+from .branches import (
     write_jones as _write_jones,
+)
+from .branches import (
     write_row as _write_row,
 )
 from .environment import Environment, environment_radiance
