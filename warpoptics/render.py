@@ -154,9 +154,9 @@ def _build_objects(scene: Scene, device):
 
                 mesh = load_mesh(ob.path, repair=bool(ob.params.get("repair", False)))
             elif ob.shape == "gemcad":
-                from .geometry.gemcad import read_gemcad, stone_from_design
+                from .geometry.gemcad import read as read_gemcad
 
-                mesh = stone_from_design(read_gemcad(ob.path), **ob.params)
+                mesh = read_gemcad(ob.path, diameter=float(ob.params.get("diameter", 1.0)))
             else:
                 mesh = getattr(cuts, ob.shape)(**ob.params)
         except InputError as exc:
