@@ -27,6 +27,12 @@ def run(args) -> int:
     out = args.output
     if not out.lower().endswith((".exr", ".png", ".jpg", ".jpeg", ".tif", ".tiff")):
         raise InputError("unsupported output format", field="-o", value=out, allowed=".exr, .png, .jpg, .tif")
+    if "width" in kw or "height" in kw:
+        # refuse an image that cannot fit in memory before the pixel-count limits, with an estimate
+        from ..render import check_render_memory
+
+        check_render_memory(kw.get("width", scene.camera.width), kw.get("height", scene.camera.height),
+                            file=args.scene)
     if overrides or kw:
         scene = scene.with_overrides(overrides, **kw)
     renderer = Renderer(scene, device=args.device)
