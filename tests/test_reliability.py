@@ -7,6 +7,7 @@ for any thread count through the CLI; atomic writers; renders too large for memo
 from __future__ import annotations
 
 import copy
+import importlib
 import os
 import subprocess
 import sys
@@ -22,9 +23,10 @@ import warpoptics as wo
 from warpoptics import cli
 from warpoptics.errors import InputError
 from warpoptics.image import read_image, write_exr
-from warpoptics.optics import fresnel as fr
-from warpoptics.optics import jones as jo
-from warpoptics.optics import thinfilm as tf
+
+fr = importlib.import_module("warpoptics.optics.fresnel")
+jo = importlib.import_module("warpoptics.optics.jones")
+tf = importlib.import_module("warpoptics.optics.thinfilm")
 from warpoptics.render import Renderer, check_render_memory, estimate_render_bytes
 from warpoptics.scene import Scene
 
@@ -169,7 +171,7 @@ BAD_SCENES = [
     ("mesh", "gemcad file missing", lambda d: _mod(object__0={"shape": "gemcad", "path": "nope.asc"}),
      "file not found", "object.0.path", "'nope.asc'"),
     ("mesh", "gemcad garbage", lambda d: _mod(object__0={"shape": "gemcad", "path": str(d / "garbage.asc")}),
-     "", "garbage.asc", None),
+     "not a GemCAD .asc file", "garbage.asc", None),
     ("material", "unknown name", lambda d: _mod(object__0__material="diamnod"), "did you mean 'diamond'",
      "object.0.material", "'diamnod'"),
     ("material", "number", lambda d: _mod(object__0__material=5), "material name", "object.0.material", "5"),
@@ -258,7 +260,7 @@ def test_bad_scene_files(tmp_path, name, content, match):
     ({"render.spp": "abc"}, "integer", "render.spp"),
     ({"object.0.diamter": 5.0}, "did you mean 'diameter'", "object.0.diamter"),
     ({"camera.fov": float("inf")}, "finite", "camera.fov"),
-    ({"light.0": 1}, "", "light"),
+    ({"light.0": 1}, "cannot replace a whole table", "light.0"),
 ])
 def test_bad_overrides(overrides, match, field):
     scene = Scene.from_dict(BASE, path=FILE)
@@ -275,10 +277,13 @@ def test_gemcad_object_in_a_scene(tmp_path):
     asc = tmp_path / "rb.asc"
     gemcad.write(cuts.round_brilliant(), asc)
     data = _mod(object__0={"shape": "gemcad", "path": str(asc), "diameter": 6.5})
-    r = Renderer(Scene.from_dict(data, path=FILE))
-    lo, hi = r.geometry.meshes[0].bounds if hasattr(r.geometry, "meshes") else (None, None)
-    if lo is not None:
-        assert abs((hi - lo)[0] - 6.5) < 0.05
+    from warpoptics.render import _build_objects
+
+    scene = Scene.from_dict(data, path=FILE)
+    Renderer(scene)
+    (mesh, _), = _build_objects(scene, None)[0]
+    lo, hi = mesh.bounds
+    assert abs(max((hi - lo)[:2]) - 6.5) < 0.05  # scaled to the girdle width asked for
 
 
 # ---- the command line: one line on stderr, exit 2, no traceback (in-process for speed) ----------
@@ -309,7 +314,8 @@ CLI_CASES = [
 
 @pytest.mark.parametrize(("argv", "match"), CLI_CASES, ids=[" ".join(c[0][:2]) + f"-{i}" for i, c in
                                                             enumerate(CLI_CASES)])
-def test_cli_bad_input_one_line_exit_2(tmp_path, capsys, argv, match):
+def test_cli_bad_input_one_line_exit_2(tmp_path, capsys, monkeypatch, argv, match):
+    monkeypatch.setenv("WARPOPTICS_DEVICE", "cpu")  # restored afterwards ("--device bogus" sets it)
     scene = str(ROOT / "scenes" / "diamond.toml")
     args = [a.format(scene=scene, tmp=tmp_path) for a in argv]
     rc = cli.main(args)
@@ -353,8 +359,7 @@ def test_render_too_large_for_memory_is_refused(monkeypatch):
     assert "100000x100000" in str(info.value) and FILE in str(info.value)
     assert check_render_memory(64, 64, available=8 * 2**30) == estimate_render_bytes(64, 64)
     # the renderer checks before it allocates anything
-    import warpoptics.render as wr
-
+    wr = importlib.import_module("warpoptics.render")
     monkeypatch.setattr(wr, "available_memory_bytes", lambda: 1000)
     with pytest.raises(InputError, match="GiB"):
         Renderer(Scene.from_dict(BASE, path=FILE))
@@ -466,10 +471,12 @@ def test_fresnel_power_is_physical(device, cos_i, n1, n2, k2):
     Rs, Rp, Ts, Tp = fr.fresnel_power(np.array([cos_i]), n1, n2 + 1j * k2, device=device)
     for x in (rs, rp, ts, tp, Rs, Rp, Ts, Tp):
         assert np.all(np.isfinite(x))
-    # energy: R + T = 1 (float32: 1e-4), reflectances in [0, 1]
+    # energy: R + T = 1 (float32: 2e-4), reflectances in [0, 1]; at exactly grazing incidence the
+    # normal flux is zero and T (a flux ratio) is reported as 0
     for R, T in ((Rs, Ts), (Rp, Tp)):
-        assert -1e-6 <= R[0] <= 1 + 1e-5 and T[0] >= -1e-5
-        assert R[0] + T[0] == pytest.approx(1.0, abs=2e-4)
+        assert -1e-6 <= R[0] <= 1 + 1e-5 and T[0] >= -1e-5 and R[0] + T[0] <= 1 + 2e-4
+        if cos_i > 1e-3:
+            assert R[0] + T[0] == pytest.approx(1.0, abs=2e-4)
     # an interface turns a coherency matrix into a Hermitian PSD one with DOP <= 1
     m = np.zeros((1, 2, 2), complex)
     m[0, 0, 0], m[0, 1, 1] = rs[0], rp[0]
@@ -505,7 +512,9 @@ def test_thin_film_energy_never_exceeds_one(device, layers, angle, n_sub, k_sub,
 # ---- NaN/Inf scan over random tiny scenes ----------------------------------------------------------
 
 def _random_scene(rng) -> dict:
-    from warpoptics.materials import library_names
+    from warpoptics.materials.library import get, names
+
+    from warpoptics.materials import Uniaxial
 
     shapes = [
         {"shape": "round_brilliant", "diameter": float(rng.uniform(3, 8)),
@@ -517,14 +526,11 @@ def _random_scene(rng) -> dict:
         {"shape": "sphere", "diameter": 5.0, "subdivisions": 2},
     ]
     obj = dict(shapes[rng.integers(len(shapes))])
-    obj["material"] = str(rng.choice(library_names()))
+    obj["material"] = str(rng.choice(names()))
     obj["rotation"] = [float(x) for x in rng.uniform(-90, 90, 3)]
     if rng.random() < 0.5:
-        try:
-            if isinstance(wo.materials.get(obj["material"]), wo.materials.Uniaxial):
-                obj["optic_axis"] = [float(x) for x in rng.normal(size=3)]
-        except AttributeError:
-            pass
+        if isinstance(get(obj["material"]), Uniaxial):
+            obj["optic_axis"] = [float(x) for x in rng.normal(size=3)]
     theta, phi = rng.uniform(0, np.pi), rng.uniform(0, 2 * np.pi)
     dist = rng.uniform(15, 40)
     pos = [float(dist * np.sin(theta) * np.cos(phi)), float(dist * np.sin(theta) * np.sin(phi)),

@@ -72,6 +72,15 @@ def write_image(path, pixels, *, channel_names: Sequence[str] | None = None, dty
         spec.channelnames = tuple(channel_names)
     if ext == ".exr":
         spec.attribute("compression", "zip")
+    # no wall-clock timestamp in the file, so that the same render gives the same bytes (the file's
+    # mtime keeps the time); $SOURCE_DATE_EPOCH (reproducible-builds convention) sets one explicitly
+    epoch = os.environ.get("SOURCE_DATE_EPOCH", "")
+    stamp = ""
+    if epoch.isdigit():
+        import time
+
+        stamp = time.strftime("%Y:%m:%d %H:%M:%S", time.gmtime(int(epoch)))
+    spec.attribute("DateTime", stamp)
     with atomic_path(path) as tmp:
         out = oiio.ImageOutput.create(tmp)
         if out is None:
