@@ -309,6 +309,12 @@ CLI_CASES = [
     (["material", "diamond", "--plot", "{tmp}/m.xyz"], "unsupported plot format"),
     (["spectrum", "-o", "{tmp}/s.xyz"], "unsupported plot format"),
     (["--device", "bogus", "info"], "not available"),
+    (["thinfilm", "table", "-o", "{tmp}/t.xyz"], "unsupported output type"),
+    (["thinfilm", "table", "-o", "{tmp}/t.png", "--count", "100000000"], "--count = 100000000"),
+    (["thinfilm", "table", "-o", "{tmp}/t.png", "--model", "exact", "--n-film", "0.5"], "--n-film = 0.5"),
+    (["thinfilm", "table", "-o", "{tmp}/t.png", "--multilayer", "--d1", "-3"], "--d1 = -3.0"),
+    (["thinfilm", "table", "-o", "{tmp}/t.png", "--multilayer", "--layers", "0"], "--layers = 0"),
+    (["thinfilm", "table", "-o", "{tmp}/t.png", "--illuminant", "X99"], "unknown illuminant"),
 ]
 
 
@@ -347,6 +353,35 @@ def test_cli_subprocess_exit_code_and_debug(tmp_path):
     assert "Traceback" not in p.stderr
     p = subprocess.run([*base, "--debug"], capture_output=True, text=True, env=env, timeout=120)
     assert p.returncode != 0 and "Traceback" in p.stderr and "InputError" in p.stderr
+
+
+BAD_BENCH = [
+    ("source.type", "lamp", "unknown value"),
+    ("source.direction", [0.0, 0.0, 0.0], "non-zero"),
+    ("source.lines", [100000.0], "out of range"),
+    ("source.rays", 0, "out of range"),
+    ("source.positon", [0.0, 0.0, 1.0], "did you mean 'position'"),
+    ("sensor.0.normal", [0.0, 0.0, 0.0], "non-zero"),
+    ("sensor.0.resolution", [100000, 100000], "pixel counts"),
+    ("sensor.0.up", [0.0, 0.0, 1.0], "parallel"),
+]
+
+
+@pytest.mark.parametrize(("path", "value", "match"), BAD_BENCH, ids=[c[0] + "=" + str(c[1]) for c in BAD_BENCH])
+def test_bad_bench_input(path, value, match):
+    import tomllib
+
+    from warpoptics.bench import BenchScene
+
+    data = tomllib.loads((ROOT / "scenes" / "bench" / "calcite.toml").read_text())
+    node = data
+    parts = path.split(".")
+    for p in parts[:-1]:
+        node = node[int(p)] if isinstance(node, list) else node[p]
+    node[parts[-1]] = value
+    with pytest.raises(InputError, match=match) as info:
+        BenchScene.from_dict(data, path=FILE)
+    assert FILE in str(info.value) and path in str(info.value)
 
 
 # ---- memory ----------------------------------------------------------------------------------------

@@ -241,7 +241,8 @@ def _light_config(table: dict, index: int, file) -> EnvironmentConfig:
             raise InputError("must be a map name or a file path", file=file, field=prefix + "map", value=m)
         kw["map"] = m
     if "intensity" in table:
-        kw["intensity"] = float(_number(table["intensity"], file=file, field_name=prefix + "intensity", lo=0.0))
+        kw["intensity"] = float(_number(table["intensity"], file=file, field_name=prefix + "intensity", lo=0.0,
+                                          hi=1.0e12))
     if "tint" in table:
         kw["tint"] = _vec3(table["tint"], file=file, field_name=prefix + "tint")
         if min(kw["tint"]) < 0:
