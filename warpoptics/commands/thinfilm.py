@@ -125,10 +125,15 @@ def _check_args(args) -> None:
     thicknesses >= 0, at least one layer."""
     import math
 
-    checks = [("--max-thickness", args.max_thickness, 0.0, 1.0e6, True), ("--n-film", args.n_film, 1.0, 20.0, False),
-              ("--n-substrate", args.n_substrate, 1.0, 20.0, False), ("--d1", args.d1, 0.0, 1.0e6, False),
-              ("--d2", args.d2, 0.0, 1.0e6, False), ("--n-layer", args.n_layer, 1.0, 20.0, False),
-              ("--layers", args.layers, 1, 1000, False)]
+    checks = [
+        ("--max-thickness", args.max_thickness, 0.0, 1.0e6, True),
+        ("--n-film", args.n_film, 1.0, 20.0, False),
+        ("--n-substrate", args.n_substrate, 1.0, 20.0, False),
+        ("--d1", args.d1, 0.0, 1.0e6, False),
+        ("--d2", args.d2, 0.0, 1.0e6, False),
+        ("--n-layer", args.n_layer, 1.0, 20.0, False),
+        ("--layers", args.layers, 1, 1000, False),
+    ]
     for name, v, lo, hi, lo_open in checks:
         if v is None:
             continue
@@ -145,7 +150,9 @@ def run(args) -> int:
     _check_args(args)
     out = Path(args.output)
     if out.suffix.lower() not in (".png", ".pdf", ".svg", ".csv"):
-        raise InputError("unsupported output type", file=str(out), field="-o", allowed=".png, .pdf, .svg, .csv")
+        raise InputError(
+            "unsupported output type", file=str(out), field="-o", allowed=".png, .pdf, .svg, .csv"
+        )
     table = build_table(args)
     if out.suffix.lower() == ".csv":
         write_csv(table, out)
