@@ -674,6 +674,7 @@ CLI_CASES = [
     (["render", "{scene}", "-o", "{tmp}/a.exr", "--set", "render.spp"], "expected KEY=VALUE"),
     (["render", "{scene}", "-o", "{tmp}/a.exr", "--set", "object.0.diamter=5"], "did you mean 'diameter'"),
     (["render", "{scene}", "-o", "{tmp}/a.exr", "--set", "render.spp=abc"], "render.spp = 'abc'"),
+    (["render", "{scene}", "-o", "/dev/null/a.exr", "--width", "2", "--height", "2"], "cannot create the output"),
     (["bench", "{tmp}/missing.toml", "-o", "{tmp}/b.png"], "scene file not found"),
     (["bench", "{scene}", "-o", "{tmp}/b.png"], "camera: unknown key"),
     (["cut", "round_brilliant", "-o", "{tmp}/c.xyz"], "unsupported output format"),
