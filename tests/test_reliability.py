@@ -886,8 +886,9 @@ def test_camera_on_and_inside_a_surface(device):
 def test_coincident_objects(device):
     """Two identical stones at the same place: coincident faces tie and the closest-hit query
     resolves the tie the same way every time, so the light only ever meets one of them;
-    measured on this scene: the image equals the one-stone image exactly (Y mean 0.30119 both).  Coincident solids are not
-    merged or treated as one medium; the check here is only that nothing crashes or goes NaN."""
+    measured on this scene: the image equals the one-stone image exactly (Y mean 0.30119 both).
+    Coincident solids are not merged or treated as one medium; the check here is only that
+    nothing crashes or goes NaN."""
     stone = {"shape": "round_brilliant", "diameter": 6.5, "material": "diamond"}
     one = _finite_render(_scene_data([stone]), device)
     two = _finite_render(_scene_data([stone, dict(stone)]), device)
