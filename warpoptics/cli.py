@@ -45,6 +45,12 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
+    argv = list(sys.argv[1:] if argv is None else argv)
+    # --debug is a global option, but users also type it after the subcommand
+    debug = "--debug" in argv
+    if debug and argv.index("--debug") > 0:
+        argv.remove("--debug")
+        argv.insert(0, "--debug")
     args = parser.parse_args(argv)
     if args.device:
         os.environ["WARPOPTICS_DEVICE"] = args.device
@@ -58,6 +64,12 @@ def main(argv: list[str] | None = None) -> int:
         if args.debug:
             raise
         print(f"warpoptics {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:  # a file that cannot be read or written: one line, no traceback
+        if args.debug:
+            raise
+        where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
+        print(f"warpoptics {args.command}: error: {where}{exc.strerror or exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("warpoptics: interrupted", file=sys.stderr)

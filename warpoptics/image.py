@@ -17,7 +17,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["atomic_path", "write_image", "write_exr", "write_png", "read_image"]
+__all__ = ["atomic_path", "save_figure", "write_image", "write_exr", "write_png", "read_image"]
 
 
 @contextlib.contextmanager
@@ -76,6 +76,15 @@ def write_image(path, pixels, *, channel_names: Sequence[str] | None = None, dty
         spec.channelnames = tuple(channel_names)
     if ext == ".exr":
         spec.attribute("compression", "zip")
+    # no wall-clock timestamp in the file, so that the same render gives the same bytes (the file's
+    # mtime keeps the time); $SOURCE_DATE_EPOCH (reproducible-builds convention) sets one explicitly
+    epoch = os.environ.get("SOURCE_DATE_EPOCH", "")
+    stamp = ""
+    if epoch.isdigit():
+        import time
+
+        stamp = time.strftime("%Y:%m:%d %H:%M:%S", time.gmtime(int(epoch)))
+    spec.attribute("DateTime", stamp)
     with atomic_path(path) as tmp:
         out = oiio.ImageOutput.create(tmp)
         if out is None:
@@ -123,3 +132,19 @@ def read_image(path) -> tuple[np.ndarray, list[str]]:
         inp.close()
     a = np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, spec.nchannels)
     return a, names
+
+
+FIGURE_FORMATS = ("png", "pdf", "svg", "jpg", "jpeg", "tif", "tiff", "eps", "ps", "webp")
+
+
+def save_figure(fig, path: str | os.PathLike, *, field: str = "-o", **kw) -> Path:
+    """Save a matplotlib figure atomically (temp file + rename); the format follows the extension.
+    An unsupported extension is an :class:`InputError` naming ``field``."""
+    path = Path(path)
+    fmt = path.suffix.lower().lstrip(".") or "png"
+    if fmt not in FIGURE_FORMATS:
+        raise InputError("unsupported plot format", field=field, value=str(path),
+                         allowed=", ".join(f".{f}" for f in FIGURE_FORMATS))
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format=fmt, **kw)
+    return path

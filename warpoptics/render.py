@@ -31,7 +31,8 @@ from .stages.camera import Camera, CameraParams, camera_ray
 from .stages.environment import Environment, EnvironmentLight
 from .stages.trace import TraceConfig, TraceParams, default_params, trace_radiance
 
-__all__ = ["Image", "render", "Renderer", "FilmParams"]
+__all__ = ["Image", "render", "Renderer", "FilmParams", "estimate_render_bytes", "available_memory_bytes",
+           "check_render_memory"]
 
 
 @wp.struct
@@ -161,9 +162,9 @@ def _build_objects(scene: Scene, device):
 
                 mesh = load_mesh(ob.path, repair=bool(ob.params.get("repair", False)))
             elif ob.shape == "gemcad":
-                from .geometry.gemcad import read_gemcad, stone_from_design
+                from .geometry.gemcad import read as read_gemcad
 
-                mesh = stone_from_design(read_gemcad(ob.path), **ob.params)
+                mesh = read_gemcad(ob.path, diameter=float(ob.params.get("diameter", 1.0)))
             else:
                 mesh = getattr(cuts, ob.shape)(**ob.params)
         except InputError as exc:
@@ -202,6 +203,52 @@ def _world_axes(scene: Scene, mats, axes) -> np.ndarray:
     return out
 
 
+# bytes per pixel: the float64 film (xyz 24 + stokes 32 + alpha 8 + ray count 8) and, when the image
+# is read back and saved, its NumPy copies and the EXR buffer (11 channels float64 + float32)
+FILM_BYTES_PER_PIXEL = 24 + 32 + 8 + 8
+OUTPUT_BYTES_PER_PIXEL = FILM_BYTES_PER_PIXEL + 11 * 8 + 11 * 4
+
+
+def estimate_render_bytes(width: int, height: int) -> int:
+    """Peak memory (bytes) a ``width x height`` render needs for its film and output image; the
+    per-thread trace stack is small (a few kB) and not counted."""
+    return int(width) * int(height) * (FILM_BYTES_PER_PIXEL + OUTPUT_BYTES_PER_PIXEL)
+
+
+def available_memory_bytes() -> int | None:
+    """Memory the process could still allocate: ``MemAvailable`` from /proc/meminfo, else
+    ``os.sysconf`` free pages; ``None`` where neither is known."""
+    import os
+
+    try:
+        with open("/proc/meminfo", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return int(os.sysconf("SC_AVPHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+def check_render_memory(
+    width: int, height: int, *, available: int | None = None, file: str | None = None
+) -> int:
+    """Refuse (InputError with the estimate in GiB) a render whose film and image would not fit in
+    ``available`` bytes (default: :func:`available_memory_bytes`).  Returns the estimate."""
+    need = estimate_render_bytes(width, height)
+    avail = available_memory_bytes() if available is None else int(available)
+    if avail is not None and need > avail:
+        raise InputError(
+            f"the image would need about {need / 2**30:.1f} GiB of memory but only {avail / 2**30:.1f} GiB "
+            "is available; render a smaller image or crop it",
+            file=file, field="camera.width x camera.height", value=f"{width}x{height}",
+        )
+    return need
+
+
 class Renderer:
     """The standard pipeline for a scene; owns every stage's device data.  ``run()`` renders."""
 
@@ -211,6 +258,7 @@ class Renderer:
         self.scene = scene
         self.device = get_device(device)
         r = scene.render
+        check_render_memory(scene.camera.width, scene.camera.height, file=scene.path)
         meshes, mats, axes = _build_objects(scene, self.device)
         self.geometry = GeometryScene(meshes, device=self.device)
         self.materials, ids = build_material_table(mats, self.device)

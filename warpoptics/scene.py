@@ -49,7 +49,9 @@ def _number(v, *, file, field_name, lo=-math.inf, hi=math.inf, integer=False, lo
     if isinstance(v, bool) or not ok_type:
         kind = "an integer" if integer else "a number"
         raise InputError(f"must be {kind}", file=file, field=field_name, value=v)
-    if not math.isfinite(v) or v < lo or v > hi or (lo_open and v == lo):
+    if not math.isfinite(v):
+        raise InputError("must be a finite number", file=file, field=field_name, value=v)
+    if v < lo or v > hi or (lo_open and v == lo):
         lo_s = f"> {lo}" if lo_open else f">= {lo}"
         rng = lo_s if hi == math.inf else f"{lo_s} and <= {hi}"
         raise InputError("out of range", file=file, field=field_name, value=v, allowed=rng)
@@ -163,6 +165,8 @@ class ObjectConfig:
 
 def _object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfig:
     prefix = f"object.{index}."
+    if not isinstance(table, dict):
+        raise InputError("must be a table [[object]]", file=file, field=f"object.{index}", value=table)
     if "shape" not in table:
         raise InputError("missing key", file=file, field=prefix + "shape", allowed=", ".join(SHAPES))
     shape = _choice(table["shape"], SHAPES, file=file, field_name=prefix + "shape")
@@ -199,7 +203,7 @@ def _object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfi
             raise InputError("the optic axis must not be zero", file=file, field=prefix + "optic_axis", value=list(ax))
         kw["optic_axis"] = ax
     if "scale" in table:
-        kw["scale"] = float(_number(table["scale"], file=file, field_name=prefix + "scale", lo=0.0, lo_open=True))
+        kw["scale"] = float(_number(table["scale"], file=file, field_name=prefix + "scale", lo=1.0e-4, hi=1.0e4))
     if "absorption_scale" in table:
         kw["absorption_scale"] = float(
             _number(table["absorption_scale"], file=file, field_name=prefix + "absorption_scale", lo=0.0)
@@ -223,6 +227,8 @@ _LIGHT_KEYS = {"type", "map", "intensity", "tint", "rotation"}
 
 def _light_config(table: dict, index: int, file, base_dir: Path | None = None) -> EnvironmentConfig:
     prefix = f"light.{index}."
+    if not isinstance(table, dict):
+        raise InputError("must be a table [[light]]", file=file, field=f"light.{index}", value=table)
     ltype = table.get("type", "environment")
     _choice(ltype, ("environment", "constant"), file=file, field_name=prefix + "type")
     _check_keys(table, _LIGHT_KEYS, file=file, prefix=prefix)
@@ -237,7 +243,8 @@ def _light_config(table: dict, index: int, file, base_dir: Path | None = None) -
             m = str(base_dir / m)  # a map file is found next to the scene file, like mesh paths
         kw["map"] = m
     if "intensity" in table:
-        kw["intensity"] = float(_number(table["intensity"], file=file, field_name=prefix + "intensity", lo=0.0))
+        kw["intensity"] = float(_number(table["intensity"], file=file, field_name=prefix + "intensity", lo=0.0,
+                                          hi=1.0e12))
     if "tint" in table:
         kw["tint"] = _vec3(table["tint"], file=file, field_name=prefix + "tint")
         if min(kw["tint"]) < 0:

@@ -15,7 +15,6 @@ in the dye's band (470-590 nm) relative to the thin edge (the pattern fades).
 from __future__ import annotations
 
 import argparse
-import os
 from pathlib import Path
 
 import numpy as np
@@ -127,8 +126,9 @@ def main(argv: list[str] | None = None) -> int:
     a.legend(fontsize=8)
     fig.suptitle("Forward-traced prism experiment (seed 000 §4, fig. 5): thin edge vs thick edge")
     fig.tight_layout()
-    os.makedirs(os.path.dirname(os.path.abspath(args.output)), exist_ok=True)
-    fig.savefig(args.output, dpi=100)
+    from warpoptics.image import save_figure
+
+    save_figure(fig, args.output, dpi=100)  # atomic: temp file + rename
     print(f"wrote {args.output}")
     return 0
 

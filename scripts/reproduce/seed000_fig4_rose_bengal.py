@@ -12,7 +12,6 @@ swing grows with concentration) but the exact values do not.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 
 import numpy as np
@@ -54,8 +53,9 @@ def main(argv: list[str] | None = None) -> int:
         a.legend()
     fig.suptitle("Weidlich & Wilkie 2009 fig. 4: rose bengal in water (Kramers–Kronig, Maclaurin)")
     fig.tight_layout()
-    os.makedirs(os.path.dirname(os.path.abspath(args.output)), exist_ok=True)
-    fig.savefig(args.output, dpi=100)
+    from warpoptics.image import save_figure
+
+    save_figure(fig, args.output, dpi=100)  # atomic: temp file + rename
     print(f"wrote {args.output}")
     return 0
 

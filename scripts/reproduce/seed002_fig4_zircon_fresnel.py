@@ -142,7 +142,9 @@ def main(argv: list[str] | None = None) -> int:
         fontsize=10,
     )
     fig.tight_layout()
-    fig.savefig(args.output, dpi=110)
+    from warpoptics.image import save_figure
+
+    save_figure(fig, args.output, dpi=110)  # atomic: temp file + rename
     print(f"\nwrote {args.output}")
     return 0
 

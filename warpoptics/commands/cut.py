@@ -87,10 +87,13 @@ def run(args) -> int:
                 )
             kwargs[k] = v
         mesh = fn(**kwargs)
-    if ext == ".asc":
-        gemcad.write(mesh, out)
-    else:
-        mesh.export(out)
+    from ..image import atomic_path
+
+    with atomic_path(out) as tmp:  # a crash never leaves a half-written mesh
+        if ext == ".asc":
+            gemcad.write(mesh, tmp)
+        else:
+            mesh.export(tmp, file_type=ext.lstrip("."))
     n_facets = len(mesh.metadata.get("planes", []))
     print(f"wrote {out}: {n_facets} facets, {len(mesh.faces)} triangles, volume {mesh.volume:.6g} mm^3")
     prop = mesh.metadata.get("proportions")

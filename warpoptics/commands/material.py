@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InputError
+
 
 def _summary(mat) -> list[str]:
     from ..materials import Uniaxial, abbe_number, dispersion_bg, rgb3_alpha_of
@@ -44,6 +46,7 @@ def _plot(mat, path: str) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from ..image import save_figure
     from ..materials import Uniaxial
 
     lo, hi = mat.wavelength_range_nm
@@ -67,7 +70,7 @@ def _plot(mat, path: str) -> None:
         a.grid(alpha=0.3)
     fig.suptitle(mat.name)
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, field="--plot", dpi=100)
     plt.close(fig)
 
 
@@ -75,6 +78,13 @@ def run(args) -> int:
     from .. import materials
 
     mat = materials.get(args.name)
+    if args.plot:
+        from ..image import FIGURE_FORMATS
+
+        ext = args.plot.rsplit(".", 1)[-1].lower() if "." in args.plot else "png"
+        if ext not in FIGURE_FORMATS:
+            raise InputError("unsupported plot format", field="--plot", value=args.plot,
+                             allowed=", ".join(f".{f}" for f in FIGURE_FORMATS))
     print("\n".join(_summary(mat)))
     if args.plot:
         _plot(mat, args.plot)

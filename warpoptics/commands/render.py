@@ -5,6 +5,25 @@ from __future__ import annotations
 import sys
 
 
+def _check_writable(out: str) -> None:
+    """Fail before rendering, not after, when the output cannot be written (no finished render is
+    lost to a bad ``-o``)."""
+    import os
+    from pathlib import Path
+
+    from ..errors import InputError
+
+    parent = Path(out).resolve().parent
+    try:
+        parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"cannot create the output folder ({exc.strerror})", field="-o", value=out) from None
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError("the output folder is not writable", field="-o", value=out)
+    if Path(out).is_dir():
+        raise InputError("is a folder, not an image file", field="-o", value=out)
+
+
 def run(args) -> int:
     from ..bench import is_bench_scene
     from ..errors import InputError
@@ -27,6 +46,13 @@ def run(args) -> int:
     out = args.output
     if not out.lower().endswith((".exr", ".png", ".jpg", ".jpeg", ".tif", ".tiff")):
         raise InputError("unsupported output format", field="-o", value=out, allowed=".exr, .png, .jpg, .tif")
+    if "width" in kw or "height" in kw:
+        # refuse an image that cannot fit in memory before the pixel-count limits, with an estimate
+        from ..render import check_render_memory
+
+        check_render_memory(kw.get("width", scene.camera.width), kw.get("height", scene.camera.height),
+                            file=args.scene)
+    _check_writable(out)
     if overrides or kw:
         scene = scene.with_overrides(overrides, **kw)
     renderer = Renderer(scene, device=args.device)

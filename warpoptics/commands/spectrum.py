@@ -41,7 +41,7 @@ def draw(path, *, start: float = 380.0, stop: float = 780.0, device=None) -> dic
     import matplotlib.pyplot as plt
 
     from ..color import encode_srgb
-    from ..image import atomic_path
+    from ..image import save_figure
 
     wl = np.linspace(start, stop, 801)
     res = clip_comparison(wl, device=device)
@@ -68,9 +68,7 @@ def draw(path, *, start: float = 380.0, stop: float = 780.0, device=None) -> dic
     ax.set_xlabel("wavelength (nm)")
     fig.suptitle("The visible spectrum on an sRGB display", fontsize=10)
     fig.tight_layout()
-    suffix = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else "png"
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=120, format=suffix)
+    save_figure(fig, path, dpi=120)
     plt.close(fig)
     return res
 

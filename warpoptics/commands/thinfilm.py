@@ -120,18 +120,43 @@ def draw_table(table, path, *, n_film: float | None = None) -> Path:
     return Path(path)
 
 
+def _check_args(args) -> None:
+    """Numbers a film can have: finite, indices >= 1 (the CLI takes real, lossless indices),
+    thicknesses >= 0, at least one layer."""
+    import math
+
+    checks = [
+        ("--max-thickness", args.max_thickness, 0.0, 1.0e6, True),
+        ("--n-film", args.n_film, 1.0, 20.0, False),
+        ("--n-substrate", args.n_substrate, 1.0, 20.0, False),
+        ("--d1", args.d1, 0.0, 1.0e6, False),
+        ("--d2", args.d2, 0.0, 1.0e6, False),
+        ("--n-layer", args.n_layer, 1.0, 20.0, False),
+        ("--layers", args.layers, 1, 1000, False),
+    ]
+    for name, v, lo, hi, lo_open in checks:
+        if v is None:
+            continue
+        if not math.isfinite(v) or v < lo or v > hi or (lo_open and v == lo):
+            rng = f"{'>' if lo_open else '>='} {lo:g} and <= {hi:g}"
+            raise InputError("out of range", field=name, value=v, allowed=rng)
+
+
 def run(args) -> int:
     if args.action != "table":  # pragma: no cover - argparse restricts the choices
         raise InputError("unknown thinfilm action", field="action", value=args.action, allowed="table")
-    if args.count < 2:
-        raise InputError("--count must be >= 2", field="--count", value=args.count, allowed=">= 2")
-    table = build_table(args)
+    if not 2 <= args.count <= 100_000:
+        raise InputError("--count out of range", field="--count", value=args.count, allowed="2 to 100000")
+    _check_args(args)
     out = Path(args.output)
+    if out.suffix.lower() not in (".png", ".pdf", ".svg", ".csv"):
+        raise InputError(
+            "unsupported output type", file=str(out), field="-o", allowed=".png, .pdf, .svg, .csv"
+        )
+    table = build_table(args)
     if out.suffix.lower() == ".csv":
         write_csv(table, out)
     else:
-        if out.suffix.lower() not in (".png", ".pdf", ".svg"):
-            raise InputError("unsupported output type", file=str(out), allowed=".png, .pdf, .svg, .csv")
         draw_table(table, out, n_film=None if args.multilayer else args.n_film)
     i = int(np.argmax(table.xyz[:, 1]))
     unit = "nm" if table.quantity == "optical_thickness_nm" else "deg"

@@ -87,6 +87,11 @@ __all__ = [
     "VISIBLE_RANGE_NM",
 ]
 
+# plausibility limits for user-given optical constants (the densest natural solids have n < 5;
+# metals reach k ~ 10 in the visible)
+_N_MAX = 20.0
+_K_MAX = 100.0
+
 #: the CIE 1931 RGB primaries (nm) behind the seed-002 §6.1 absorbances (Guy & Soler 2004 §4.1;
 #: Wyszecki & Stiles 1982).  The renderer's rgb3 mode samples warpoptics.spectra.RGB3_WAVELENGTHS.
 CIE_RGB_PRIMARIES_NM = (700.0, 546.1, 435.8)
@@ -466,6 +471,14 @@ class Isotropic(Material):
         n, k = no[..., 0], no[..., 1]
         if not np.all(np.isfinite(no)):
             raise InputError(f"{self.name}: n(λ) is not finite inside {lo:g}-{hi:g} nm", field="n")
+        if np.any(n > _N_MAX) or np.any(k > _K_MAX):
+            i = int(np.argmax(n))
+            raise InputError(
+                f"{self.name}: refractive index or extinction absurdly large inside {lo:g}-{hi:g} nm",
+                field="n",
+                value=float(max(n.max(), k.max())),
+                allowed=f"n <= {_N_MAX:g}, k <= {_K_MAX:g}",
+            )
         absorbing = k > 1e-3
         bad = (n < 1.0) & ~absorbing
         if np.any(n <= 0) or np.any(bad):

@@ -71,6 +71,9 @@ def material_from_spec(spec: Any) -> Material:
             for k in b:
                 if k not in _BAND_KEYS:
                     raise InputError("unknown key", field=f"bands.{i}.{k}", allowed=", ".join(sorted(_BAND_KEYS)))
+            for k in ("center_nm", "width_nm", "peak_alpha_per_mm"):
+                if k in b and (isinstance(b[k], bool) or not isinstance(b[k], (int, float))):
+                    raise InputError("must be a number", field=f"bands.{i}.{k}", value=b[k])
             try:
                 parsed.append(Band(float(b["center_nm"]), float(b["width_nm"]), float(b["peak_alpha_per_mm"]),
                                    b.get("shape", "gaussian")))
