@@ -61,6 +61,7 @@ import warp as wp
 from .color import SRGB_TO_XYZ, xyz_to_rgb
 from .device import elementwise, get_device
 from .errors import InputError
+from .image import atomic_path
 from .scene import Scene
 from .spectra import SpectralTables, cmf_xyz, spectral_tables
 from .stages.environment import Environment, EnvironmentLight, environment_radiance
@@ -223,7 +224,7 @@ def _write_ply(path: Path, vertices: np.ndarray, faces: np.ndarray) -> None:
         f"element vertex {len(v)}\nproperty float x\nproperty float y\nproperty float z\n"
         f"element face {len(f)}\nproperty list uchar uint vertex_indices\nend_header\n"
     )
-    with open(path, "wb") as fh:
+    with atomic_path(path) as tmp, open(tmp, "wb") as fh:
         fh.write(header.encode("ascii"))
         fh.write(v.tobytes())
         fh.write(rec.tobytes())

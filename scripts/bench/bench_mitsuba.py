@@ -313,7 +313,10 @@ def main(argv=None) -> int:
         f"{100 * a['mean_rel_diff']:+.3f} %"
     )
     if args.json:
-        Path(args.json).write_text(json.dumps(res, indent=2))
+        from warpoptics.image import atomic_path
+
+        with atomic_path(args.json) as tmp:
+            Path(tmp).write_text(json.dumps(res, indent=2))
     if args.save:
         np.savez_compressed(
             args.save,
