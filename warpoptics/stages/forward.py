@@ -65,7 +65,7 @@ import warp as wp
 
 from ..geometry.query import SceneGeometry, scene_closest_hit
 from ..materials.dispersion import MaterialTable, material_alpha, material_eval
-from ..optics.birefringence import generalized_fresnel, kappa_extraordinary, uniaxial_medium
+from ..optics.birefringence import PlaneWave, generalized_fresnel, kappa_extraordinary, uniaxial_medium
 from ..optics.fresnel import fresnel_amplitudes
 from ..optics.jones import (
     Jones,
@@ -112,6 +112,7 @@ __all__ = ["ForwardParams", "ForwardConfig", "forward_params", "forward_trace_ke
 #: names of the ledger columns (see the module docstring)
 LEDGER = ("screen", "absorbed", "escaped", "truncated", "lost", "overflow", "interface")
 _L_SCREEN, _L_ABS, _L_ESC, _L_TRUNC, _L_LOST, _L_OVER, _L_IFACE = 0, 1, 2, 3, 4, 5, 6
+
 
 @wp.struct
 class ForwardParams:
@@ -210,6 +211,70 @@ def _flux_scale(out_flux: float, in_flux: float):
     if in_flux <= 0.0 or out_flux <= 0.0:
         return 0.0
     return wp.sqrt(out_flux / in_flux)
+
+
+@wp.struct
+class _WaveCtx:
+    """What every outgoing wave of one interface event shares."""
+
+    x: wp.vec3f  # hit point
+    eps: float  # origin offset
+    w: float  # weight of the incident ray
+    source: Jones  # source coherency
+    depth: int  # depth of the children
+    flux_in: float  # normal Poynting flux of the incident wave per unit |amplitude|^2
+
+
+@wp.func
+def _wave_ctx(x: wp.vec3f, eps: float, w: float, source: Jones, depth: int, flux_in: float):
+    ctx = _WaveCtx()
+    ctx.x = x
+    ctx.eps = eps
+    ctx.w = w
+    ctx.source = source
+    ctx.depth = depth
+    ctx.flux_in = flux_in
+    return ctx
+
+
+@wp.func
+def _push_wave(
+    st: _Stack,
+    n: int,
+    c: int,
+    ea: wp.vec4f,
+    e_sum: float,
+    ctx: _WaveCtx,
+    wave: PlaneWave,
+    coef: Jones,
+    m: Jones,
+    inside: int,
+    mode: int,
+):
+    """Candidate row n + c for an outgoing wave of the generalized Fresnel solution: Jones
+    ``coef m`` power-normalised by the fluxes, travelling along the wave's ray; skipped when the
+    wave is evanescent or carries no power.  Returns (st, ea, e_sum, c)."""
+    if wave.propagating == 1:
+        mk = jones_scale(jones_mul(coef, m), _flux_scale(wave.flux, ctx.flux_in))
+        ek = ray_power(mk, ctx.w, ctx.source)
+        if ek > 0.0:
+            st = _push(
+                st,
+                n + c,
+                ctx.x + wave.ray * ctx.eps,
+                wave.ray,
+                wave.wave_normal,
+                wave.e_re,
+                mk,
+                ctx.w,
+                inside,
+                ctx.depth,
+                mode,
+            )
+            ea[c] = ek
+            e_sum += ek
+            c += 1
+    return st, ea, e_sum, c
 
 
 @wp.kernel
@@ -373,189 +438,38 @@ def forward_trace_kernel(
                 se = generalized_fresnel(s_in, 1, nrm, ma, mb)
                 m_in = jones_mul(jones_real(frame_change(s_in, bx, so.incident.e_re)), m)
                 f_in = so.incident.flux
-                if so.ro.propagating == 1:
-                    m_r = jones_scale(
-                        jones_mul(jones(so.r_o, se.r_o, so.r_e, se.r_e), m_in), _flux_scale(so.ro.flux, f_in)
-                    )
-                    e_r = ray_power(m_r, w, csrc)
-                    if e_r > 0.0:
-                        st = _push(
-                            st,
-                            n + c,
-                            x + so.ro.ray * fp.epsilon,
-                            so.ro.ray,
-                            so.ro.wave_normal,
-                            so.ro.e_re,
-                            m_r,
-                            w,
-                            obj_a,
-                            depth + 1,
-                            -1,
-                        )
-                        ea[c] = e_r
-                        e_sum += e_r
-                        c += 1
-                if so.to.propagating == 1:
-                    m_o = jones_scale(
-                        jones_mul(jones(so.t_o, se.t_o, zero, zero), m_in), _flux_scale(so.to.flux, f_in)
-                    )
-                    e_o = ray_power(m_o, w, csrc)
-                    if e_o > 0.0:
-                        st = _push(
-                            st,
-                            n + c,
-                            x + so.to.ray * fp.epsilon,
-                            so.to.ray,
-                            so.to.wave_normal,
-                            so.to.e_re,
-                            m_o,
-                            w,
-                            obj_b,
-                            depth + 1,
-                            0,
-                        )
-                        ea[c] = e_o
-                        e_sum += e_o
-                        c += 1
-                if so.te.propagating == 1:
-                    m_e = jones_scale(
-                        jones_mul(jones(so.t_e, se.t_e, zero, zero), m_in), _flux_scale(so.te.flux, f_in)
-                    )
-                    e_e = ray_power(m_e, w, csrc)
-                    if e_e > 0.0:
-                        st = _push(
-                            st,
-                            n + c,
-                            x + so.te.ray * fp.epsilon,
-                            so.te.ray,
-                            so.te.wave_normal,
-                            so.te.e_re,
-                            m_e,
-                            w,
-                            obj_b,
-                            depth + 1,
-                            1,
-                        )
-                        ea[c] = e_e
-                        e_sum += e_e
-                        c += 1
+                ctx = _wave_ctx(x, fp.epsilon, w, csrc, depth + 1, f_in)
+                st, ea, e_sum, c = _push_wave(
+                    st, n, c, ea, e_sum, ctx, so.ro, jones(so.r_o, se.r_o, so.r_e, se.r_e), m_in, obj_a, -1
+                )
+                st, ea, e_sum, c = _push_wave(
+                    st, n, c, ea, e_sum, ctx, so.to, jones(so.t_o, se.t_o, zero, zero), m_in, obj_b, 0
+                )
+                st, ea, e_sum, c = _push_wave(
+                    st, n, c, ea, e_sum, ctx, so.te, jones(so.t_e, se.t_e, zero, zero), m_in, obj_b, 1
+                )
             else:
                 # one eigenmode inside a crystal: row 0 of M is its amplitude
                 sol = generalized_fresnel(s_in, mode, nrm, ma, mb)
-                f_in = sol.incident.flux
-                if sol.ro.propagating == 1:
-                    m_ro = jones_scale(
-                        jones_mul(jones_diag(sol.r_o, zero), m), _flux_scale(sol.ro.flux, f_in)
-                    )
-                    e_ro = ray_power(m_ro, w, csrc)
-                    if e_ro > 0.0:
-                        st = _push(
-                            st,
-                            n + c,
-                            x + sol.ro.ray * fp.epsilon,
-                            sol.ro.ray,
-                            sol.ro.wave_normal,
-                            sol.ro.e_re,
-                            m_ro,
-                            w,
-                            obj_a,
-                            depth + 1,
-                            0,
-                        )
-                        ea[c] = e_ro
-                        e_sum += e_ro
-                        c += 1
-                if sol.re.propagating == 1:
-                    m_re = jones_scale(
-                        jones_mul(jones_diag(sol.r_e, zero), m), _flux_scale(sol.re.flux, f_in)
-                    )
-                    e_re = ray_power(m_re, w, csrc)
-                    if e_re > 0.0:
-                        st = _push(
-                            st,
-                            n + c,
-                            x + sol.re.ray * fp.epsilon,
-                            sol.re.ray,
-                            sol.re.wave_normal,
-                            sol.re.e_re,
-                            m_re,
-                            w,
-                            obj_a,
-                            depth + 1,
-                            1,
-                        )
-                        ea[c] = e_re
-                        e_sum += e_re
-                        c += 1
+                ctx = _wave_ctx(x, fp.epsilon, w, csrc, depth + 1, sol.incident.flux)
+                st, ea, e_sum, c = _push_wave(
+                    st, n, c, ea, e_sum, ctx, sol.ro, jones_diag(sol.r_o, zero), m, obj_a, 0
+                )
+                st, ea, e_sum, c = _push_wave(
+                    st, n, c, ea, e_sum, ctx, sol.re, jones_diag(sol.r_e, zero), m, obj_a, 1
+                )
                 if _is_uniaxial(fp, mats, obj_b) == 0:
                     # into an isotropic medium: the o/e amplitudes are its s/p components
-                    if sol.to.propagating == 1:
-                        m_t = jones_scale(
-                            jones_mul(jones(sol.t_o, zero, sol.t_e, zero), m), _flux_scale(sol.to.flux, f_in)
-                        )
-                        e_t = ray_power(m_t, w, csrc)
-                        if e_t > 0.0:
-                            st = _push(
-                                st,
-                                n + c,
-                                x + sol.to.ray * fp.epsilon,
-                                sol.to.ray,
-                                sol.to.wave_normal,
-                                sol.to.e_re,
-                                m_t,
-                                w,
-                                obj_b,
-                                depth + 1,
-                                -1,
-                            )
-                            ea[c] = e_t
-                            e_sum += e_t
-                            c += 1
+                    st, ea, e_sum, c = _push_wave(
+                        st, n, c, ea, e_sum, ctx, sol.to, jones(sol.t_o, zero, sol.t_e, zero), m, obj_b, -1
+                    )
                 else:
-                    if sol.to.propagating == 1:
-                        m_to = jones_scale(
-                            jones_mul(jones_diag(sol.t_o, zero), m), _flux_scale(sol.to.flux, f_in)
-                        )
-                        e_to = ray_power(m_to, w, csrc)
-                        if e_to > 0.0:
-                            st = _push(
-                                st,
-                                n + c,
-                                x + sol.to.ray * fp.epsilon,
-                                sol.to.ray,
-                                sol.to.wave_normal,
-                                sol.to.e_re,
-                                m_to,
-                                w,
-                                obj_b,
-                                depth + 1,
-                                0,
-                            )
-                            ea[c] = e_to
-                            e_sum += e_to
-                            c += 1
-                    if sol.te.propagating == 1:
-                        m_te = jones_scale(
-                            jones_mul(jones_diag(sol.t_e, zero), m), _flux_scale(sol.te.flux, f_in)
-                        )
-                        e_te = ray_power(m_te, w, csrc)
-                        if e_te > 0.0:
-                            st = _push(
-                                st,
-                                n + c,
-                                x + sol.te.ray * fp.epsilon,
-                                sol.te.ray,
-                                sol.te.wave_normal,
-                                sol.te.e_re,
-                                m_te,
-                                w,
-                                obj_b,
-                                depth + 1,
-                                1,
-                            )
-                            ea[c] = e_te
-                            e_sum += e_te
-                            c += 1
+                    st, ea, e_sum, c = _push_wave(
+                        st, n, c, ea, e_sum, ctx, sol.to, jones_diag(sol.t_o, zero), m, obj_b, 0
+                    )
+                    st, ea, e_sum, c = _push_wave(
+                        st, n, c, ea, e_sum, ctx, sol.te, jones_diag(sol.t_e, zero), m, obj_b, 1
+                    )
         if e_sum > e:
             # a passive interface creates no power: with an absorbing incident medium the
             # plane-wave flux split is not unique and |r|^2 can exceed 1 near total reflection
