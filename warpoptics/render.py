@@ -131,7 +131,7 @@ class Image:
     def display(self) -> np.ndarray:
         """Display-encoded sRGB in [0, 1]: exposure, tone curve, sRGB transfer function."""
         mapped = color.tone_map(self.rgb, exposure=self.exposure, curve=self.tone)
-        # the tone curve can push a colour out of gamut again only at 1; clip at constant Y there
+        # self.rgb is already >= 0 (Smits–Meyer, constant Y); the tone curve maps each channel into [0, 1]
         return color.encode_srgb(mapped)
 
     def save(self, path: str | Path) -> Path:

@@ -42,7 +42,7 @@ import warp as wp
 
 from .. import device as _device
 from ..errors import InputError
-from .dispersion import Material, Uniaxial, with_absorption_k
+from .dispersion import Material, Uniaxial, alpha_from_k_func, k_from_alpha_func, with_absorption_k
 
 __all__ = [
     "alpha_from_k_func",
@@ -71,18 +71,6 @@ _LN10 = math.log(10.0)
 # ----------------------------------------------------------------------------------------------
 # Device code
 # ----------------------------------------------------------------------------------------------
-
-
-@wp.func
-def alpha_from_k_func(k: float, wavelength_nm: float):
-    """alpha (1/mm, base e) = 4 pi k / λ, λ in mm (Weidlich & Wilkie 2009, eq. 3)."""
-    return 4.0 * wp.pi * k / (wavelength_nm * 1.0e-6)
-
-
-@wp.func
-def k_from_alpha_func(alpha_per_mm: float, wavelength_nm: float):
-    """k = alpha λ / (4 pi), alpha in 1/mm, λ in nm (Weidlich & Wilkie 2009, eq. 3)."""
-    return alpha_per_mm * (wavelength_nm * 1.0e-6) / (4.0 * wp.pi)
 
 
 @wp.func

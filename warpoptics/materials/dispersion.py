@@ -70,6 +70,8 @@ __all__ = [
     "material_eval",
     "material_eval_channel",
     "material_alpha",
+    "alpha_from_k_func",
+    "k_from_alpha_func",
     "rii_formula",
     "curve_eval",
     "build_material_table",
@@ -261,9 +263,20 @@ def material_eval(table: MaterialTable, mat_id: int, wavelength_nm: float):
 
 
 @wp.func
+def alpha_from_k_func(k: float, wavelength_nm: float):
+    """alpha (1/mm, base e) = 4 pi k / λ, λ in mm (Weidlich & Wilkie 2009, eq. 3)."""
+    return 4.0 * wp.pi * k / (wavelength_nm * 1.0e-6)
+
+
+@wp.func
+def k_from_alpha_func(alpha_per_mm: float, wavelength_nm: float):
+    """k = alpha λ / (4 pi), alpha in 1/mm, λ in nm (Weidlich & Wilkie 2009, eq. 3)."""
+    return alpha_per_mm * (wavelength_nm * 1.0e-6) / (4.0 * wp.pi)
+
+
+@wp.func
 def _alpha_of(nk: wp.vec2f, wavelength_nm: float):
-    # alpha = 4 pi k / lambda with lambda in mm (Weidlich & Wilkie 2009, eq. 3): 1/mm, base e
-    return 4.0 * wp.pi * nk[1] / (wavelength_nm * 1.0e-6)
+    return alpha_from_k_func(nk[1], wavelength_nm)
 
 
 @wp.func
