@@ -72,10 +72,13 @@ from .branches import (
     _D,
     _DEPTH,
     _IN,
+    _MI,
     _MODE,
+    _MR,
     _O,
     _W,
     _WN,
+    COLS,
     STACK_SIZE,
 )
 from .branches import (
@@ -83,15 +86,6 @@ from .branches import (
 )
 from .branches import (
     Stack as _Stack,
-)
-from .branches import (
-    copy_row as _copy_row,
-)
-from .branches import (
-    row_jones as _row_jones,
-)
-from .branches import (
-    row_vec as _row_vec,
 )
 from .branches import (
     write_jones as _write_jones,
@@ -507,11 +501,14 @@ def trace_radiance(
     splits = int(0)
     while n > 0:
         n -= 1
-        o = _row_vec(st, n, _O)
-        d = _row_vec(st, n, _D)
-        bx = _row_vec(st, n, _B)
-        wn = _row_vec(st, n, _WN)
-        m = _row_jones(st, n)
+        # read the row inline (a wp.func argument is a by-value copy of the whole stack)
+        o = wp.vec3f(st[n, _O], st[n, _O + 1], st[n, _O + 2])
+        d = wp.vec3f(st[n, _D], st[n, _D + 1], st[n, _D + 2])
+        bx = wp.vec3f(st[n, _B], st[n, _B + 1], st[n, _B + 2])
+        wn = wp.vec3f(st[n, _WN], st[n, _WN + 1], st[n, _WN + 2])
+        m = Jones()
+        m.re = wp.mat22(st[n, _MR], st[n, _MR + 1], st[n, _MR + 2], st[n, _MR + 3])
+        m.im = wp.mat22(st[n, _MI], st[n, _MI + 1], st[n, _MI + 2], st[n, _MI + 3])
         w = st[n, _W]
         inside = int(st[n, _IN])
         depth = int(st[n, _DEPTH])
@@ -582,7 +579,9 @@ def trace_radiance(
             # deterministic split: every child (pushed in reverse so the first is traced first)
             splits += count - 1
             for k in range(count):
-                st = _copy_row(st, n, cand, count - 1 - k)
+                kk = count - 1 - k
+                for c in range(COLS):  # inline: a wp.func would copy the whole stack by value
+                    st[n, c] = cand[kk, c]
                 n += 1
         else:
             # stochastic continuation: one child chosen by energy, weighted by 1/probability
@@ -600,7 +599,8 @@ def trace_radiance(
                 if wp.randf(rng) >= q:
                     continue
                 scale = scale / q
-            st = _copy_row(st, n, cand, pick)
+            for c in range(COLS):
+                st[n, c] = cand[pick, c]
             st[n, _W] = st[n, _W] * scale
             n += 1
     if polarized == 0:
