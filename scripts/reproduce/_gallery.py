@@ -49,7 +49,8 @@ def compose(path: str | Path, rows: list[list[np.ndarray]], titles: list[list[st
             suptitle: str = "", footer: str = "", panel_inches: float = 2.0, colorbar: dict | None = None,
             dpi: int = 100) -> Path:
     """Write a grid of display images ``rows[r][c]`` (H, W, 3) in [0, 1] with ``titles`` as a PNG.
-    ``colorbar``: {"row": r, "scale": s, "label": str} adds an inferno bar for a ΔE row."""
+    ``colorbar``: {"row": r, "scale": s, "label": str, "cmap": name} adds a colour bar (default
+    inferno, the ΔE maps' of ``warpoptics.metrics.difference_image``) beside row r."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -81,11 +82,11 @@ def compose(path: str | Path, rows: list[list[np.ndarray]], titles: list[list[st
         from matplotlib import cm, colors
 
         r = colorbar["row"]
-        sm = cm.ScalarMappable(norm=colors.Normalize(0.0, colorbar["scale"]), cmap="inferno")
+        sm = cm.ScalarMappable(norm=colors.Normalize(0.0, colorbar["scale"]), cmap=colorbar.get("cmap", "inferno"))
         cb = fig.colorbar(sm, ax=list(axes[r]), fraction=0.02, pad=0.01)
         cb.set_label(colorbar.get("label", "ΔE00"), fontsize=7)
         cb.ax.tick_params(labelsize=6)
-    save_figure(fig, path, dpi=dpi)  # atomic: temp file + rename
+    save_figure(fig, path, dpi=dpi, bbox_inches="tight")  # atomic: temp file + rename
     plt.close(fig)
     return Path(path)
 
