@@ -81,3 +81,5 @@ def test_seed003_sampling_readout(tmp_path, device):
     # wavelength noise alone, in the stone-free surround, by a wide margin)
     assert s["importance"]["noise_xyz_rel"] < s["uniform"]["noise_xyz_rel"]
     assert ro["noise_ratio_xyz_surround"] > 1.3
+    # both estimators are unbiased: their stone-mean XYZ agree within a few standard errors
+    assert max(ro["mean_xyz_difference_in_standard_errors"]) < 4.0

@@ -70,8 +70,13 @@ def main(argv: list[str] | None = None) -> int:
         sd_xyz = xyz.std(axis=0, ddof=1)
         sd_disp = disp.std(axis=0, ddof=1)
         sigma_maps[s] = np.sqrt((sd_disp**2).mean(axis=-1))
+        # each seed's stone-mean XYZ: their spread over seeds is the standard error of the mean
+        per_seed = np.array([(im.xyz[stone]).mean(axis=0) for im in runs[s]])
+        se = per_seed.std(axis=0, ddof=1) / np.sqrt(len(per_seed))
         res[s] = {
             "stone_mean_Y": y_mean,
+            "stone_mean_xyz": per_seed.mean(axis=0).tolist(),
+            "stone_mean_xyz_se": se.tolist(),
             "noise_xyz_rel": float(np.sqrt((sd_xyz[stone] ** 2).mean()) / y_mean),
             "noise_display": float(np.sqrt((sd_disp[stone] ** 2).mean())),
             "noise_display_all_pixels": float(np.sqrt((sd_disp**2).mean())),
@@ -97,7 +102,14 @@ def main(argv: list[str] | None = None) -> int:
     print(f"noise ratio uniform / importance: {ratio:.2f} (display sRGB), {ratio_xyz:.2f} (XYZ); "
           f"{ratio_bg:.2f} (XYZ of the surround: wavelength noise alone); "
           f"uniform needs {ratio**2:.1f}x the samples for the same display noise")
-    print(f"mean colours of the two (all seeds) differ by ΔE00 {de_bias:.3f} (both unbiased)")
+    for s in STRATEGIES:
+        m, e = res[s]["stone_mean_xyz"], res[s]["stone_mean_xyz_se"]
+        print(f"stone mean XYZ {s:10s}: " + ", ".join(f"{v:.4f} ± {d:.4f}" for v, d in zip(m, e, strict=True))
+              + " (± standard error over the seeds)")
+    dz = np.abs(np.subtract(res["uniform"]["stone_mean_xyz"], res["importance"]["stone_mean_xyz"]))
+    sez = np.hypot(res["uniform"]["stone_mean_xyz_se"], res["importance"]["stone_mean_xyz_se"])
+    print(f"mean colours of the two (all seeds) differ by ΔE00 {de_bias:.3f}; XYZ differences are "
+          + ", ".join(f"{d / e:.1f}" for d, e in zip(dz, sez, strict=True)) + " standard errors (both unbiased)")
     print(f"total time {total.seconds:.1f} s")
 
     top = float(np.percentile(sigma_maps["uniform"][stone], 95)) if stone.any() else 0.1
@@ -116,6 +128,7 @@ def main(argv: list[str] | None = None) -> int:
         "size_px": args.size, "samples_per_pixel": args.samples, "seeds": args.seeds, "strategies": res,
         "noise_ratio_display": ratio, "noise_ratio_xyz": ratio_xyz,
         "noise_ratio_xyz_surround": ratio_bg, "mean_color_dE": de_bias,
+        "mean_xyz_difference_in_standard_errors": (dz / sez).tolist(),
         "seconds": total.seconds,
     })
     print(f"wrote {out} and {out.with_suffix('.json').name}")
