@@ -14,7 +14,16 @@ SCRIPTS = ROOT / "scripts" / "reproduce"
 def _run(script, out, *args, device="cpu"):
     env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
     r = subprocess.run(
-        [sys.executable, str(SCRIPTS / script), "-o", str(out), "--quick", "--device", str(device), *map(str, args)],
+        [
+            sys.executable,
+            str(SCRIPTS / script),
+            "-o",
+            str(out),
+            "--quick",
+            "--device",
+            str(device),
+            *map(str, args),
+        ],
         capture_output=True,
         text=True,
         env=env,

@@ -45,9 +45,17 @@ def sweep_scenes(path: str | Path, *, overrides: dict | None = None):
     return out
 
 
-def compose(path: str | Path, rows: list[list[np.ndarray]], titles: list[list[str]], *,
-            suptitle: str = "", footer: str = "", panel_inches: float = 2.0, colorbar: dict | None = None,
-            dpi: int = 100) -> Path:
+def compose(
+    path: str | Path,
+    rows: list[list[np.ndarray]],
+    titles: list[list[str]],
+    *,
+    suptitle: str = "",
+    footer: str = "",
+    panel_inches: float = 2.0,
+    colorbar: dict | None = None,
+    dpi: int = 100,
+) -> Path:
     """Write a grid of display images ``rows[r][c]`` (H, W, 3) in [0, 1] with ``titles`` as a PNG.
     ``colorbar``: {"row": r, "scale": s, "label": str, "cmap": name} adds a colour bar (default
     inferno, the ΔE maps' of ``warpoptics.metrics.difference_image``) beside row r."""
@@ -61,8 +69,12 @@ def compose(path: str | Path, rows: list[list[np.ndarray]], titles: list[list[st
     nr = len(rows)
     nc = max(len(r) for r in rows)
     extra = 0.5 if colorbar else 0.0
-    fig, axes = plt.subplots(nr, nc, figsize=(panel_inches * nc + extra, panel_inches * nr + 0.35 * nr + 0.6
-                                              + (0.3 if footer else 0.0)), squeeze=False)
+    fig, axes = plt.subplots(
+        nr,
+        nc,
+        figsize=(panel_inches * nc + extra, panel_inches * nr + 0.35 * nr + 0.6 + (0.3 if footer else 0.0)),
+        squeeze=False,
+    )
     for r in range(nr):
         for c in range(nc):
             a = axes[r][c]
@@ -82,7 +94,9 @@ def compose(path: str | Path, rows: list[list[np.ndarray]], titles: list[list[st
         from matplotlib import cm, colors
 
         r = colorbar["row"]
-        sm = cm.ScalarMappable(norm=colors.Normalize(0.0, colorbar["scale"]), cmap=colorbar.get("cmap", "inferno"))
+        sm = cm.ScalarMappable(
+            norm=colors.Normalize(0.0, colorbar["scale"]), cmap=colorbar.get("cmap", "inferno")
+        )
         cb = fig.colorbar(sm, ax=list(axes[r]), fraction=0.02, pad=0.01)
         cb.set_label(colorbar.get("label", "ΔE00"), fontsize=7)
         cb.ax.tick_params(labelsize=6)

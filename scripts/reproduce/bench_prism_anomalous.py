@@ -9,7 +9,8 @@ power), whether u(lambda) is monotonic, the number of reversals of the colour or
 (range of u), the transmitted power and luminous fraction, and at the thick edge the power left
 in the dye's band (470-590 nm) relative to the thin edge (the pattern fades).
 
-    python scripts/reproduce/bench_prism_anomalous.py -o docs/gallery/prism.png [--json docs/gallery/prism.json]
+    python scripts/reproduce/bench_prism_anomalous.py -o docs/gallery/prism.png \
+        [--json docs/gallery/prism.json]
 """
 
 from __future__ import annotations

@@ -71,30 +71,63 @@ def main(argv: list[str] | None = None) -> int:
         st_n = wm.delta_e_stats(de_n, noise.alpha, b.alpha)
         col = {k: wm.mean_color(v.xyz, v.alpha) for k, v in imgs.items()}
 
-    print(f"Kramers–Kronig change of n (400-700 nm): min {dn[i_lo]:+.5f} at {lam[i_lo]:.0f} nm, "
-          f"max {dn[i_hi]:+.5f} at {lam[i_hi]:.0f} nm")
+    print(
+        f"Kramers–Kronig change of n (400-700 nm): min {dn[i_lo]:+.5f} at {lam[i_lo]:.0f} nm, "
+        f"max {dn[i_hi]:+.5f} at {lam[i_hi]:.0f} nm"
+    )
     for k, c in col.items():
         print(f"mean colour {k:9s}: L* {c['L']:.2f} a* {c['a']:.2f} b* {c['b']:.2f}")
-    print(f"ΔE00 anomalous vs normal : mean {st['dE_mean']:.3f}  p95 {st['dE_p95']:.3f}  max {st['dE_max']:.2f}  "
-          f"(mean colours {st['dE_mean_color']:.3f})")
-    print(f"ΔE00 noise floor (seed 1): mean {st_n['dE_mean']:.3f}  p95 {st_n['dE_p95']:.3f}  max {st_n['dE_max']:.2f}")
+    print(
+        f"ΔE00 anomalous vs normal : mean {st['dE_mean']:.3f}  p95 {st['dE_p95']:.3f}  "
+        f"max {st['dE_max']:.2f}  "
+        f"(mean colours {st['dE_mean_color']:.3f})"
+    )
+    print(
+        f"ΔE00 noise floor (seed 1): mean {st_n['dE_mean']:.3f}  p95 {st_n['dE_p95']:.3f}  "
+        f"max {st_n['dE_max']:.2f}"
+    )
     print(f"total time {total.seconds:.1f} s")
 
-    rows = [[a.display(), b.display(), wm.difference_image(de, scale=args.scale),
-             wm.difference_image(de_n, scale=args.scale)]]
-    titles = [["(a) anomalous (Kramers–Kronig)", "(b) normal dispersion",
-               f"(c) ΔE00 a vs b: mean {st['dE_mean']:.2f}, p95 {st['dE_p95']:.2f}",
-               f"(d) noise floor: b vs seed 1, mean {st_n['dE_mean']:.2f}"]]
-    compose(args.output, rows, titles, suptitle="Weidlich & Wilkie 2009 fig. 6: 1 mm cobalt spinel, "
-            f"{args.wavelengths} stratified wavelengths, {args.size}² px",
-            colorbar={"row": 0, "scale": args.scale, "label": "ΔE00"})
+    rows = [
+        [
+            a.display(),
+            b.display(),
+            wm.difference_image(de, scale=args.scale),
+            wm.difference_image(de_n, scale=args.scale),
+        ]
+    ]
+    titles = [
+        [
+            "(a) anomalous (Kramers–Kronig)",
+            "(b) normal dispersion",
+            f"(c) ΔE00 a vs b: mean {st['dE_mean']:.2f}, p95 {st['dE_p95']:.2f}",
+            f"(d) noise floor: b vs seed 1, mean {st_n['dE_mean']:.2f}",
+        ]
+    ]
+    compose(
+        args.output,
+        rows,
+        titles,
+        suptitle="Weidlich & Wilkie 2009 fig. 6: 1 mm cobalt spinel, "
+        f"{args.wavelengths} stratified wavelengths, {args.size}² px",
+        colorbar={"row": 0, "scale": args.scale, "label": "ΔE00"},
+    )
     out = Path(args.output)
-    write_json(out.with_suffix(".json"), {
-        "size_px": args.size, "wavelengths": args.wavelengths,
-        "dn_min": float(dn[i_lo]), "dn_min_nm": float(lam[i_lo]), "dn_max": float(dn[i_hi]),
-        "dn_max_nm": float(lam[i_hi]), "anomalous_vs_normal": st, "noise_floor": st_n,
-        "mean_color": col, "seconds": total.seconds,
-    })
+    write_json(
+        out.with_suffix(".json"),
+        {
+            "size_px": args.size,
+            "wavelengths": args.wavelengths,
+            "dn_min": float(dn[i_lo]),
+            "dn_min_nm": float(lam[i_lo]),
+            "dn_max": float(dn[i_hi]),
+            "dn_max_nm": float(lam[i_hi]),
+            "anomalous_vs_normal": st,
+            "noise_floor": st_n,
+            "mean_color": col,
+            "seconds": total.seconds,
+        },
+    )
     print(f"wrote {out} and {out.with_suffix('.json').name}")
     return 0
 

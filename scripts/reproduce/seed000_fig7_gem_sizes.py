@@ -32,7 +32,9 @@ PRESET = ROOT / "scenes" / "sweeps" / "gem_sizes.toml"
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("-o", "--output", default=str(GALLERY / "seed000_fig7_gem_sizes.png"), help="PNG to write")
+    ap.add_argument(
+        "-o", "--output", default=str(GALLERY / "seed000_fig7_gem_sizes.png"), help="PNG to write"
+    )
     ap.add_argument("--size", type=int, default=128, help="image width = height (pixels)")
     ap.add_argument("--wavelengths", type=int, default=45, help="stratified wavelengths per pixel")
     ap.add_argument("--scale", type=float, default=10.0, help="ΔE00 at the top of the difference colour map")
@@ -67,39 +69,59 @@ def main(argv: list[str] | None = None) -> int:
             st = wm.delta_e_stats(de, a.alpha, b.alpha)
             st_n = wm.delta_e_stats(wm.delta_e_image(c.xyz, b.xyz), c.alpha, b.alpha)
             spec_a = anom.objects[0].material
-            dn = np.real(material_from_spec(spec_a).n(lam)) - np.real(material_from_spec(norm.objects[0].material).n(lam))
+            dn = np.real(material_from_spec(spec_a).n(lam)) - np.real(
+                material_from_spec(norm.objects[0].material).n(lam)
+            )
             row = {
                 "size_mm": s,
                 "peak_alpha_per_mm": float(spec_a["bands"][0]["peak_alpha_per_mm"]),
                 "dn_max_abs": float(np.abs(dn).max()),
-                "dE_mean": st["dE_mean"], "dE_p95": st["dE_p95"], "dE_max": st["dE_max"],
+                "dE_mean": st["dE_mean"],
+                "dE_p95": st["dE_p95"],
+                "dE_max": st["dE_max"],
                 "dE_mean_color": wm.delta_e_mean_color(a.xyz, a.alpha, b.xyz, b.alpha),
-                "noise_dE_mean": st_n["dE_mean"], "noise_dE_p95": st_n["dE_p95"],
+                "noise_dE_mean": st_n["dE_mean"],
+                "noise_dE_p95": st_n["dE_p95"],
                 "seconds": t.seconds,
             }
             table.append(row)
             panels["normal"].append((b.display(), f"{s:g} mm, normal"))
             panels["anomalous"].append((a.display(), f"{s:g} mm, anomalous (KK)"))
-            panels["diff"].append((wm.difference_image(de, scale=args.scale),
-                                   f"ΔE00 mean {st['dE_mean']:.2f}, p95 {st['dE_p95']:.1f}"))
+            panels["diff"].append(
+                (
+                    wm.difference_image(de, scale=args.scale),
+                    f"ΔE00 mean {st['dE_mean']:.2f}, p95 {st['dE_p95']:.1f}",
+                )
+            )
 
-    print(f"{'size mm':>8s} {'alpha /mm':>9s} {'max|dn|':>8s} {'dE mean':>8s} {'dE p95':>7s} {'dE max':>7s} "
-          f"{'dE colour':>9s} {'noise mean':>10s} {'noise p95':>9s} {'time s':>6s}")
+    print(
+        f"{'size mm':>8s} {'alpha /mm':>9s} {'max|dn|':>8s} {'dE mean':>8s} {'dE p95':>7s} {'dE max':>7s} "
+        f"{'dE colour':>9s} {'noise mean':>10s} {'noise p95':>9s} {'time s':>6s}"
+    )
     for r in table:
-        print(f"{r['size_mm']:8g} {r['peak_alpha_per_mm']:9.4g} {r['dn_max_abs']:8.1e} {r['dE_mean']:8.3f} "
-              f"{r['dE_p95']:7.2f} {r['dE_max']:7.1f} {r['dE_mean_color']:9.3f} {r['noise_dE_mean']:10.3f} "
-              f"{r['noise_dE_p95']:9.2f} {r['seconds']:6.1f}")
+        print(
+            f"{r['size_mm']:8g} {r['peak_alpha_per_mm']:9.4g} {r['dn_max_abs']:8.1e} {r['dE_mean']:8.3f} "
+            f"{r['dE_p95']:7.2f} {r['dE_max']:7.1f} {r['dE_mean_color']:9.3f} {r['noise_dE_mean']:10.3f} "
+            f"{r['noise_dE_p95']:9.2f} {r['seconds']:6.1f}"
+        )
     print(f"total time {total.seconds:.1f} s")
 
     rows = [[p for p, _ in panels[k]] for k in ("normal", "anomalous", "diff")]
     titles = [[t for _, t in panels[k]] for k in ("normal", "anomalous", "diff")]
-    compose(args.output, rows, titles, panel_inches=1.8,
-            suptitle=f"Weidlich & Wilkie 2009 fig. 7: pink brilliant, absorbance × 10 mm / size; "
-            f"{args.wavelengths} stratified wavelengths, {args.size}² px",
-            colorbar={"row": 2, "scale": args.scale, "label": "ΔE00"})
+    compose(
+        args.output,
+        rows,
+        titles,
+        panel_inches=1.8,
+        suptitle=f"Weidlich & Wilkie 2009 fig. 7: pink brilliant, absorbance × 10 mm / size; "
+        f"{args.wavelengths} stratified wavelengths, {args.size}² px",
+        colorbar={"row": 2, "scale": args.scale, "label": "ΔE00"},
+    )
     out = Path(args.output)
-    write_json(out.with_suffix(".json"), {"size_px": args.size, "wavelengths": args.wavelengths,
-                                         "sizes": table, "seconds": total.seconds})
+    write_json(
+        out.with_suffix(".json"),
+        {"size_px": args.size, "wavelengths": args.wavelengths, "sizes": table, "seconds": total.seconds},
+    )
     print(f"wrote {out} and {out.with_suffix('.json').name}")
     return 0
 

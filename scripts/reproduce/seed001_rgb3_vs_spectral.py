@@ -23,7 +23,8 @@ Readout: each render's time, and its RMSE against the reference over display-enc
 tinted surround counts) and its mean CIEDE2000 over the stone's pixels (printed and written as
 JSON beside the PNG).
 
-    python scripts/reproduce/seed001_rgb3_vs_spectral.py [-o docs/gallery/seed001_rgb3_vs_spectral.png] [--quick]
+    python scripts/reproduce/seed001_rgb3_vs_spectral.py \
+        [-o docs/gallery/seed001_rgb3_vs_spectral.png] [--quick]
 """
 
 from __future__ import annotations
@@ -43,9 +44,13 @@ SCENE = ROOT / "scenes" / "diamond.toml"
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("-o", "--output", default=str(GALLERY / "seed001_rgb3_vs_spectral.png"), help="PNG to write")
+    ap.add_argument(
+        "-o", "--output", default=str(GALLERY / "seed001_rgb3_vs_spectral.png"), help="PNG to write"
+    )
     ap.add_argument("--size", type=int, default=128, help="image width = height (pixels)")
-    ap.add_argument("--wavelengths", type=int, default=45, help="stratified wavelengths of the spectral render")
+    ap.add_argument(
+        "--wavelengths", type=int, default=45, help="stratified wavelengths of the spectral render"
+    )
     ap.add_argument("--ref-spp", type=int, default=8, help="spp of the reference (even: two halves)")
     ap.add_argument("--quick", action="store_true", help="tiny images (for tests)")
     ap.add_argument("--device", default=None)
@@ -84,36 +89,60 @@ def main(argv: list[str] | None = None) -> int:
     ref_d = ref.display()
     stone = ref_alpha > 0.0  # RMSE over the stone's pixels (rgb3 also tints the surround; see the JSON)
     ref_noise = display_rmse(ref_a.display(), ref_b.display(), stone) / 2.0
-    ref_noise_de = float(wm.delta_e_stats(wm.delta_e_image(ref_a.xyz, ref_b.xyz), ref_a.alpha, ref_b.alpha)["dE_mean"])
+    ref_noise_de = float(
+        wm.delta_e_stats(wm.delta_e_image(ref_a.xyz, ref_b.xyz), ref_a.alpha, ref_b.alpha)["dE_mean"]
+    )
 
     res = {}
     for name, img in (("rgb3", fast), ("rgb3_1spp", probe), ("spectral", spec)):
         de = wm.delta_e_stats(wm.delta_e_image(img.xyz, ref_xyz), img.alpha, ref_alpha)
-        res[name] = {"spp": int(img.stats.get("spp", 0)) or None, "seconds": img.stats["seconds"],
-                     "rmse_display": display_rmse(img.display(), ref_d, stone),
-                     "rmse_display_all_pixels": display_rmse(img.display(), ref_d), "dE_mean": de["dE_mean"],
-                     "dE_p95": de["dE_p95"]}
+        res[name] = {
+            "spp": int(img.stats.get("spp", 0)) or None,
+            "seconds": img.stats["seconds"],
+            "rmse_display": display_rmse(img.display(), ref_d, stone),
+            "rmse_display_all_pixels": display_rmse(img.display(), ref_d),
+            "dE_mean": de["dE_mean"],
+            "dE_p95": de["dE_p95"],
+        }
     res["rgb3"]["spp"], res["rgb3_1spp"]["spp"], res["spectral"]["spp"] = spp_eq, 1, 1
     # error split: RMSE^2 = bias^2 + noise^2 + (reference noise)^2
     for name, (i1, i2) in (("spectral", (spec, spec2)), ("rgb3", (fast, fast2))):
         r = res[name]
         r["noise_display"] = display_rmse(i1.display(), i2.display(), stone) / np.sqrt(2.0)
-        r["bias_display"] = float(np.sqrt(max(r["rmse_display"] ** 2 - r["noise_display"] ** 2 - ref_noise**2, 0.0)))
+        r["bias_display"] = float(
+            np.sqrt(max(r["rmse_display"] ** 2 - r["noise_display"] ** 2 - ref_noise**2, 0.0))
+        )
 
-    print(f"diamond n at the rgb3 wavelengths {wo.spectra.RGB3_WAVELENGTHS} nm: "
-          + " / ".join(f"{v:.4f}" for v in n_rgb) + "  (seed 001: 2.40 / 2.43 / 2.46)")
-    print(f"reference: {args.wavelengths} stratified wavelengths x {args.ref_spp} spp "
-          f"({ref_a.stats['seconds'] + ref_b.stats['seconds']:.1f} s); its own noise: RMSE {ref_noise:.4f}, "
-          f"halves differ by mean ΔE00 {ref_noise_de:.2f}")
-    print(f"{'render':28s} {'spp':>4s} {'time s':>7s} {'RMSE vs ref':>11s} {'noise':>6s} {'bias':>6s} "
-          f"{'ΔE00 mean':>9s} {'ΔE00 p95':>8s}")
-    labels = {"spectral": f"spectral ({args.wavelengths} stratified)", "rgb3": "rgb3, equal time",
-              "rgb3_1spp": "rgb3, 1 spp"}
+    print(
+        f"diamond n at the rgb3 wavelengths {wo.spectra.RGB3_WAVELENGTHS} nm: "
+        + " / ".join(f"{v:.4f}" for v in n_rgb)
+        + "  (seed 001: 2.40 / 2.43 / 2.46)"
+    )
+    print(
+        f"reference: {args.wavelengths} stratified wavelengths x {args.ref_spp} spp "
+        f"({ref_a.stats['seconds'] + ref_b.stats['seconds']:.1f} s); its own noise: RMSE {ref_noise:.4f}, "
+        f"halves differ by mean ΔE00 {ref_noise_de:.2f}"
+    )
+    print(
+        f"{'render':28s} {'spp':>4s} {'time s':>7s} {'RMSE vs ref':>11s} {'noise':>6s} {'bias':>6s} "
+        f"{'ΔE00 mean':>9s} {'ΔE00 p95':>8s}"
+    )
+    labels = {
+        "spectral": f"spectral ({args.wavelengths} stratified)",
+        "rgb3": "rgb3, equal time",
+        "rgb3_1spp": "rgb3, 1 spp",
+    }
     for k in ("spectral", "rgb3", "rgb3_1spp"):
         r = res[k]
-        nb = f"{r['noise_display']:6.4f} {r['bias_display']:6.4f}" if "bias_display" in r else f"{'':6s} {'':6s}"
-        print(f"{labels[k]:28s} {r['spp']:4d} {r['seconds']:7.2f} {r['rmse_display']:11.4f} {nb} "
-              f"{r['dE_mean']:9.2f} {r['dE_p95']:8.2f}")
+        nb = (
+            f"{r['noise_display']:6.4f} {r['bias_display']:6.4f}"
+            if "bias_display" in r
+            else f"{'':6s} {'':6s}"
+        )
+        print(
+            f"{labels[k]:28s} {r['spp']:4d} {r['seconds']:7.2f} {r['rmse_display']:11.4f} {nb} "
+            f"{r['dE_mean']:9.2f} {r['dE_p95']:8.2f}"
+        )
     print(f"total time {total.seconds:.1f} s")
 
     # the stone's middle, enlarged: where the fire is (and rgb3's bands)
@@ -127,21 +156,42 @@ def main(argv: list[str] | None = None) -> int:
     fd, sd = fast.display(), spec.display()
     rows = [[fd, sd, ref_d], [crop(fd), crop(sd), crop(ref_d)]]
     titles = [
-        [f"rgb3 (three IORs), {spp_eq} spp, {res['rgb3']['seconds']:.1f} s",
-         f"spectral, {args.wavelengths} wl x 1 spp, {t_spec:.1f} s",
-         f"reference, {args.wavelengths} wl x {args.ref_spp} spp"],
-        [f"RMSE {res['rgb3']['rmse_display']:.3f} (bias {res['rgb3']['bias_display']:.3f}), ΔE {res['rgb3']['dE_mean']:.1f}",
-         f"RMSE {res['spectral']['rmse_display']:.3f} (bias {res['spectral']['bias_display']:.3f}), ΔE {res['spectral']['dE_mean']:.1f}",
-         f"own noise: RMSE {ref_noise:.4f}"],
+        [
+            f"rgb3 (three IORs), {spp_eq} spp, {res['rgb3']['seconds']:.1f} s",
+            f"spectral, {args.wavelengths} wl x 1 spp, {t_spec:.1f} s",
+            f"reference, {args.wavelengths} wl x {args.ref_spp} spp",
+        ],
+        [
+            *(
+                f"RMSE {res[k]['rmse_display']:.3f} (bias {res[k]['bias_display']:.3f}), "
+                f"ΔE {res[k]['dE_mean']:.1f}"
+                for k in ("rgb3", "spectral")
+            ),
+            f"own noise: RMSE {ref_noise:.4f}",
+        ],
     ]
-    compose(args.output, rows, titles, panel_inches=2.4,
-            suptitle=f"Seed 001: three-wavelength (rgb3) vs spectral diamond at equal render time, {args.size}² px")
+    compose(
+        args.output,
+        rows,
+        titles,
+        panel_inches=2.4,
+        suptitle=f"Seed 001: three-wavelength (rgb3) vs spectral diamond at equal render time, "
+        f"{args.size}² px",
+    )
     out = Path(args.output)
-    write_json(out.with_suffix(".json"), {
-        "size_px": args.size, "wavelengths": args.wavelengths, "ref_spp": args.ref_spp,
-        "n_rgb3": [float(v) for v in n_rgb], "ref_noise_rmse_display": ref_noise, "ref_noise_dE_mean": ref_noise_de,
-        "renders": res, "seconds": total.seconds,
-    })
+    write_json(
+        out.with_suffix(".json"),
+        {
+            "size_px": args.size,
+            "wavelengths": args.wavelengths,
+            "ref_spp": args.ref_spp,
+            "n_rgb3": [float(v) for v in n_rgb],
+            "ref_noise_rmse_display": ref_noise,
+            "ref_noise_dE_mean": ref_noise_de,
+            "renders": res,
+            "seconds": total.seconds,
+        },
+    )
     print(f"wrote {out} and {out.with_suffix('.json').name}")
     return 0
 
