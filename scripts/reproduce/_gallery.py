@@ -105,6 +105,21 @@ def compose(
     return Path(path)
 
 
+def stone_box(*alphas: np.ndarray, margin: float = 0.06) -> tuple[slice, slice]:
+    """(rows, cols) slices of the square around every pixel that any ``alphas`` (H, W) covers,
+    grown by ``margin`` of the image size: panels cropped to the stone, for display only."""
+    a = np.max(np.stack([np.asarray(x) for x in alphas]), axis=0) > 0.0
+    h, w = a.shape
+    if not a.any():
+        return slice(0, h), slice(0, w)
+    ys, xs = np.nonzero(a)
+    cy, cx = 0.5 * (ys.min() + ys.max()), 0.5 * (xs.min() + xs.max())
+    half = 0.5 * max(ys.max() - ys.min(), xs.max() - xs.min()) + margin * max(h, w)
+    y0, y1 = max(0, int(cy - half)), min(h, int(np.ceil(cy + half)) + 1)
+    x0, x1 = max(0, int(cx - half)), min(w, int(np.ceil(cx + half)) + 1)
+    return slice(y0, y1), slice(x0, x1)
+
+
 def write_json(path: str | Path, data: dict) -> Path:
     """Write ``data`` as indented JSON atomically (temp file + rename)."""
     from warpoptics.image import atomic_path

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _gallery import GALLERY, ROOT, Timer, compose, sweep_scenes, write_json  # noqa: E402
+from _gallery import GALLERY, ROOT, Timer, compose, stone_box, sweep_scenes, write_json  # noqa: E402
 
 PRESET = ROOT / "scenes" / "sweeps" / "spinel_cobalt.toml"
 
@@ -88,12 +88,13 @@ def main(argv: list[str] | None = None) -> int:
     )
     print(f"total time {total.seconds:.1f} s")
 
+    box = stone_box(a.alpha, b.alpha)  # panels cropped to the stone (display only)
     rows = [
         [
-            a.display(),
-            b.display(),
-            wm.difference_image(de, scale=args.scale),
-            wm.difference_image(de_n, scale=args.scale),
+            a.display()[box],
+            b.display()[box],
+            wm.difference_image(de[box], scale=args.scale),
+            wm.difference_image(de_n[box], scale=args.scale),
         ]
     ]
     titles = [

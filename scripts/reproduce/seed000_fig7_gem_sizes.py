@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _gallery import GALLERY, ROOT, Timer, compose, sweep_scenes, write_json  # noqa: E402
+from _gallery import GALLERY, ROOT, Timer, compose, stone_box, sweep_scenes, write_json  # noqa: E402
 
 PRESET = ROOT / "scenes" / "sweeps" / "gem_sizes.toml"
 
@@ -85,11 +85,12 @@ def main(argv: list[str] | None = None) -> int:
                 "seconds": t.seconds,
             }
             table.append(row)
-            panels["normal"].append((b.display(), f"{s:g} mm, normal"))
-            panels["anomalous"].append((a.display(), f"{s:g} mm, anomalous (KK)"))
+            box = stone_box(a.alpha, b.alpha)  # panels cropped to the stone (display only)
+            panels["normal"].append((b.display()[box], f"{s:g} mm, normal"))
+            panels["anomalous"].append((a.display()[box], f"{s:g} mm, anomalous (KK)"))
             panels["diff"].append(
                 (
-                    wm.difference_image(de, scale=args.scale),
+                    wm.difference_image(de[box], scale=args.scale),
                     f"ΔE00 mean {st['dE_mean']:.2f}, p95 {st['dE_p95']:.1f}",
                 )
             )
