@@ -9,7 +9,8 @@ power), whether u(lambda) is monotonic, the number of reversals of the colour or
 (range of u), the transmitted power and luminous fraction, and at the thick edge the power left
 in the dye's band (470-590 nm) relative to the thin edge (the pattern fades).
 
-    python scripts/reproduce/bench_prism_anomalous.py -o out/bench_prism.png
+    python scripts/reproduce/bench_prism_anomalous.py -o docs/gallery/prism.png \
+        [--json docs/gallery/prism.json]
 """
 
 from __future__ import annotations
@@ -53,8 +54,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("-o", "--output", required=True, help="PNG figure to write")
     ap.add_argument("--wavelengths", type=int, default=96, help="spectral samples")
     ap.add_argument("--rays", type=int, default=8, help="beam positions")
+    ap.add_argument("--json", default=None, help="also write the readout as JSON here")
+    ap.add_argument("--quick", action="store_true", help="24 wavelengths, 2 beam positions (for tests)")
     ap.add_argument("--device", default=None)
     args = ap.parse_args(argv)
+    if args.quick:
+        args.wavelengths, args.rays = 24, 2
 
     import matplotlib
 
@@ -101,6 +106,18 @@ def main(argv: list[str] | None = None) -> int:
         )
     wider = rows[("rose_bengal_10", "thin")]["fan_out"] / rows[("water", "thin")]["fan_out"]
     print(f"fan-out rose bengal 10 % / water = {wider:.2f}")
+    if args.json:
+        import json
+
+        from warpoptics.image import atomic_path
+
+        summary = {
+            f"{mat}/{edge}": {k: v for k, v in ro.items() if k not in ("wavelength", "u")}
+            for (mat, edge), ro in rows.items()
+        }
+        summary["fan_out_ratio_rose_bengal_10_vs_water"] = wider
+        with atomic_path(args.json) as tmp:
+            Path(tmp).write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
 
     fig = plt.figure(figsize=(12, 9))
     gs = fig.add_gridspec(len(MATERIALS) + 1, 2, height_ratios=[1] * len(MATERIALS) + [5])
