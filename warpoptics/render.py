@@ -262,6 +262,9 @@ class Renderer:
         meshes, mats, axes = _build_objects(scene, self.device)
         self.geometry = GeometryScene(meshes, device=self.device)
         self.materials, ids = build_material_table(mats, self.device)
+        from .stages.coated import build_film_surfaces  # films: coatings, shells, film surfaces
+
+        films = build_film_surfaces(scene, meshes, mats, device=self.device)
         self.camera = Camera(scene.camera)
         self.environment = EnvironmentLight(scene.lights[0], self.device)
         self.tables = spectral_tables(self.device)
@@ -274,7 +277,7 @@ class Renderer:
             np.array([ob.absorption_scale for ob in scene.objects], dtype=np.float32),
             _world_axes(scene, mats, axes),
             config=self.trace_config, ambient=(r.ambient_index, 0.0), rgb3=r.spectral == "rgb3",
-            device=self.device,
+            device=self.device, films=films,
         )
         film = FilmParams()
         film.width, film.height = self.camera.width, self.camera.height
