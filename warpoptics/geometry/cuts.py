@@ -904,5 +904,5 @@ SHAPES: dict[str, Callable[..., trimesh.Trimesh]] = {
     "cube": cube,
     "sphere": sphere,
     "ground_plane": ground_plane,
-    "wavy_sheet": wavy_sheet,
 }
+# (``wavy_sheet`` is an open surface for films, not a solid: scene files name it, SHAPES does not)
