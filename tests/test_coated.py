@@ -266,7 +266,7 @@ def test_shell_furnace(device):
         "light": [{"type": "constant", "intensity": 1.0}],
         "object": [{"shape": "sphere", "diameter": 20.0, "subdivisions": 3, "surface": "shell",
                     "coating": [{"n": 1.33, "thickness_nm": 500.0}],
-                    "thickness": {"profile": "gravity", "top_nm": 10.0, "bottom_nm": 900.0}}],
+                    "film_thickness": {"profile": "gravity", "top_nm": 10.0, "bottom_nm": 900.0}}],
     }
     sc = wo.Scene.from_dict(data)
     img = wo.render(sc, device=device)
@@ -305,8 +305,8 @@ def test_bad_coatings_name_file_field_value(tmp_path):
     _bad(tmp_path, {"coating": [{"n": 2.0}]}, "object.0.coating.0.thickness_nm")
     _bad(tmp_path, {"surface": "bubble"}, "object.0.surface", "bubble")
     _bad(tmp_path, {"surface": "shell"}, "object.0.coating")
-    _bad(tmp_path, {"coating": [{"n": 2.0, "thickness_nm": 5.0}], "thickness": {"profile": "gravity", "top": 3}},
-         "object.0.thickness.top")
+    _bad(tmp_path, {"coating": [{"n": 2.0, "thickness_nm": 5.0}], "film_thickness": {"profile": "gravity", "top": 3}},
+         "object.0.film_thickness.top")
     _bad(tmp_path, {"coating": [{"n": 2.0, "thickness_nm": 5.0}], "roughness": 0.1}, "object.0.roughness", 0.1)
 
 

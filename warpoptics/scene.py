@@ -130,7 +130,7 @@ SHAPES = ("round_brilliant", "oval", "pear", "marquise", "emerald", "princess", 
           "step_cut", "mesh", "gemcad", "wavy_sheet")
 _OBJECT_COMMON = {"shape", "material", "position", "rotation", "scale", "optic_axis", "absorption_scale", "path",
                   "name"}
-_OBJECT_COMMON |= {"surface", "coating", "thickness", "roughness"}  # films: stages/coated.py
+_OBJECT_COMMON |= {"surface", "coating", "film_thickness", "roughness"}  # films: stages/coated.py
 
 
 @dataclass(frozen=True)

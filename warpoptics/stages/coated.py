@@ -17,7 +17,7 @@ An ``[[object]]`` may carry thin-film layers (``coating``) and a surface kind (`
   complex index is the object's ``material``; the transmitted light is absorbed.  Optional
   ``roughness`` (GGX alpha) draws a stochastic microfacet normal per hit.
 
-The film thickness may vary over the surface (``thickness = { profile = ... }``): every layer
+The film thickness may vary over the surface (``film_thickness = { profile = ... }``): every layer
 is scaled per hit so that the stack's total thickness follows the profile — Smits & Meyer 1990
 §4.2 (a soap film thinning under gravity: proportional to the normalised height below the top
 plus Perlin turbulence) or eq. 12–13 (an oil drop: t_max exp(-k1 (x^2 + y^2 + k2 turb))).
@@ -468,7 +468,7 @@ def _thickness_kernel(
 # Configuration (scene files) and device data
 # ---------------------------------------------------------------------------------------------
 
-_FILM_KEYS = ("surface", "coating", "thickness", "roughness")
+_FILM_KEYS = ("surface", "coating", "film_thickness", "roughness")
 _LAYER_KEYS = {"n", "k", "material", "thickness_nm"}
 _PROFILE_KEYS = {
     "uniform": {"profile"},
@@ -525,7 +525,7 @@ def _layer_material(spec, file, fld):
 
 
 def film_config(table: dict, index: int, file: str | None) -> FilmConfig | None:
-    """Validate the film keys (``surface``, ``coating``, ``thickness``, ``roughness``) of
+    """Validate the film keys (``surface``, ``coating``, ``film_thickness``, ``roughness``) of
     ``[[object]]`` number ``index``; None when it has none.  Errors name file, field and value."""
     if not any(k in table for k in _FILM_KEYS):
         return None
@@ -562,29 +562,29 @@ def film_config(table: dict, index: int, file: str | None) -> FilmConfig | None:
             layers.append((layer["material"], d))
     if surface in ("shell", "film") and not layers:
         raise _err(f'a surface = "{surface}" object needs a coating (its film layers)', file, prefix + "coating")
-    th = table.get("thickness", {"profile": "uniform"})
+    th = table.get("film_thickness", {"profile": "uniform"})
     if not isinstance(th, dict):
-        raise _err("must be a table { profile = ... }", file, prefix + "thickness", th)
+        raise _err("must be a table { profile = ... }", file, prefix + "film_thickness", th)
     profile = th.get("profile", "uniform")
     if profile not in THICKNESS_PROFILES:
-        raise _err("unknown thickness profile", file, prefix + "thickness.profile", profile,
+        raise _err("unknown thickness profile", file, prefix + "film_thickness.profile", profile,
                    ", ".join(THICKNESS_PROFILES))
     for k in th:
         if k not in _PROFILE_KEYS[profile]:
-            raise _err(f"unknown key for profile {profile!r}", file, prefix + "thickness." + k, None,
+            raise _err(f"unknown key for profile {profile!r}", file, prefix + "film_thickness." + k, None,
                        ", ".join(sorted(_PROFILE_KEYS[profile])))
     params = dict(_PROFILE_DEFAULTS.get(profile, {}))
     for k, v in th.items():
         if k == "profile":
             continue
-        fld = prefix + "thickness." + k
+        fld = prefix + "film_thickness." + k
         if k in ("seed", "octaves"):
             params[k] = int(_num(v, file, fld, lo=0 if k == "seed" else 1, hi=2**31 - 1 if k == "seed" else 12,
                                  integer=True))
         else:
             params[k] = float(_num(v, file, fld, lo=0.0, hi=1.0e6))
     if profile != "uniform" and not layers:
-        raise _err("a thickness profile needs a coating", file, prefix + "thickness")
+        raise _err("a thickness profile needs a coating", file, prefix + "film_thickness")
     roughness = float(_num(table.get("roughness", 0.0), file, prefix + "roughness", lo=0.0, hi=1.0))
     if roughness > 0.0 and surface != "film":
         raise _err('roughness applies to surface = "film" only', file, prefix + "roughness", roughness)
