@@ -338,3 +338,31 @@ def test_cli_renders_soap_bubble(tmp_path):
     )
     assert r.returncode == 0, r.stderr
     assert out.is_file() and out.stat().st_size > 0
+
+
+def test_tilted_film_colour_matches_tmm_colour(device):
+    """The same oil film seen at 40 degrees: the rendered XYZ equals the CIE 1931 integral
+    (colour-science CMFs, illuminant E, 1 nm) of tmm's unpolarized reflectance at 40 degrees —
+    the angle enters only through the exact stack (no t n cos(theta) table approximation)."""
+    import colour
+
+    t_nm, theta = 250.0, 40.0
+    th = np.radians(theta)
+    data = {
+        "camera": {"type": "orthographic", "position": [0.0, -10.0 * np.sin(th), 10.0 * np.cos(th)],
+                   "look_at": [0.0, 0.0, 0.0], "up": [0.0, 0.0, 1.0], "view_height": 1.0, "width": 4, "height": 4},
+        "render": {"spectral": "stratified", "wavelengths": 64, "spp": 4, "max_depth": 2},
+        "light": [{"type": "constant", "intensity": 1.0}],
+        "object": [{"shape": "wavy_sheet", "width": 10.0, "length": 10.0, "surface": "film",
+                    "material": {"cauchy": [1.33]}, "coating": [{"n": 1.47, "thickness_nm": t_nm}]}],
+    }
+    img = wo.render(wo.Scene.from_dict(data), device=device)
+    xyz = img.xyz.reshape(-1, 3).mean(axis=0)
+    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
+    wl = np.arange(360.0, 831.0, 1.0)
+    cmf = cmfs.copy().align(colour.SpectralShape(360, 830, 1)).values
+    args = ([1.0, 1.47, 1.33], [np.inf, t_nm, np.inf], th)
+    R = np.array([0.5 * (_tmm_R("s", *args, w) + _tmm_R("p", *args, w)) for w in wl])
+    ref = (R[:, None] * cmf).sum(axis=0) / cmf[:, 1].sum()
+    print("render", xyz, "tmm + CMFs", ref)
+    np.testing.assert_allclose(xyz, ref, atol=0.01 * ref[1] + 1e-4, rtol=0.02)
