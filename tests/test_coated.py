@@ -54,8 +54,11 @@ def test_zero_thickness_coating_is_the_bare_interface(device, inside):
     from inside, with total internal reflection beyond 41.8 degrees)."""
     n_glass = 1.5
     cfg = FilmConfig(surface="solid", layers=((complex(2.3, 0.0), 0.0),))
-    a, w, d = _rays(np.array([0.0, 15.0, 30.0, 40.0, 45.0, 60.0, 80.0]), np.array([450.0, 600.0]),
-                    sign=1.0 if inside else -1.0)
+    a, w, d = _rays(
+        np.array([0.0, 15.0, 30.0, 40.0, 45.0, 60.0, 80.0]),
+        np.array([450.0, 600.0]),
+        sign=1.0 if inside else -1.0,
+    )
     # backward ray d arrives from medium A; the outward normal is +z
     ev = film_event(cfg, d, np.array([0.0, 0.0, 1.0]), w, material={"cauchy": [n_glass]}, device=device)
     n_a, n_b = (n_glass, 1.0) if inside else (1.0, n_glass)
@@ -67,7 +70,9 @@ def test_zero_thickness_coating_is_the_bare_interface(device, inside):
     tir = sin_b >= 1.0
     cos_b = np.sqrt(np.clip(1.0 - sin_b**2, 0.0, 1.0))
     _, _, ts, tp = wo.optics.fresnel(cos_b, n_b, n_a)
-    T = np.where(tir, 0.0, 0.5 * (np.abs(ts) ** 2 + np.abs(tp) ** 2) * n_a * cos_a / np.maximum(n_b * cos_b, 1e-30))
+    T = np.where(
+        tir, 0.0, 0.5 * (np.abs(ts) ** 2 + np.abs(tp) ** 2) * n_a * cos_a / np.maximum(n_b * cos_b, 1e-30)
+    )
     count = ev["count"]
     np.testing.assert_array_equal(count, np.where(tir, 1, 2))
     e = ev["energy"]
@@ -155,7 +160,9 @@ def test_rough_film_surface_is_unbiased_for_a_mirror_like_film(device):
     d = np.tile(np.array([np.sin(0.3), 0.0, -np.cos(0.3)]), (n, 1))
     w = np.full(n, 550.0)
     ev = film_event(cfg, d, np.array([0.0, 0.0, 1.0]), w, material={"cauchy": [1.33]}, device=device)
-    ev0 = film_event(smooth, d[:1], np.array([0.0, 0.0, 1.0]), w[:1], material={"cauchy": [1.33]}, device=device)
+    ev0 = film_event(
+        smooth, d[:1], np.array([0.0, 0.0, 1.0]), w[:1], material={"cauchy": [1.33]}, device=device
+    )
     mean = ev["energy"][:, 0].mean()
     ref = ev0["energy"][0, 0]
     # D-sampled microfacets: the weight G |i.m| / (|i.n| |m.n|) is within a few % of 1 at alpha 0.05
@@ -167,24 +174,38 @@ def test_rough_film_surface_is_unbiased_for_a_mirror_like_film(device):
 def test_thickness_profiles(device):
     """Gravity (Smits & Meyer §4.2) without turbulence is linear in depth below the top; the oil
     drop without turbulence is eq. 12, t_max exp(-k1 (u^2 + v^2))."""
-    g = FilmConfig(surface="shell", layers=((complex(1.33, 0.0), 500.0),), profile="gravity",
-                   profile_params={"top_nm": 10.0, "bottom_nm": 910.0, "noise": 0.0, "noise_scale": 2.0,
-                                   "seed": 0, "octaves": 3})
+    g = FilmConfig(
+        surface="shell",
+        layers=((complex(1.33, 0.0), 500.0),),
+        profile="gravity",
+        profile_params={
+            "top_nm": 10.0,
+            "bottom_nm": 910.0,
+            "noise": 0.0,
+            "noise_scale": 2.0,
+            "seed": 0,
+            "octaves": 3,
+        },
+    )
     z = np.linspace(-2.0, 2.0, 9)
     p = np.stack([np.zeros_like(z), np.zeros_like(z), z], -1)
     t = film_thickness(g, p, frame=(-2.0, 2.0, 2.0), device=device)
     np.testing.assert_allclose(t, 10.0 + 900.0 * (2.0 - z) / 4.0, rtol=1e-5)
-    o = FilmConfig(surface="film", layers=((complex(1.47, 0.0), 1.0),), profile="oil_drop",
-                   profile_params={"max_nm": 1200.0, "k1": 2.5, "k2": 0.0, "noise_scale": 3.0, "seed": 0,
-                                   "octaves": 2})
+    o = FilmConfig(
+        surface="film",
+        layers=((complex(1.47, 0.0), 1.0),),
+        profile="oil_drop",
+        profile_params={"max_nm": 1200.0, "k1": 2.5, "k2": 0.0, "noise_scale": 3.0, "seed": 0, "octaves": 2},
+    )
     x = np.linspace(-10.0, 10.0, 11)
     p = np.stack([x, 0.5 * x, np.zeros_like(x)], -1)
     t = film_thickness(o, p, frame=(0.0, 0.0, 10.0), device=device)
     u = x / 10.0
     np.testing.assert_allclose(t, 1200.0 * np.exp(-2.5 * (u**2 + (0.5 * u) ** 2)), rtol=1e-5)
     # turbulence perturbs (k2 > 0) but keeps the thickness finite and non-negative
-    o2 = FilmConfig(surface="film", layers=o.layers, profile="oil_drop",
-                    profile_params={**o.profile_params, "k2": 0.4})
+    o2 = FilmConfig(
+        surface="film", layers=o.layers, profile="oil_drop", profile_params={**o.profile_params, "k2": 0.4}
+    )
     t2 = film_thickness(o2, p, frame=(0.0, 0.0, 10.0), device=device)
     assert np.all(np.isfinite(t2)) and np.all(t2 >= 0) and not np.allclose(t2, t)
 
@@ -194,12 +215,32 @@ def test_thickness_profiles(device):
 # ---------------------------------------------------------------------------------------------
 
 FURNACE = {
-    "camera": {"position": [0.0, -30.0, 20.0], "look_at": [0.0, 0.0, 0.0], "fov": 14.0, "width": 16, "height": 16},
-    "render": {"spectral": "stratified", "wavelengths": 4, "max_depth": 256, "split_threshold": 0.002,
-               "rr_threshold": 1e-4},
+    "camera": {
+        "position": [0.0, -30.0, 20.0],
+        "look_at": [0.0, 0.0, 0.0],
+        "fov": 14.0,
+        "width": 16,
+        "height": 16,
+    },
+    "render": {
+        "spectral": "stratified",
+        "wavelengths": 4,
+        "max_depth": 256,
+        "split_threshold": 0.002,
+        "rr_threshold": 1e-4,
+    },
     "light": [{"type": "constant", "intensity": 1.0}],
-    "object": [{"shape": "round_brilliant", "diameter": 6.5, "material": {"cauchy": [1.62, 0.0043]},
-                "coating": [{"n": 2.3, "thickness_nm": 160.0}, {"material": "fused_silica", "thickness_nm": 110.0}]}],
+    "object": [
+        {
+            "shape": "round_brilliant",
+            "diameter": 6.5,
+            "material": {"cauchy": [1.62, 0.0043]},
+            "coating": [
+                {"n": 2.3, "thickness_nm": 160.0},
+                {"material": "fused_silica", "thickness_nm": 110.0},
+            ],
+        }
+    ],
 }
 
 
@@ -220,8 +261,11 @@ def test_white_furnace_coated_stone(device, polarization):
 def test_zero_thickness_coated_render_equals_bare(device):
     """Renders of a stone with a zero-thickness coating and of the bare stone agree (same
     random streams; the float64 stack equals the float32 Fresnel coefficients to ~1e-7)."""
-    data = {**FURNACE, "light": [{"type": "environment", "map": "studio"}],
-            "object": [{**FURNACE["object"][0], "coating": [{"n": 2.3, "thickness_nm": 0.0}]}]}
+    data = {
+        **FURNACE,
+        "light": [{"type": "environment", "map": "studio"}],
+        "object": [{**FURNACE["object"][0], "coating": [{"n": 2.3, "thickness_nm": 0.0}]}],
+    }
     coated = wo.render(wo.Scene.from_dict(data), device=device)
     bare_obj = {k: v for k, v in data["object"][0].items() if k != "coating"}
     bare = wo.render(wo.Scene.from_dict({**data, "object": [bare_obj]}), device=device)
@@ -237,18 +281,41 @@ def test_flat_film_colour_matches_colour_table(device):
     normal incidence).  64 stratified wavelengths: integration error < 1 % of Y."""
     t_nm = 250.0
     data = {
-        "camera": {"type": "orthographic", "position": [0.0, 0.0, 10.0], "look_at": [0.0, 0.0, 0.0],
-                   "up": [0.0, 1.0, 0.0], "view_height": 2.0, "width": 4, "height": 4},
+        "camera": {
+            "type": "orthographic",
+            "position": [0.0, 0.0, 10.0],
+            "look_at": [0.0, 0.0, 0.0],
+            "up": [0.0, 1.0, 0.0],
+            "view_height": 2.0,
+            "width": 4,
+            "height": 4,
+        },
         "render": {"spectral": "stratified", "wavelengths": 64, "spp": 4, "max_depth": 2},
         "light": [{"type": "constant", "intensity": 1.0}],
-        "object": [{"shape": "wavy_sheet", "width": 10.0, "length": 10.0, "surface": "film",
-                    "material": {"cauchy": [1.33]}, "coating": [{"n": 1.47, "thickness_nm": t_nm}]}],
+        "object": [
+            {
+                "shape": "wavy_sheet",
+                "width": 10.0,
+                "length": 10.0,
+                "surface": "film",
+                "material": {"cauchy": [1.33]},
+                "coating": [{"n": 1.47, "thickness_nm": t_nm}],
+            }
+        ],
     }
     img = wo.render(wo.Scene.from_dict(data), device=device)
     xyz = img.xyz.reshape(-1, 3).mean(axis=0)
-    table = wo.thinfilm.film_color_table(model="exact", n_film=1.47, n_front=1.0, n_substrate=1.33,
-                                         illuminant="E", step_nm=1.0, count=301, max_optical_thickness_nm=600.0,
-                                         device=device)
+    table = wo.thinfilm.film_color_table(
+        model="exact",
+        n_film=1.47,
+        n_front=1.0,
+        n_substrate=1.33,
+        illuminant="E",
+        step_nm=1.0,
+        count=301,
+        max_optical_thickness_nm=600.0,
+        device=device,
+    )
     ref = table.lookup(np.array([t_nm * 1.47]), which="xyz", device=device)[0]
     print("render", xyz, "table", ref)
     np.testing.assert_allclose(xyz, ref, atol=0.01 * ref[1] + 1e-4, rtol=0.02)
@@ -260,13 +327,25 @@ def test_shell_furnace(device):
     """A non-absorbing soap bubble in a constant environment is invisible (R + T = 1 at every
     hit, the transmitted ray goes on unchanged)."""
     data = {
-        "camera": {"position": [0.0, -60.0, 0.0], "look_at": [0.0, 0.0, 0.0], "fov": 30.0, "width": 12,
-                   "height": 12},
+        "camera": {
+            "position": [0.0, -60.0, 0.0],
+            "look_at": [0.0, 0.0, 0.0],
+            "fov": 30.0,
+            "width": 12,
+            "height": 12,
+        },
         "render": {"spectral": "stratified", "wavelengths": 4, "max_depth": 32},
         "light": [{"type": "constant", "intensity": 1.0}],
-        "object": [{"shape": "sphere", "diameter": 20.0, "subdivisions": 3, "surface": "shell",
-                    "coating": [{"n": 1.33, "thickness_nm": 500.0}],
-                    "film_thickness": {"profile": "gravity", "top_nm": 10.0, "bottom_nm": 900.0}}],
+        "object": [
+            {
+                "shape": "sphere",
+                "diameter": 20.0,
+                "subdivisions": 3,
+                "surface": "shell",
+                "coating": [{"n": 1.33, "thickness_nm": 500.0}],
+                "film_thickness": {"profile": "gravity", "top_nm": 10.0, "bottom_nm": 900.0},
+            }
+        ],
     }
     sc = wo.Scene.from_dict(data)
     img = wo.render(sc, device=device)
@@ -297,22 +376,38 @@ def _bad(tmp_path, obj, field, value=None):
 
 def test_bad_coatings_name_file_field_value(tmp_path):
     _bad(tmp_path, {"coating": [{"n": 2.0, "thickness_nm": -5.0}]}, "object.0.coating.0.thickness_nm", -5.0)
-    _bad(tmp_path, {"coating": [{"material": "unobtainium", "thickness_nm": 50.0}]}, "object.0.coating.0.material",
-         "unobtainium")
-    _bad(tmp_path, {"coating": [{"material": "main/TiO2/Nobody", "thickness_nm": 50.0}]},
-         "object.0.coating.0.material", "main/TiO2/Nobody")
+    _bad(
+        tmp_path,
+        {"coating": [{"material": "unobtainium", "thickness_nm": 50.0}]},
+        "object.0.coating.0.material",
+        "unobtainium",
+    )
+    _bad(
+        tmp_path,
+        {"coating": [{"material": "main/TiO2/Nobody", "thickness_nm": 50.0}]},
+        "object.0.coating.0.material",
+        "main/TiO2/Nobody",
+    )
     _bad(tmp_path, {"coating": [{"thickness_nm": 50.0}]}, "object.0.coating.0.material")
     _bad(tmp_path, {"coating": [{"n": 2.0}]}, "object.0.coating.0.thickness_nm")
     _bad(tmp_path, {"surface": "bubble"}, "object.0.surface", "bubble")
     _bad(tmp_path, {"surface": "shell"}, "object.0.coating")
-    _bad(tmp_path, {"coating": [{"n": 2.0, "thickness_nm": 5.0}], "film_thickness": {"profile": "gravity", "top": 3}},
-         "object.0.film_thickness.top")
-    _bad(tmp_path, {"coating": [{"n": 2.0, "thickness_nm": 5.0}], "roughness": 0.1}, "object.0.roughness", 0.1)
+    _bad(
+        tmp_path,
+        {"coating": [{"n": 2.0, "thickness_nm": 5.0}], "film_thickness": {"profile": "gravity", "top": 3}},
+        "object.0.film_thickness.top",
+    )
+    _bad(
+        tmp_path, {"coating": [{"n": 2.0, "thickness_nm": 5.0}], "roughness": 0.1}, "object.0.roughness", 0.1
+    )
 
 
 def test_coated_birefringent_stone_is_refused(tmp_path):
-    data = {"object": [{"shape": "round_brilliant", "material": "topaz",
-                        "coating": [{"n": 2.0, "thickness_nm": 100.0}]}]}
+    data = {
+        "object": [
+            {"shape": "round_brilliant", "material": "topaz", "coating": [{"n": 2.0, "thickness_nm": 100.0}]}
+        ]
+    }
     sc = wo.Scene.from_dict(data, path=str(tmp_path / "topaz.toml"))
     with pytest.raises(InputError, match="isotropic"):
         wo.render(sc, width=4, height=4)
@@ -320,7 +415,9 @@ def test_coated_birefringent_stone_is_refused(tmp_path):
 
 @pytest.mark.parametrize("name", ["mystic_topaz", "soap_bubble", "oil_slick", "morpho"])
 def test_film_scenes_render(device, name):
-    img = wo.render(ROOT / "scenes" / f"{name}.toml", device=device, width=12, height=12, wavelengths=4, spp=1)
+    img = wo.render(
+        ROOT / "scenes" / f"{name}.toml", device=device, width=12, height=12, wavelengths=4, spp=1
+    )
     assert np.isfinite(img.xyz).all() and img.alpha.sum() > 0
     # interference colours: the rendered chromaticities are not all grey
     xyz = img.xyz.reshape(-1, 3)[img.alpha.reshape(-1) > 0]
@@ -332,9 +429,27 @@ def test_cli_renders_soap_bubble(tmp_path):
     out = tmp_path / "bubble.png"
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     r = subprocess.run(
-        [sys.executable, "-m", "warpoptics.cli", "render", str(ROOT / "scenes" / "soap_bubble.toml"), "-o", str(out),
-         "--width", "8", "--height", "8", "--set", "render.wavelengths=4", "--set", "render.spp=1"],
-        capture_output=True, text=True, env=env, timeout=600,
+        [
+            sys.executable,
+            "-m",
+            "warpoptics.cli",
+            "render",
+            str(ROOT / "scenes" / "soap_bubble.toml"),
+            "-o",
+            str(out),
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--set",
+            "render.wavelengths=4",
+            "--set",
+            "render.spp=1",
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=600,
     )
     assert r.returncode == 0, r.stderr
     assert out.is_file() and out.stat().st_size > 0
@@ -349,12 +464,27 @@ def test_tilted_film_colour_matches_tmm_colour(device):
     t_nm, theta = 250.0, 40.0
     th = np.radians(theta)
     data = {
-        "camera": {"type": "orthographic", "position": [0.0, -10.0 * np.sin(th), 10.0 * np.cos(th)],
-                   "look_at": [0.0, 0.0, 0.0], "up": [0.0, 0.0, 1.0], "view_height": 1.0, "width": 4, "height": 4},
+        "camera": {
+            "type": "orthographic",
+            "position": [0.0, -10.0 * np.sin(th), 10.0 * np.cos(th)],
+            "look_at": [0.0, 0.0, 0.0],
+            "up": [0.0, 0.0, 1.0],
+            "view_height": 1.0,
+            "width": 4,
+            "height": 4,
+        },
         "render": {"spectral": "stratified", "wavelengths": 64, "spp": 4, "max_depth": 2},
         "light": [{"type": "constant", "intensity": 1.0}],
-        "object": [{"shape": "wavy_sheet", "width": 10.0, "length": 10.0, "surface": "film",
-                    "material": {"cauchy": [1.33]}, "coating": [{"n": 1.47, "thickness_nm": t_nm}]}],
+        "object": [
+            {
+                "shape": "wavy_sheet",
+                "width": 10.0,
+                "length": 10.0,
+                "surface": "film",
+                "material": {"cauchy": [1.33]},
+                "coating": [{"n": 1.47, "thickness_nm": t_nm}],
+            }
+        ],
     }
     img = wo.render(wo.Scene.from_dict(data), device=device)
     xyz = img.xyz.reshape(-1, 3).mean(axis=0)

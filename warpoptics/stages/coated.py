@@ -52,7 +52,16 @@ from ..device import elementwise, get_device
 from ..errors import InputError
 from ..materials.dispersion import MaterialTable, material_eval
 from ..optics.complex import c_abs2
-from ..optics.jones import Jones, frame_change, jones_diag, jones_identity, jones_mul, jones_real, jones_scale, s_vector
+from ..optics.jones import (
+    Jones,
+    frame_change,
+    jones_diag,
+    jones_identity,
+    jones_mul,
+    jones_real,
+    jones_scale,
+    s_vector,
+)
 from ..optics.thinfilm import (
     CoatingStack,
     coating_amplitudes_scaled,
@@ -235,8 +244,17 @@ def _child_energy(m: Jones, w: float):
 
 
 @wp.func
-def _child(m: Jones, w: float, k_out: wp.vec3f, parent_x: wp.vec3f, s: wp.vec3f, a_s: wp.vec2f, a_p: wp.vec2f,
-           power_scale: float, polarized: int):
+def _child(
+    m: Jones,
+    w: float,
+    k_out: wp.vec3f,
+    parent_x: wp.vec3f,
+    s: wp.vec3f,
+    a_s: wp.vec2f,
+    a_p: wp.vec2f,
+    power_scale: float,
+    polarized: int,
+):
     """(M_child, w_child): M_parent . B . diag(a_s, a_p) sqrt(power_scale) (B: the s/p frame of
     the outgoing wave -> the parent's frame, as trace._child_jones), or in scalar mode the
     weight times the unpolarized power 0.5 (|a_s|^2 + |a_p|^2) power_scale."""
@@ -319,8 +337,9 @@ def film_children(
             cos_b = wp.sqrt(1.0 - sin2_b)
             d_t = wp.normalize(d * eta + nrm * (eta * cos_a - cos_b))
             # light from B: it meets the stack from its back when A is the ambient (front) side
-            rs, rp, ts, tp = coating_amplitudes_scaled(fs.stack, coat, wavelength, cos_b, n_front, n_back, front,
-                                                       scale)
+            rs, rp, ts, tp = coating_amplitudes_scaled(
+                fs.stack, coat, wavelength, cos_b, n_front, n_back, front, scale
+            )
             ratio = float(0.0)
             if n_b[0] * cos_b > 0.0:
                 ratio = n_a[0] * cos_a / (n_b[0] * cos_b)
@@ -331,8 +350,9 @@ def film_children(
                 energies[count] = e_t
                 count += 1
         d_r = wp.normalize(d + nrm * (2.0 * cos_a))
-        rs, rp, ts, tp = coating_amplitudes_scaled(fs.stack, coat, wavelength, cos_a, n_front, n_back, 1 - front,
-                                                   scale)
+        rs, rp, ts, tp = coating_amplitudes_scaled(
+            fs.stack, coat, wavelength, cos_a, n_front, n_back, 1 - front, scale
+        )
         m_r, w_r = _child(m, w, k_out, bx, s, rs, rp, 1.0, polarized)
         e_r = _child_energy(m_r, w_r)
         if e_r > 0.0:
@@ -379,7 +399,9 @@ def film_children(
             count += 1
     if wp.dot(d_r, nrm) > 0.0:
         # light from A: the stack's front faces A, except on the back of a shell (A on both sides)
-        rs, rp, ts, tp = coating_amplitudes_scaled(fs.stack, coat, wavelength, cos_a, n_a, n_sub, 1 - front, scale)
+        rs, rp, ts, tp = coating_amplitudes_scaled(
+            fs.stack, coat, wavelength, cos_a, n_a, n_sub, 1 - front, scale
+        )
         m_r, w_r = _child(m, w, k_out, bx, s, rs, rp, weight, polarized)
         e_r = _child_energy(m_r, w_r)
         if e_r > 0.0:
@@ -439,8 +461,27 @@ def _film_event_kernel(
     cand = Cand()
     rng = wp.rand_init(seed, i)
     cand, e, count, rng = film_children(
-        cand, fs, mats, mat_id, obj, jones_identity(), 1.0, bx, d, n_out, n_a, n_b, position[i],
-        wp.identity(n=4, dtype=wp.float32), 1.0e-4, in_a, in_b, 0, polarized, wavelength[i], rng,
+        cand,
+        fs,
+        mats,
+        mat_id,
+        obj,
+        jones_identity(),
+        1.0,
+        bx,
+        d,
+        n_out,
+        n_a,
+        n_b,
+        position[i],
+        wp.identity(n=4, dtype=wp.float32),
+        1.0e-4,
+        in_a,
+        in_b,
+        0,
+        polarized,
+        wavelength[i],
+        rng,
     )
     dir0[i] = wp.vec3f(cand[0, 3], cand[0, 4], cand[0, 5])
     dir1[i] = wp.vec3f(cand[1, 3], cand[1, 4], cand[1, 5])
@@ -476,7 +517,14 @@ _PROFILE_KEYS = {
     "oil_drop": {"profile", "max_nm", "k1", "k2", "noise_scale", "seed", "octaves"},
 }
 _PROFILE_DEFAULTS = {
-    "gravity": {"top_nm": 0.0, "bottom_nm": 1000.0, "noise": 0.15, "noise_scale": 3.0, "seed": 0, "octaves": 5},
+    "gravity": {
+        "top_nm": 0.0,
+        "bottom_nm": 1000.0,
+        "noise": 0.15,
+        "noise_scale": 3.0,
+        "seed": 0,
+        "octaves": 5,
+    },
     "oil_drop": {"max_nm": 1000.0, "k1": 3.0, "k2": 0.3, "noise_scale": 4.0, "seed": 0, "octaves": 6},
 }
 
@@ -561,26 +609,46 @@ def film_config(table: dict, index: int, file: str | None) -> FilmConfig | None:
             _layer_material(layer["material"], file, f + "material")  # validate now
             layers.append((layer["material"], d))
     if surface in ("shell", "film") and not layers:
-        raise _err(f'a surface = "{surface}" object needs a coating (its film layers)', file, prefix + "coating")
+        raise _err(
+            f'a surface = "{surface}" object needs a coating (its film layers)', file, prefix + "coating"
+        )
     th = table.get("film_thickness", {"profile": "uniform"})
     if not isinstance(th, dict):
         raise _err("must be a table { profile = ... }", file, prefix + "film_thickness", th)
     profile = th.get("profile", "uniform")
     if profile not in THICKNESS_PROFILES:
-        raise _err("unknown thickness profile", file, prefix + "film_thickness.profile", profile,
-                   ", ".join(THICKNESS_PROFILES))
+        raise _err(
+            "unknown thickness profile",
+            file,
+            prefix + "film_thickness.profile",
+            profile,
+            ", ".join(THICKNESS_PROFILES),
+        )
     for k in th:
         if k not in _PROFILE_KEYS[profile]:
-            raise _err(f"unknown key for profile {profile!r}", file, prefix + "film_thickness." + k, None,
-                       ", ".join(sorted(_PROFILE_KEYS[profile])))
+            raise _err(
+                f"unknown key for profile {profile!r}",
+                file,
+                prefix + "film_thickness." + k,
+                None,
+                ", ".join(sorted(_PROFILE_KEYS[profile])),
+            )
     params = dict(_PROFILE_DEFAULTS.get(profile, {}))
     for k, v in th.items():
         if k == "profile":
             continue
         fld = prefix + "film_thickness." + k
         if k in ("seed", "octaves"):
-            params[k] = int(_num(v, file, fld, lo=0 if k == "seed" else 1, hi=2**31 - 1 if k == "seed" else 12,
-                                 integer=True))
+            params[k] = int(
+                _num(
+                    v,
+                    file,
+                    fld,
+                    lo=0 if k == "seed" else 1,
+                    hi=2**31 - 1 if k == "seed" else 12,
+                    integer=True,
+                )
+            )
         else:
             params[k] = float(_num(v, file, fld, lo=0.0, hi=1.0e6))
     if profile != "uniform" and not layers:
@@ -588,8 +656,9 @@ def film_config(table: dict, index: int, file: str | None) -> FilmConfig | None:
     roughness = float(_num(table.get("roughness", 0.0), file, prefix + "roughness", lo=0.0, hi=1.0))
     if roughness > 0.0 and surface != "film":
         raise _err('roughness applies to surface = "film" only', file, prefix + "roughness", roughness)
-    return FilmConfig(surface=surface, layers=tuple(layers), profile=profile, profile_params=params,
-                      roughness=roughness)
+    return FilmConfig(
+        surface=surface, layers=tuple(layers), profile=profile, profile_params=params, roughness=roughness
+    )
 
 
 def _layer_index_samples(spec) -> np.ndarray | complex:
@@ -607,8 +676,9 @@ def _normal_model(shape: str, params: dict) -> tuple[int, tuple]:
     if shape == "sphere":
         return 1, (0.0, 0.0, 0.0, 0.0)
     if shape == "wavy_sheet":
-        from ..geometry import cuts
         import inspect
+
+        from ..geometry import cuts
 
         defaults = {k: v.default for k, v in inspect.signature(cuts.wavy_sheet).parameters.items()}
         p = {**defaults, **params}
@@ -616,9 +686,7 @@ def _normal_model(shape: str, params: dict) -> tuple[int, tuple]:
     return 0, (0.0, 0.0, 0.0, 0.0)
 
 
-def make_film_surfaces(
-    configs, *, frames=None, shapes=None, device=None
-) -> FilmSurfaces:
+def make_film_surfaces(configs, *, frames=None, shapes=None, device=None) -> FilmSurfaces:
     """A :class:`FilmSurfaces` for objects with these :class:`FilmConfig` (None: bare solid).
 
     ``frames``: per object (z_min, z_max, half size) in object space (mm), for the profiles;
@@ -662,8 +730,9 @@ def make_film_surfaces(
     fs = FilmSurfaces()
     fs.kind = wp.array(kind, dtype=wp.int32, device=dev)
     fs.coating = wp.array(coating, dtype=wp.int32, device=dev)
-    fs.stack = make_coating_stack(rows or [[]], wavelength_start_nm=_GRID_START_NM,
-                                  wavelength_step_nm=_GRID_STEP_NM, device=dev)
+    fs.stack = make_coating_stack(
+        rows or [[]], wavelength_start_nm=_GRID_START_NM, wavelength_step_nm=_GRID_STEP_NM, device=dev
+    )
     fs.nominal_nm = wp.array(nominal, dtype=wp.float32, device=dev)
     fs.profile = wp.array(profile, dtype=wp.int32, device=dev)
     fs.profile_a = wp.array(pa, dtype=wp.vec4f, device=dev)
@@ -688,9 +757,13 @@ def build_film_surfaces(scene: Any, meshes, mats, *, device=None) -> FilmSurface
     for i, (ob, (mesh, _), mat) in enumerate(zip(scene.objects, meshes, mats, strict=True)):
         cfg = getattr(ob, "film", None)
         if cfg is not None and getattr(mat, "is_uniaxial", False):
-            raise InputError("coatings, shells and film surfaces need an isotropic material (birefringent "
-                             "stones are not coated here)", file=scene.path, field=f"object.{i}.material",
-                             value=getattr(mat, "name", str(ob.material)))
+            raise InputError(
+                "coatings, shells and film surfaces need an isotropic material (birefringent "
+                "stones are not coated here)",
+                file=scene.path,
+                field=f"object.{i}.material",
+                value=getattr(mat, "name", str(ob.material)),
+            )
         configs.append(cfg)
         lo, hi = np.asarray(mesh.bounds, dtype=np.float64)
         frames.append((lo[2], hi[2], 0.5 * float(np.max(hi - lo))))
@@ -740,8 +813,16 @@ def film_event(
         _film_event_kernel,
         [(direction, wp.vec3f), (normal, wp.vec3f), (position, wp.vec3f), (wavelength_nm, wp.float32)],
         [wp.vec3f, wp.vec3f, wp.vec4f, wp.vec4f, wp.vec4f, wp.vec4f, wp.vec2f, wp.int32],
-        extra=(fs, table, int(ids[0]), 0, wp.vec2f(float(n_ambient), 0.0), wp.vec2f(n_obj, 0.0),
-               int(bool(polarized)), int(seed)),
+        extra=(
+            fs,
+            table,
+            int(ids[0]),
+            0,
+            wp.vec2f(float(n_ambient), 0.0),
+            wp.vec2f(n_obj, 0.0),
+            int(bool(polarized)),
+            int(seed),
+        ),
         device=dev,
     )
     d0, d1, j0r, j0i, j1r, j1i, energy, count = outs

@@ -570,9 +570,10 @@ def trace_radiance(
                     cand = _write_jones(cand, k, unit)
         elif p.films.kind[hit.object] != 0:
             # films hook: coated interface, thin shell or film surface (stages/coated.py)
+            obj_f = hit.object
             cand, energies, count, rng = film_children(
-                cand, p.films, mats, p.object_material[hit.object], hit.object, m, w, bx, d, n_out, n_a, n_b, x,
-                geom.world_to_object[hit.object], p.epsilon, inside, obj_b, depth, polarized, wavelength, rng
+                cand, p.films, mats, p.object_material[obj_f], obj_f, m, w, bx, d, n_out, n_a, n_b, x,
+                geom.world_to_object[obj_f], p.epsilon, inside, obj_b, depth, polarized, wavelength, rng
             )
         else:
             cand, energies, count = _isotropic_children(
