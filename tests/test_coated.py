@@ -254,7 +254,7 @@ def test_white_furnace_coated_stone(device, polarization):
     empty = wo.render(sc.with_overrides({"object.0.position": [1e4, 1e4, 1e4]}), device=device)
     assert img.alpha.sum() > 40 and empty.alpha.max() == 0
     ratio = img.xyz[..., 1] / empty.xyz[..., 1]
-    print(f"coated furnace polarized={polarization}: min {ratio.min():.4f} max {ratio.max():.4f}")
+    print(f"coated furnace polarized={polarization}: min {ratio.min():.6f} max {ratio.max():.6f}")
     assert ratio.min() > 0.99 and ratio.max() < 1.01
 
 
@@ -352,7 +352,7 @@ def test_shell_furnace(device):
     empty = wo.render(sc.with_overrides({"object.0.position": [1e4, 1e4, 1e4]}), device=device)
     assert img.alpha.sum() > 20 and empty.alpha.max() == 0
     ratio = img.xyz[..., 1] / empty.xyz[..., 1]
-    print(f"shell furnace: min {ratio.min():.4f} max {ratio.max():.4f}")
+    print(f"shell furnace: min {ratio.min():.6f} max {ratio.max():.6f}")
     assert ratio.min() > 0.99 and ratio.max() < 1.01
 
 
