@@ -496,3 +496,47 @@ def test_tilted_film_colour_matches_tmm_colour(device):
     ref = (R[:, None] * cmf).sum(axis=0) / cmf[:, 1].sum()
     print("render", xyz, "tmm + CMFs", ref)
     np.testing.assert_allclose(xyz, ref, atol=0.01 * ref[1] + 1e-4, rtol=0.02)
+
+
+def test_open_mesh_file_as_shell(device, tmp_path):
+    """A soap film spanning an open mesh read from a file (a disc): accepted as a shell (open
+    surfaces need no volume), invisible in the white furnace, coloured under the sky; the same
+    file as a solid is refused (not watertight)."""
+    import trimesh
+
+    disc = trimesh.creation.annulus(r_min=0.0, r_max=5.0, height=1.0, sections=48)
+    top = disc.faces[disc.face_normals[:, 2] > 0.9]
+    mesh = trimesh.Trimesh(disc.vertices, top, process=True)
+    mesh.remove_unreferenced_vertices()
+    path = tmp_path / "disc.ply"
+    mesh.export(path)
+    obj = {
+        "shape": "mesh",
+        "path": str(path),
+        "surface": "shell",
+        "rotation": [80.0, 0.0, 0.0],
+        "coating": [{"n": 1.33, "thickness_nm": 300.0}],
+    }
+    data = {
+        "camera": {
+            "position": [0.0, -40.0, 0.0],
+            "look_at": [0.0, 0.0, 0.0],
+            "fov": 20.0,
+            "width": 8,
+            "height": 8,
+        },
+        "render": {"spectral": "stratified", "wavelengths": 4, "max_depth": 8},
+        "light": [{"type": "constant", "intensity": 1.0}],
+        "object": [obj],
+    }
+    sc = wo.Scene.from_dict(data, path=str(tmp_path / "disc.toml"))
+    img = wo.render(sc, device=device)
+    empty = wo.render(sc.with_overrides({"object.0.position": [1e4, 1e4, 1e4]}), device=device)
+    assert img.alpha.sum() > 10
+    ratio = img.xyz[..., 1] / empty.xyz[..., 1]
+    assert ratio.min() > 0.99 and ratio.max() < 1.01
+    solid = {k: v for k, v in obj.items() if k not in ("surface", "coating")}
+    with pytest.raises(InputError, match="watertight"):
+        wo.render(
+            wo.Scene.from_dict({**data, "object": [solid]}, path=str(tmp_path / "disc.toml")), device=device
+        )

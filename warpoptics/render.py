@@ -160,7 +160,9 @@ def _build_objects(scene: Scene, device):
             if ob.shape == "mesh":
                 from .geometry.mesh import load_mesh
 
-                mesh = load_mesh(ob.path, repair=bool(ob.params.get("repair", False)))
+                film = getattr(ob, "film", None)  # films: shells and film surfaces may be open meshes
+                mesh = load_mesh(ob.path, repair=bool(ob.params.get("repair", False)),
+                                 closed=film is None or film.surface == "solid")
             elif ob.shape == "gemcad":
                 from .geometry.gemcad import read as read_gemcad
 
