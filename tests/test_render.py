@@ -45,8 +45,8 @@ def test_white_furnace(device, polarization, material):
     assert inside.sum() > 40  # the stone covers part of the view
     print(f"furnace {material} polarized={polarization}: Y/Y0 min {ratio.min():.4f} max {ratio.max():.4f}")
     assert ratio.min() > 0.99 and ratio.max() < 1.01
-    # unpolarized light stays unpolarized in a furnace only in total: S0 equals Y
-    np.testing.assert_allclose(img.stokes[..., 0], img.xyz[..., 1], rtol=1e-12)
+    # S0 equals Y: two accumulations (coherency trace and branch energy) of the same float32 terms
+    np.testing.assert_allclose(img.stokes[..., 0], img.xyz[..., 1], rtol=1e-5)
 
 
 @pytest.mark.parametrize("material,mode,polarization", [
@@ -184,3 +184,35 @@ def test_image_outputs(device, tmp_path):
     assert p8.shape == (6, 8, 3) and p8.max() <= 1.0
     with pytest.raises(wo.InputError, match="unsupported image format"):
         img.save(tmp_path / "x.bmp")
+
+
+def test_shared_spectrum_path_matches_one_trace_per_wavelength(device):
+    """A non-dispersive, non-absorbing stone follows the same path tree at every wavelength, so
+    the renderer traces it once and evaluates all wavelengths at the leaves.  Independent check:
+    the per-wavelength traces (shared_spectrum=False) estimate the same image.  Compared on the
+    image means of X, Y, Z and S1 with the standard error measured from 6 seeds of each (4 sigma)."""
+    from warpoptics.render import Renderer
+
+    data = {**FURNACE, "light": [{"type": "environment", "map": "studio"}],
+            "render": {**FURNACE["render"], "wavelengths": 8, "spp": 2, "max_depth": 12},
+            "object": [{**FURNACE["object"][0], "material": {"cauchy": [1.9]}}]}
+    sc = scene(data)
+    assert Renderer(sc, device=device).shared_spectrum
+    assert not Renderer(sc.with_overrides({"object.0.material": "diamond"}), device=device).shared_spectrum
+    absorbing = {"cauchy": [1.9], "absorption_rgb": [0.5, 0.1, 0.1]}
+    assert not Renderer(sc.with_overrides({"object.0.material": absorbing}), device=device).shared_spectrum
+
+    def stats(shared):
+        vals = []
+        for seed in range(6):
+            img = Renderer(sc.with_overrides(seed=seed), device=device, shared_spectrum=shared).run()
+            vals.append([*img.xyz.reshape(-1, 3).mean(0), img.stokes[..., 1].mean()])
+        v = np.array(vals)
+        return v.mean(0), v.std(0, ddof=1) / np.sqrt(len(v))
+
+    (ma, sa), (mb, sb) = stats(None), stats(False)
+    z = np.abs(ma - mb) / np.sqrt(sa**2 + sb**2)
+    print("shared vs separate: means", ma, mb, "z", z)
+    assert (z < 4.0).all()
+    # the shared path removes the spectral noise: its seed-to-seed spread of Y is smaller
+    assert sa[1] < sb[1]

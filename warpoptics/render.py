@@ -44,6 +44,7 @@ class FilmParams:
     strategy: int
     seed: int
     pass_index: int
+    strata: int  # > 0: non-dispersive scene, each trace evaluates this many wavelengths at its leaves
 
 
 @wp.kernel
@@ -92,17 +93,19 @@ def _render_pixels(
         lu = wp.randf(rng)
         lv = wp.randf(rng)
         o, d, b = camera_ray(cam, float(px) + jx, float(py) + jy, lu, lv)
-        coh, hit, nr, rng_trace = trace_radiance(
-            tp, geom, mats, env, tables, polarized, o, d, b, wl, stratum, rng_trace
+        coh, xyz_k, hit, nr, rng_trace = trace_radiance(
+            tp, geom, mats, env, tables, polarized, o, d, b, wl, w, film.strata,
+            film.strategy, u, stratum, rng_trace
         )
         s = stokes_from_coherency(coh)
-        xyz += wp.vec3d(wp.float64(w[0] * s[0]), wp.float64(w[1] * s[0]), wp.float64(w[2] * s[0]))
-        stokes += wp.vec4d(
-            wp.float64(w[1] * s[0]), wp.float64(w[1] * s[1]), wp.float64(w[1] * s[2]), wp.float64(w[1] * s[3])
-        )
+        xyz += wp.vec3d(wp.float64(xyz_k[0]), wp.float64(xyz_k[1]), wp.float64(xyz_k[2]))
+        stokes += wp.vec4d(wp.float64(s[0]), wp.float64(s[1]), wp.float64(s[2]), wp.float64(s[3]))
         hits += float(hit)
         rays += nr
+    # a trace at one wavelength estimates XYZ / count (its weight has 1/count); one with strata the whole
     inv = wp.float64(1.0) / wp.float64(film.spp)
+    if film.strata > 0:
+        inv = wp.float64(1.0) / wp.float64(total)
     xyz_out[pix] = xyz_out[pix] + xyz * inv
     stokes_out[pix] = stokes_out[pix] + stokes * inv
     alpha_out[pix] = alpha_out[pix] + wp.float64(hits / float(total))
@@ -251,10 +254,24 @@ def check_render_memory(
     return need
 
 
+def _non_dispersive(mats, step_nm: float = 5.0) -> bool:
+    """Whether every material has the same index (o and e) and zero absorption at all the
+    wavelengths of the spectral tables (evaluated through the materials' own kernels)."""
+    grid = np.arange(360.0, 830.0 + 1e-9, step_nm)
+    for m in mats:
+        n = np.asarray(m.n(grid), dtype=np.float64)
+        a = np.asarray(m.alpha(grid), dtype=np.float64)
+        if np.ptp(n.reshape(len(grid), -1), axis=0).max() > 1e-6:
+            return False
+        if np.abs(a).max() > 0.0:
+            return False
+    return True
+
+
 class Renderer:
     """The standard pipeline for a scene; owns every stage's device data.  ``run()`` renders."""
 
-    def __init__(self, scene: Scene, *, device=None):
+    def __init__(self, scene: Scene, *, device=None, shared_spectrum: bool | None = None):
         from .materials.dispersion import build_material_table
 
         self.scene = scene
@@ -291,6 +308,14 @@ class Renderer:
         if r.spectral in ("uniform", "importance"):
             # `wavelengths` random wavelengths per pixel sample: fold them into spp
             film.spp = r.spp * r.wavelengths
+        # a scene whose every material has one index and no absorption at all wavelengths traces
+        # one path tree per sample for the whole spectrum (exact: the tree does not depend on
+        # the wavelength); rgb3 keeps its three indices by definition
+        self.shared_spectrum = (r.spectral != "rgb3" and shared_spectrum is not False
+                                and _non_dispersive(mats)
+                                # films: a film's r and t depend on the wavelength (stages/coated.py)
+                                and not any(getattr(ob, "film", None) for ob in scene.objects))
+        film.strata = r.wavelengths if self.shared_spectrum else 0
         self.film = film
         n = film.width * film.height
         self.xyz = wp.zeros(n, dtype=wp.vec3d, device=self.device)

@@ -27,7 +27,8 @@ from ..device import get_device
 from ..errors import InputError
 from ..spectra import SpectralTables, illuminant_value, rgb_spectrum_value
 
-__all__ = ["Environment", "EnvironmentConfig", "EnvironmentLight", "environment_radiance", "ENV_KINDS"]
+__all__ = ["Environment", "EnvironmentConfig", "EnvironmentLight", "environment_radiance",
+           "environment_coefficients", "environment_basis", "ENV_KINDS"]
 
 ENV_KINDS = {"constant": 0, "dome": 1, "studio": 2, "sky": 3, "latlong": 4}
 _CONSTANT = wp.constant(0)
@@ -107,16 +108,18 @@ def _latlong_rgb(env: Environment, d: wp.vec3f):
 
 
 @wp.func
-def environment_radiance(env: Environment, t: SpectralTables, direction: wp.vec3f, wavelength: float):
-    """Spectral radiance arriving from ``direction`` (unit, world frame, pointing away from the
-    scene toward the environment) at ``wavelength`` (nm).  Unpolarized."""
+def environment_coefficients(env: Environment, direction: wp.vec3f):
+    """The radiance toward unit ``direction`` (world frame) as coefficients of the environment's
+    three basis spectra (:func:`environment_basis`): linear sRGB (times intensity and tint) for
+    the RGB kinds (studio, sky, lat-long); ``(intensity, 0, 0)`` (0 below a dome's horizon) for
+    the spectral kinds."""
     if env.kind == _CONSTANT:
-        return env.intensity * illuminant_value(t, 0, wavelength)
+        return wp.vec3f(env.intensity, 0.0, 0.0)
     d = env.rotation * direction
     if env.kind == _DOME:
         if d[2] < 0.0:
-            return 0.0
-        return env.intensity * illuminant_value(t, 1, wavelength)
+            return wp.vec3f(0.0, 0.0, 0.0)
+        return wp.vec3f(env.intensity, 0.0, 0.0)
     rgb = wp.vec3f(0.0, 0.0, 0.0)
     if env.kind == _STUDIO:
         rgb = _studio_rgb(d)
@@ -124,8 +127,29 @@ def environment_radiance(env: Environment, t: SpectralTables, direction: wp.vec3
         rgb = _sky_rgb(d)
     else:
         rgb = _latlong_rgb(env, d)
-    rgb = wp.cw_mul(rgb, env.tint)
-    return env.intensity * rgb_spectrum_value(t, rgb, wavelength)
+    return wp.cw_mul(rgb, env.tint) * env.intensity
+
+
+@wp.func
+def environment_basis(env: Environment, t: SpectralTables, wavelength: float):
+    """Values at ``wavelength`` (nm) of the environment's three basis spectra: D65 x the
+    Mallett–Yuksel sRGB basis for the RGB kinds, (illuminant, 0, 0) for constant (E) and dome
+    (D65).  Radiance = dot(coefficients, basis): the wavelength enters only here, so one path
+    tree can be weighted for many wavelengths at once."""
+    if env.kind == _CONSTANT:
+        return wp.vec3f(illuminant_value(t, 0, wavelength), 0.0, 0.0)
+    if env.kind == _DOME:
+        return wp.vec3f(illuminant_value(t, 1, wavelength), 0.0, 0.0)
+    return wp.vec3f(rgb_spectrum_value(t, wp.vec3f(1.0, 0.0, 0.0), wavelength),
+                    rgb_spectrum_value(t, wp.vec3f(0.0, 1.0, 0.0), wavelength),
+                    rgb_spectrum_value(t, wp.vec3f(0.0, 0.0, 1.0), wavelength))
+
+
+@wp.func
+def environment_radiance(env: Environment, t: SpectralTables, direction: wp.vec3f, wavelength: float):
+    """Spectral radiance arriving from ``direction`` (unit, world frame, pointing away from the
+    scene toward the environment) at ``wavelength`` (nm).  Unpolarized."""
+    return wp.dot(environment_coefficients(env, direction), environment_basis(env, t, wavelength))
 
 
 @dataclass(frozen=True)

@@ -94,7 +94,8 @@ from .branches import (
     write_row as _write_row,
 )
 from .coated import FilmSurfaces, empty_film_surfaces, film_children  # films: coated interfaces, shells
-from .environment import Environment, environment_radiance
+from .environment import Environment, environment_basis, environment_coefficients
+from ..spectra import STRATEGY_STRATIFIED, sample_wavelength
 
 __all__ = ["TraceParams", "TraceConfig", "trace_radiance", "default_params", "STACK_SIZE", "BIREFRINGENCE"]
 
@@ -476,6 +477,27 @@ def _isotropic_children(
 
 
 @wp.func
+def _spectral_response(env: Environment, tables: SpectralTables, wavelength: float, weight: wp.vec3f,
+                       strata: int, strategy: int, u: float):
+    """3x3 matrix R with XYZ = R c for an escaping branch of unit energy whose environment
+    coefficients are c (environment_coefficients).  ``strata == 0``: one wavelength with its XYZ
+    sample ``weight``.  ``strata > 0`` (a non-dispersive, non-absorbing scene, where every
+    wavelength follows the same path tree): the sum over ``strata`` wavelengths drawn with one
+    random offset ``u`` (a shifted grid in ``u``, so each is distributed as the strategy
+    prescribes), so one trace carries the whole spectrum."""
+    if strata == 0:
+        return wp.outer(weight, environment_basis(env, tables, wavelength))
+    r = wp.mat33f(0.0)
+    for k in range(strata):
+        uk = (float(k) + u) / float(strata)
+        if strategy == STRATEGY_STRATIFIED:
+            uk = u
+        wl, wk = sample_wavelength(tables, strategy, uk, k, strata)
+        r += wp.outer(wk, environment_basis(env, tables, wl))
+    return r
+
+
+@wp.func
 def trace_radiance(
     p: TraceParams,
     geom: SceneGeometry,
@@ -487,17 +509,26 @@ def trace_radiance(
     direction: wp.vec3f,
     basis_x: wp.vec3f,
     wavelength: float,
+    weight: wp.vec3f,
+    strata: int,
+    strategy: int,
+    u_strata: float,
     channel: int,
     rng: wp.uint32,
 ):
-    """Coherency matrix (camera frame) of the light arriving along a primary ray, at one
-    wavelength (nm).  Returns (J, hit_any, rays_traced, rng)."""
+    """The light arriving along a primary ray: (Y-weighted coherency matrix J in the camera frame,
+    XYZ, hit_any, rays_traced, rng).
+
+    One wavelength (nm) with XYZ sample ``weight`` (``strata == 0``), or ``strata`` wavelengths
+    weighted at every leaf (non-dispersive scenes, see :func:`_spectral_response`)."""
     st = _Stack()
     st = _write_row(st, 0, origin, direction, basis_x, jones_identity(), 1.0, -1, 0, -1, -direction)
     n = int(1)
     cand = _Cand()
     acc = jones_zero()
     acc_scalar = float(0.0)
+    acc_xyz = wp.vec3f(0.0, 0.0, 0.0)
+    response = _spectral_response(env, tables, wavelength, weight, strata, strategy, u_strata)
     hit_any = int(0)
     rays = int(0)
     splits = int(0)
@@ -523,11 +554,13 @@ def trace_radiance(
             hit = scene_closest_hit(geom, o, d, p.t_max)
         if hit.object < 0:
             if inside < 0:
-                radiance = environment_radiance(env, tables, d, wavelength)
+                xyz = response * environment_coefficients(env, d)
                 if polarized != 0:
-                    acc = jones_add(acc, coherency_transform(m, coherency_unpolarized(w * radiance)))
+                    acc = jones_add(acc, coherency_transform(m, coherency_unpolarized(w * xyz[1])))
+                    acc_xyz += xyz * _energy(m, w)
                 else:
-                    acc_scalar += w * radiance
+                    acc_scalar += w * xyz[1]
+                    acc_xyz += xyz * w
             # a segment inside a solid that finds no exit leaked through a crack: dropped
             continue
         if depth == 0:
@@ -614,7 +647,7 @@ def trace_radiance(
             n += 1
     if polarized == 0:
         acc = coherency_unpolarized(acc_scalar)
-    return acc, hit_any, rays, rng
+    return acc, acc_xyz, hit_any, rays, rng
 
 
 def default_params(objects_material: np.ndarray, absorption_scale: np.ndarray, object_axis: np.ndarray, *,
