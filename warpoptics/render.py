@@ -163,7 +163,9 @@ def _build_objects(scene: Scene, device):
             if ob.shape == "mesh":
                 from .geometry.mesh import load_mesh
 
-                mesh = load_mesh(ob.path, repair=bool(ob.params.get("repair", False)))
+                film = getattr(ob, "film", None)  # films: shells and film surfaces may be open meshes
+                mesh = load_mesh(ob.path, repair=bool(ob.params.get("repair", False)),
+                                 closed=film is None or film.surface == "solid")
             elif ob.shape == "gemcad":
                 from .geometry.gemcad import read as read_gemcad
 
@@ -279,6 +281,9 @@ class Renderer:
         meshes, mats, axes = _build_objects(scene, self.device)
         self.geometry = GeometryScene(meshes, device=self.device)
         self.materials, ids = build_material_table(mats, self.device)
+        from .stages.coated import build_film_surfaces  # films: coatings, shells, film surfaces
+
+        films = build_film_surfaces(scene, meshes, mats, device=self.device)
         self.camera = Camera(scene.camera)
         self.environment = EnvironmentLight(scene.lights[0], self.device)
         self.tables = spectral_tables(self.device)
@@ -291,7 +296,7 @@ class Renderer:
             np.array([ob.absorption_scale for ob in scene.objects], dtype=np.float32),
             _world_axes(scene, mats, axes),
             config=self.trace_config, ambient=(r.ambient_index, 0.0), rgb3=r.spectral == "rgb3",
-            device=self.device,
+            device=self.device, films=films,
         )
         film = FilmParams()
         film.width, film.height = self.camera.width, self.camera.height
@@ -307,7 +312,9 @@ class Renderer:
         # one path tree per sample for the whole spectrum (exact: the tree does not depend on
         # the wavelength); rgb3 keeps its three indices by definition
         self.shared_spectrum = (r.spectral != "rgb3" and shared_spectrum is not False
-                                and _non_dispersive(mats))
+                                and _non_dispersive(mats)
+                                # films: a film's r and t depend on the wavelength (stages/coated.py)
+                                and not any(getattr(ob, "film", None) for ob in scene.objects))
         film.strata = r.wavelengths if self.shared_spectrum else 0
         self.film = film
         n = film.width * film.height

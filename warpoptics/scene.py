@@ -122,14 +122,15 @@ def _shape_functions() -> dict:
     from .geometry import cuts
 
     names = ["round_brilliant", "oval", "pear", "marquise", "emerald", "princess", "prism", "plate", "cube",
-             "sphere", "step_cut"]
+             "sphere", "step_cut", "wavy_sheet"]
     return {n: getattr(cuts, n) for n in names if hasattr(cuts, n)}
 
 
 SHAPES = ("round_brilliant", "oval", "pear", "marquise", "emerald", "princess", "prism", "plate", "cube", "sphere",
-          "step_cut", "mesh", "gemcad")
+          "step_cut", "mesh", "gemcad", "wavy_sheet")
 _OBJECT_COMMON = {"shape", "material", "position", "rotation", "scale", "optic_axis", "absorption_scale", "path",
                   "name"}
+_OBJECT_COMMON |= {"surface", "coating", "film_thickness", "roughness"}  # films: stages/coated.py
 
 
 @dataclass(frozen=True)
@@ -146,6 +147,7 @@ class ObjectConfig:
     absorption_scale: float = 1.0
     path: str | None = None
     name: str | None = None
+    film: Any = None  # stages.coated.FilmConfig: coating, shell or film surface (None: bare solid)
 
     def transform(self) -> np.ndarray:
         """4x4 object -> world transform (scale, then rotations x, y, z, then translation)."""
@@ -219,6 +221,9 @@ def _object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfi
         kw["path"] = str(p)
     if "name" in table:
         kw["name"] = str(table["name"])
+    from .stages.coated import film_config  # films: coating / shell / film surface keys
+
+    kw["film"] = film_config(table, index, file)
     return ObjectConfig(**kw)
 
 

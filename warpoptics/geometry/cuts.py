@@ -58,6 +58,7 @@ __all__ = [
     "cube",
     "sphere",
     "ground_plane",
+    "wavy_sheet",
     "SHAPES",
 ]
 
@@ -849,6 +850,46 @@ def ground_plane(size: float = 100.0, thickness: float = 1.0, z: float = 0.0) ->
     return m
 
 
+def wavy_sheet(
+    width: float = 10.0,
+    length: float = 10.0,
+    amplitude: float = 0.0,
+    wavelength_x: float = 5.0,
+    wavelength_y: float = 5.0,
+    resolution: int = 64,
+) -> trimesh.Trimesh:
+    """An open sheet z = amplitude sin(2 pi x / wavelength_x) sin(2 pi y / wavelength_y) over
+    ``length`` (x) by ``width`` (y) mm, centred on the origin, normals toward +z (mm).
+
+    For thin-film surfaces (``surface = "film"`` / ``"shell"``, ``stages.coated``): amplitude 0 is
+    a flat quad.  ``resolution`` grid cells per side; each triangle is its own facet.
+    """
+    width = _check("width", width, 0.0, 1e6, lo_open=True, unit=" mm")
+    length = _check("length", length, 0.0, 1e6, lo_open=True, unit=" mm")
+    amplitude = _check("amplitude", amplitude, 0.0, 1e6, unit=" mm")
+    wavelength_x = _check("wavelength_x", wavelength_x, 0.0, 1e6, lo_open=True, unit=" mm")
+    wavelength_y = _check("wavelength_y", wavelength_y, 0.0, 1e6, lo_open=True, unit=" mm")
+    if int(resolution) != resolution or not 1 <= resolution <= 1024:
+        raise InputError("out of range", field="resolution", value=resolution, allowed="1..1024")
+    r = 1 if amplitude == 0.0 else int(resolution)
+    xs = np.linspace(-length / 2, length / 2, r + 1)
+    ys = np.linspace(-width / 2, width / 2, r + 1)
+    gx, gy = np.meshgrid(xs, ys, indexing="ij")
+    gz = amplitude * np.sin(2 * np.pi * gx / wavelength_x) * np.sin(2 * np.pi * gy / wavelength_y)
+    verts = np.column_stack([gx.ravel(), gy.ravel(), gz.ravel()])
+    idx = np.arange((r + 1) * (r + 1)).reshape(r + 1, r + 1)
+    a, b, c, d = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
+    faces = np.concatenate([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
+    m = trimesh.Trimesh(verts, faces, process=False)
+    nrm = np.asarray(m.face_normals, dtype=np.float64)
+    m.metadata["planes"] = np.column_stack([nrm, np.einsum("ij,ij->i", nrm, m.triangles_center)])
+    m.metadata["face_facet"] = np.arange(len(m.faces), dtype=np.int64)
+    m.metadata["facet_names"] = [f"face {i}" for i in range(len(m.faces))]
+    m.metadata["proportions"] = None
+    m.metadata["shape"] = "wavy_sheet"
+    return m
+
+
 #: Shapes by name, for the command line and scene files.
 SHAPES: dict[str, Callable[..., trimesh.Trimesh]] = {
     "round_brilliant": round_brilliant,
@@ -864,3 +905,4 @@ SHAPES: dict[str, Callable[..., trimesh.Trimesh]] = {
     "sphere": sphere,
     "ground_plane": ground_plane,
 }
+# (``wavy_sheet`` is an open surface for films, not a solid: scene files name it, SHAPES does not)

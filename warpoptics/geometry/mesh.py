@@ -40,10 +40,13 @@ def load_mesh(
     repair: bool = False,
     min_size: float = 1e-3,
     max_size: float = 1e4,
+    closed: bool = True,
 ) -> trimesh.Trimesh:
     """Load a triangle mesh (mm after multiplying by ``scale``) and validate it (see module doc).
 
     Scenes with several meshes (GLB) are concatenated into one solid in world coordinates.
+    ``closed=False`` accepts open surfaces (thin shells and film surfaces, ``stages.coated``):
+    no watertightness or volume check.
     """
     path = os.fspath(path)
     ext = os.path.splitext(path)[1].lower()
@@ -66,7 +69,7 @@ def load_mesh(
         if not np.isfinite(scale) or scale <= 0:
             raise InputError("scale must be a positive number", field="scale", value=scale)
         loaded.apply_scale(float(scale))
-    return validate_mesh(loaded, name=path, repair=repair, min_size=min_size, max_size=max_size)
+    return validate_mesh(loaded, name=path, repair=repair, min_size=min_size, max_size=max_size, closed=closed)
 
 
 def validate_mesh(
@@ -76,8 +79,10 @@ def validate_mesh(
     repair: bool = False,
     min_size: float = 1e-3,
     max_size: float = 1e4,
+    closed: bool = True,
 ) -> trimesh.Trimesh:
-    """Check (and with ``repair`` fix, on a copy) a mesh for ray tracing; return the mesh to use."""
+    """Check (and with ``repair`` fix, on a copy) a mesh for ray tracing; return the mesh to use.
+    ``closed=False``: an open surface (no watertightness or volume check)."""
     if not isinstance(mesh, trimesh.Trimesh):
         raise InputError("not a triangle mesh", file=name, value=type(mesh).__name__)
     if len(mesh.faces) == 0:
@@ -113,6 +118,8 @@ def validate_mesh(
                 "inconsistent winding: adjacent faces are oriented oppositely (use repair)", file=name
             )
         mesh = _fix_winding(mesh)
+    if not closed:
+        return mesh
     if not mesh.is_watertight:
         if not repair:
             raise InputError(

@@ -71,8 +71,10 @@ __all__ = [
     "CoatingStack",
     "stack_layer_index",
     "stack_amplitudes",
+    "stack_amplitudes_scaled",
     "stack_power",
     "coating_amplitudes",
+    "coating_amplitudes_scaled",
     "smits_meyer_film_reflectance",
     "smits_meyer_optical_thickness_f",
     "smits_meyer_effective_thickness_f",
@@ -165,7 +167,7 @@ def _times_i(a: wp.vec2d):
 
 
 @wp.func
-def stack_amplitudes(
+def stack_amplitudes_scaled(
     stack: CoatingStack,
     coating: int,
     wavelength_nm: wp.float64,
@@ -173,8 +175,11 @@ def stack_amplitudes(
     n_front: wp.vec2d,
     n_back: wp.vec2d,
     from_back: int,
+    thickness_scale: wp.float64,
 ):
-    """Exact (rs, rp, ts, tp) of coating ``coating`` of ``stack`` (float64 complex ``wp.vec2d``).
+    """Exact (rs, rp, ts, tp) of coating ``coating`` of ``stack`` (float64 complex ``wp.vec2d``)
+    with every layer thickness multiplied by ``thickness_scale`` (a per-hit value: films whose
+    thickness varies over a surface, Smits & Meyer 1990 eq. 12–13 and §4.2).
 
     Characteristic matrix of each layer (Born & Wolf §1.6, eq. 1.6 (33); time dependence
     exp(-i omega t)), with the normal wave-vector component q = N cos(theta) from Snell's law
@@ -226,7 +231,7 @@ def stack_amplitudes(
         if from_back != 0:
             layer = first + count - 1 - k
         n = stack_layer_index(stack, layer, wavelength_nm)
-        d = stack.thickness_nm[layer]
+        d = stack.thickness_nm[layer] * thickness_scale
         q = c_normal_component(n_in, n, cos_i)
         delta = q * (k0 * d)
         z = wp.vec2d(delta[1] * wp.float64(-2.0), delta[0] * wp.float64(2.0))  # 2 i delta
@@ -289,6 +294,22 @@ def stack_amplitudes(
 
 
 @wp.func
+def stack_amplitudes(
+    stack: CoatingStack,
+    coating: int,
+    wavelength_nm: wp.float64,
+    cos_i: wp.float64,
+    n_front: wp.vec2d,
+    n_back: wp.vec2d,
+    from_back: int,
+):
+    """:func:`stack_amplitudes_scaled` at the stack's own thicknesses (scale 1)."""
+    return stack_amplitudes_scaled(
+        stack, coating, wavelength_nm, cos_i, n_front, n_back, from_back, wp.float64(1.0)
+    )
+
+
+@wp.func
 def stack_power(
     rs: wp.vec2d,
     rp: wp.vec2d,
@@ -332,6 +353,35 @@ def _to_f(a: wp.vec2d):
 
 
 @wp.func
+def coating_amplitudes_scaled(
+    stack: CoatingStack,
+    coating: int,
+    wavelength_nm: float,
+    cos_i: float,
+    n_front: wp.vec2f,
+    n_back: wp.vec2f,
+    from_back: int,
+    thickness_scale: float,
+):
+    """Float32 front end of :func:`stack_amplitudes_scaled` for the renderer's trace kernel.
+
+    Same arguments and conventions; inputs and the returned (rs, rp, ts, tp) are float32
+    (``wp.vec2f``), the stack itself is evaluated in float64.
+    """
+    rs, rp, ts, tp = stack_amplitudes_scaled(
+        stack,
+        coating,
+        wp.float64(wavelength_nm),
+        wp.float64(cos_i),
+        _to_d(n_front),
+        _to_d(n_back),
+        from_back,
+        wp.float64(thickness_scale),
+    )
+    return _to_f(rs), _to_f(rp), _to_f(ts), _to_f(tp)
+
+
+@wp.func
 def coating_amplitudes(
     stack: CoatingStack,
     coating: int,
@@ -341,21 +391,8 @@ def coating_amplitudes(
     n_back: wp.vec2f,
     from_back: int,
 ):
-    """Float32 front end of :func:`stack_amplitudes` for the renderer's trace kernel.
-
-    Same arguments and conventions; inputs and the returned (rs, rp, ts, tp) are float32
-    (``wp.vec2f``), the stack itself is evaluated in float64.
-    """
-    rs, rp, ts, tp = stack_amplitudes(
-        stack,
-        coating,
-        wp.float64(wavelength_nm),
-        wp.float64(cos_i),
-        _to_d(n_front),
-        _to_d(n_back),
-        from_back,
-    )
-    return _to_f(rs), _to_f(rp), _to_f(ts), _to_f(tp)
+    """:func:`coating_amplitudes_scaled` at the stack's own thicknesses (scale 1)."""
+    return coating_amplitudes_scaled(stack, coating, wavelength_nm, cos_i, n_front, n_back, from_back, 1.0)
 
 
 # ---------------------------------------------------------------------------------------------

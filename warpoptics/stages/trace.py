@@ -93,6 +93,7 @@ from .branches import (
 from .branches import (
     write_row as _write_row,
 )
+from .coated import FilmSurfaces, empty_film_surfaces, film_children  # films: coated interfaces, shells
 from .environment import Environment, environment_basis, environment_coefficients
 from ..spectra import STRATEGY_STRATIFIED, sample_wavelength
 
@@ -118,6 +119,7 @@ class TraceParams:
     object_material: wp.array(dtype=wp.int32)  # material id of each object
     object_absorption_scale: wp.array(dtype=wp.float32)  # multiplier of alpha per object
     object_axis: wp.array(dtype=wp.vec3f)  # optic axis in world space; zero: isotropic
+    films: FilmSurfaces  # per-object coatings, thin shells, film surfaces (stages/coated.py)
 
 
 @dataclass(frozen=True)
@@ -599,6 +601,13 @@ def trace_radiance(
                     else:
                         unit = jones_real(wp.mat22(wp.sqrt(2.0), 0.0, 0.0, 0.0))
                     cand = _write_jones(cand, k, unit)
+        elif p.films.kind[hit.object] != 0:
+            # films hook: coated interface, thin shell or film surface (stages/coated.py)
+            obj_f = hit.object
+            cand, energies, count, rng = film_children(
+                cand, p.films, mats, p.object_material[obj_f], obj_f, m, w, bx, d, n_out, n_a, n_b, x,
+                geom.world_to_object[obj_f], p.epsilon, inside, obj_b, depth, polarized, wavelength, rng
+            )
         else:
             cand, energies, count = _isotropic_children(
                 cand, m, w, bx, d, n_out, nrm, n_a, n_b, x, p.epsilon, inside, obj_b, depth, polarized
@@ -643,7 +652,7 @@ def trace_radiance(
 
 def default_params(objects_material: np.ndarray, absorption_scale: np.ndarray, object_axis: np.ndarray, *,
                    config: TraceConfig, ambient=(1.0, 0.0), t_max: float = 1.0e6, epsilon: float = 1.0e-4,
-                   rgb3: bool = False, device=None) -> TraceParams:
+                   rgb3: bool = False, device=None, films: FilmSurfaces | None = None) -> TraceParams:
     """TraceParams for objects with material ids, alpha multipliers and world optic axes (zero
     rows for isotropic objects)."""
     p = TraceParams()
@@ -660,4 +669,5 @@ def default_params(objects_material: np.ndarray, absorption_scale: np.ndarray, o
     p.object_material = wp.array(np.asarray(objects_material, dtype=np.int32), dtype=wp.int32, device=device)
     p.object_absorption_scale = wp.array(np.asarray(absorption_scale, dtype=np.float32), dtype=wp.float32,
                                          device=device)
+    p.films = films if films is not None else empty_film_surfaces(len(p.object_material), device=device)
     return p
