@@ -11,7 +11,11 @@ renderers alternate, so that both see the same load on a shared machine.  Image 
 For unbiased, independent passes the relative RMSE of the mean of k passes against the
 renderer's own converged image is sigma_1 / sqrt(k), sigma_1 = sqrt(mean over pixels of the
 per-pixel variance of one pass) / mean Y, so the time to reach ``--target`` (1 %) is
-``t_pass * (sigma_1 / target)**2`` (reported, with the spp that takes).  The 1/sqrt(k) law is
+``t_pass * (sigma_1 / target)**2`` (reported, with the spp that takes).  Pass sizes matter for
+low-discrepancy samplers (our R2 pixel positions; Mitsuba's ``ldsampler``): a pass of N
+samples has sigma_1 falling faster than 1/sqrt(N), so each renderer should get the pass size
+that minimises its time (ours: about 1 % noise per pass, ``--spp 48`` x 8 wavelengths; Mitsuba
+``ldsampler``: 32-64 spp, larger passes measured slower to target).  The 1/sqrt(k) law is
 checked on the measured passes: the RMSE between the means of two disjoint halves of the passes
 must be sqrt(2) sigma_1 / sqrt(k/2).  When a renderer's passes reach the target themselves the
 time is also read off directly.

@@ -11,9 +11,10 @@ from typing import Any
 
 import warp as wp
 
-from ..optics.jones import Jones
+from ..optics.jones import Jones, frame_change, jones_diag, jones_mul, jones_real, jones_scale
 
-__all__ = ["STACK_SIZE", "COLS", "Stack", "Cand", "write_row", "write_jones", "copy_row", "row_vec", "row_jones"]
+__all__ = ["STACK_SIZE", "COLS", "Stack", "Cand", "write_row", "write_jones", "copy_row", "row_vec", "row_jones",
+           "branch_energy", "child_jones"]
 
 #: rows of the per-thread branch stack (a depth-first tree needs about one row per level)
 STACK_SIZE = 40
@@ -82,3 +83,23 @@ def row_jones(st: Any, n: int):
     m.re = wp.mat22(st[n, _MR], st[n, _MR + 1], st[n, _MR + 2], st[n, _MR + 3])
     m.im = wp.mat22(st[n, _MI], st[n, _MI + 1], st[n, _MI + 2], st[n, _MI + 3])
     return m
+
+
+@wp.func
+def branch_energy(m: Jones, w: float):
+    """Power a branch carries for unpolarized light: w tr(M M^dagger) / 2."""
+    s = float(0.0)
+    for i in range(2):
+        for k in range(2):
+            s += m.re[i, k] * m.re[i, k] + m.im[i, k] * m.im[i, k]
+    return 0.5 * w * s
+
+
+@wp.func
+def child_jones(m: Jones, k_out: wp.vec3f, parent_x: wp.vec3f, s: wp.vec3f, a_s: wp.vec2f, a_p: wp.vec2f,
+                scale: float):
+    """Jones matrix of a child across an interface, backward (Guy & Soler 2004 eq. 12 from the
+    eye): M_parent . B . diag(a_s, a_p) * scale, with B turning the s/p frame of the outgoing wave
+    (``k_out``, ``s``) into the parent's frame (x = ``parent_x``)."""
+    b = jones_real(frame_change(k_out, s, parent_x))
+    return jones_scale(jones_mul(m, jones_mul(b, jones_diag(a_s, a_p))), scale)

@@ -54,12 +54,7 @@ from ..materials.dispersion import MaterialTable, material_eval
 from ..optics.complex import c_abs2
 from ..optics.jones import (
     Jones,
-    frame_change,
-    jones_diag,
     jones_identity,
-    jones_mul,
-    jones_real,
-    jones_scale,
     s_vector,
 )
 from ..optics.thinfilm import (
@@ -70,7 +65,7 @@ from ..optics.thinfilm import (
     soap_film_thickness_f,
     turbulence,
 )
-from .branches import Cand, write_row
+from .branches import Cand, branch_energy, child_jones, write_row
 
 __all__ = [
     "FilmSurfaces",
@@ -234,16 +229,6 @@ def _ggx_normal(n: wp.vec3f, alpha: float, u1: float, u2: float):
 
 
 @wp.func
-def _child_energy(m: Jones, w: float):
-    # transmitted power for unpolarized light: w tr(M M^dagger) / 2 (as trace._energy)
-    s = float(0.0)
-    for i in range(2):
-        for k in range(2):
-            s += m.re[i, k] * m.re[i, k] + m.im[i, k] * m.im[i, k]
-    return 0.5 * w * s
-
-
-@wp.func
 def _child(
     m: Jones,
     w: float,
@@ -256,12 +241,10 @@ def _child(
     polarized: int,
 ):
     """(M_child, w_child): M_parent . B . diag(a_s, a_p) sqrt(power_scale) (B: the s/p frame of
-    the outgoing wave -> the parent's frame, as trace._child_jones), or in scalar mode the
+    the outgoing wave -> the parent's frame, as branches.child_jones), or in scalar mode the
     weight times the unpolarized power 0.5 (|a_s|^2 + |a_p|^2) power_scale."""
     if polarized != 0:
-        b = jones_real(frame_change(k_out, s, parent_x))
-        mc = jones_scale(jones_mul(m, jones_mul(b, jones_diag(a_s, a_p))), wp.sqrt(wp.max(power_scale, 0.0)))
-        return mc, w
+        return child_jones(m, k_out, parent_x, s, a_s, a_p, wp.sqrt(wp.max(power_scale, 0.0))), w
     return m, w * 0.5 * power_scale * (c_abs2(a_s) + c_abs2(a_p))
 
 
@@ -344,7 +327,7 @@ def film_children(
             if n_b[0] * cos_b > 0.0:
                 ratio = n_a[0] * cos_a / (n_b[0] * cos_b)
             m_t, w_t = _child(m, w, k_out, bx, s, ts, tp, ratio, polarized)
-            e_t = _child_energy(m_t, w_t)
+            e_t = branch_energy(m_t, w_t)
             if e_t > 0.0:
                 cand = write_row(cand, count, x + d_t * eps, d_t, s, m_t, w_t, in_b, depth + 1, -1, -d_t)
                 energies[count] = e_t
@@ -354,7 +337,7 @@ def film_children(
             fs.stack, coat, wavelength, cos_a, n_front, n_back, 1 - front, scale
         )
         m_r, w_r = _child(m, w, k_out, bx, s, rs, rp, 1.0, polarized)
-        e_r = _child_energy(m_r, w_r)
+        e_r = branch_energy(m_r, w_r)
         if e_r > 0.0:
             cand = write_row(cand, count, x + d_r * eps, d_r, s, m_r, w_r, in_a, depth + 1, -1, -d_r)
             energies[count] = e_r
@@ -392,7 +375,7 @@ def film_children(
         # light from the other side passes straight on (no refraction: the same medium)
         rs, rp, ts, tp = coating_amplitudes_scaled(fs.stack, coat, wavelength, cos_a, n_a, n_a, front, scale)
         m_t, w_t = _child(m, w, k_out, bx, s, ts, tp, 1.0, polarized)
-        e_t = _child_energy(m_t, w_t)
+        e_t = branch_energy(m_t, w_t)
         if e_t > 0.0:
             cand = write_row(cand, count, x + d * eps, d, s, m_t, w_t, in_a, depth + 1, -1, -d)
             energies[count] = e_t
@@ -403,7 +386,7 @@ def film_children(
             fs.stack, coat, wavelength, cos_a, n_a, n_sub, 1 - front, scale
         )
         m_r, w_r = _child(m, w, k_out, bx, s, rs, rp, weight, polarized)
-        e_r = _child_energy(m_r, w_r)
+        e_r = branch_energy(m_r, w_r)
         if e_r > 0.0:
             cand = write_row(cand, count, x + d_r * eps, d_r, s, m_r, w_r, in_a, depth + 1, -1, -d_r)
             energies[count] = e_r

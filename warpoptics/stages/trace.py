@@ -57,7 +57,6 @@ from ..optics.jones import (
     frame_change,
     jones,
     jones_add,
-    jones_diag,
     jones_entry,
     jones_identity,
     jones_mul,
@@ -66,7 +65,7 @@ from ..optics.jones import (
     jones_zero,
     s_vector,
 )
-from ..spectra import SpectralTables
+from ..spectra import STRATEGY_STRATIFIED, SpectralTables, sample_wavelength
 from .branches import (
     _B,
     _D,
@@ -87,6 +86,8 @@ from .branches import (
 from .branches import (
     Stack as _Stack,
 )
+from .branches import branch_energy as _energy
+from .branches import child_jones as _child_jones
 from .branches import (
     write_jones as _write_jones,
 )
@@ -95,7 +96,6 @@ from .branches import (
 )
 from .coated import FilmSurfaces, empty_film_surfaces, film_children  # films: coated interfaces, shells
 from .environment import Environment, environment_basis, environment_coefficients
-from ..spectra import STRATEGY_STRATIFIED, sample_wavelength
 
 __all__ = ["TraceParams", "TraceConfig", "trace_radiance", "default_params", "STACK_SIZE", "BIREFRINGENCE"]
 
@@ -133,28 +133,11 @@ class TraceConfig:
 
 
 @wp.func
-def _energy(m: Jones, w: float):
-    # transmitted power for unpolarized light: w tr(M M^dagger) / 2
-    s = float(0.0)
-    for i in range(2):
-        for k in range(2):
-            s += m.re[i, k] * m.re[i, k] + m.im[i, k] * m.im[i, k]
-    return 0.5 * w * s
-
-
-@wp.func
 def _apply(m: Jones, vx: wp.vec2f, vy: wp.vec2f):
     # M (vx, vy)^T for complex vx, vy: the camera field of a field with these frame components
     a = c_mul(jones_entry(m, 0, 0), vx) + c_mul(jones_entry(m, 0, 1), vy)
     b = c_mul(jones_entry(m, 1, 0), vx) + c_mul(jones_entry(m, 1, 1), vy)
     return a, b
-
-
-@wp.func
-def _child_jones(m: Jones, k_out: wp.vec3f, parent_x: wp.vec3f, s: wp.vec3f, a_s: wp.vec2f, a_p: wp.vec2f, scale: float):
-    # M_child = M_parent . B . diag(a_s, a_p) * scale, B: s/p frame of the outgoing wave -> parent frame
-    b = jones_real(frame_change(k_out, s, parent_x))
-    return jones_scale(jones_mul(m, jones_mul(b, jones_diag(a_s, a_p))), scale)
 
 
 @wp.func
