@@ -50,6 +50,7 @@ from ..optics.birefringence import (
 )
 from ..optics.complex import c_abs2, c_mul
 from ..optics.fresnel import fresnel_amplitudes, refract_direction
+from ..optics.polarizer import sheet_polarizer_coherency
 from ..optics.jones import (
     Jones,
     coherency_transform,
@@ -523,7 +524,10 @@ def trace_radiance(
             if inside < 0:
                 radiance = environment_radiance(env, tables, d, wavelength)
                 if polarized != 0:
-                    acc = jones_add(acc, coherency_transform(m, coherency_unpolarized(w * radiance)))
+                    # polarized illumination hook (polariscope): the light behind env.polarizer
+                    # (zero axis: unpolarized, coherency_unpolarized); frame (bx, k x bx), k = -d
+                    src = sheet_polarizer_coherency(env.polarizer, -d, bx, w * radiance)
+                    acc = jones_add(acc, coherency_transform(m, src))
                 else:
                     acc_scalar += w * radiance
             # a segment inside a solid that finds no exit leaked through a crack: dropped
