@@ -63,7 +63,9 @@ VIEW_KINDS = ("none", "analyzer", "polariscope", "dichroscope")
 _SOURCE_ATTR = "warpoptics:source_polarizer"
 
 
-def parse_view(spec: str, angle: float | None = None, *, field: str = "--view") -> tuple[str, float | str | None]:
+def parse_view(
+    spec: str, angle: float | None = None, *, field: str = "--view"
+) -> tuple[str, float | str | None]:
     """``"analyzer:30"`` -> ("analyzer", 30.0); ``"polariscope"`` / ``"polariscope:parallel"``;
     ``"dichroscope[:angle]"``; ``"none"``.  ``angle`` (degrees) is used when the spec has none."""
     if not isinstance(spec, str) or not spec.strip():
@@ -76,7 +78,8 @@ def parse_view(spec: str, angle: float | None = None, *, field: str = "--view") 
     arg = arg.strip()
     if kind == "polariscope":
         if arg not in ("", "crossed", "parallel"):
-            raise InputError("unknown polariscope setting", field=field, value=spec, allowed="crossed, parallel")
+            raise InputError("unknown polariscope setting", field=field, value=spec,
+                             allowed="crossed, parallel")
         return kind, arg or "crossed"
     if kind == "none":
         return kind, None

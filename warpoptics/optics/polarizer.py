@@ -70,7 +70,9 @@ def polarizer_stokes(s: wp.vec4, theta: float):
 
 
 @wp.func
-def sheet_polarizer_coherency(absorb_axis: wp.vec3f, k: wp.vec3f, basis_x: wp.vec3f, intensity: float) -> Jones:
+def sheet_polarizer_coherency(
+    absorb_axis: wp.vec3f, k: wp.vec3f, basis_x: wp.vec3f, intensity: float
+) -> Jones:
     """Coherency matrix, in the frame (basis_x, k x basis_x), of unpolarized light of
     ``intensity`` after an ideal dichroic sheet with unit absorbing axis ``absorb_axis`` (world);
     ``k``: unit direction the light travels.  A zero axis means no polarizer (unpolarized light
@@ -137,7 +139,9 @@ def analyze(stokes, angle_deg, *, device=None) -> np.ndarray:
     ``angle_deg`` (degrees from x toward y; broadcasts against ``stokes[..., 0]``).  Float64 in
     and out, the polarizer computed in float32 (``mueller_linear_polarizer``)."""
     theta = np.radians(np.asarray(angle_deg, dtype=np.float64))
-    (out,) = elementwise(_analyze_kernel, [(stokes, wp.vec4d), (theta, wp.float32)], [wp.vec4d], device=device)
+    (out,) = elementwise(
+        _analyze_kernel, [(stokes, wp.vec4d), (theta, wp.float32)], [wp.vec4d], device=device
+    )
     return out
 
 

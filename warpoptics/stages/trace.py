@@ -50,7 +50,6 @@ from ..optics.birefringence import (
 )
 from ..optics.complex import c_abs2, c_mul
 from ..optics.fresnel import fresnel_amplitudes, refract_direction
-from ..optics.polarizer import sheet_polarizer_coherency
 from ..optics.jones import (
     Jones,
     coherency_transform,
@@ -67,6 +66,7 @@ from ..optics.jones import (
     jones_zero,
     s_vector,
 )
+from ..optics.polarizer import sheet_polarizer_coherency
 from ..spectra import SpectralTables
 from .branches import (
     _B,
