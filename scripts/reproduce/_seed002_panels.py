@@ -37,16 +37,43 @@ def sizes(args, size: int, wavelengths: int) -> tuple[int, int]:
     return s, w
 
 
-def gem_scene(obj: dict, *, size: int, wavelengths: int, camera: dict | None = None, render: dict | None = None,
-              light: dict | None = None) -> wo.Scene:
+def gem_scene(
+    obj: dict,
+    *,
+    size: int,
+    wavelengths: int,
+    camera: dict | None = None,
+    render: dict | None = None,
+    light: dict | None = None,
+) -> wo.Scene:
     """A stone in the studio environment, seen from the front and above (scenes/tourmaline.toml)."""
-    cam = {"type": "perspective", "position": [0.0, -24.0, 26.0], "look_at": [0.0, 0.0, -0.5],
-           "up": [0.0, 0.0, 1.0], "fov": 20.0, "width": size, "height": size, **(camera or {})}
-    ren = {"spectral": "stratified", "wavelengths": wavelengths, "polarization": True, "birefringence": "exact",
-           "max_depth": 12, "exposure": 1.0, **(render or {})}
-    return wo.Scene.from_dict({"camera": cam, "render": ren, "light": [light or {"type": "environment",
-                                                                                 "map": "studio"}],
-                               "object": [obj]})
+    cam = {
+        "type": "perspective",
+        "position": [0.0, -24.0, 26.0],
+        "look_at": [0.0, 0.0, -0.5],
+        "up": [0.0, 0.0, 1.0],
+        "fov": 20.0,
+        "width": size,
+        "height": size,
+        **(camera or {}),
+    }
+    ren = {
+        "spectral": "stratified",
+        "wavelengths": wavelengths,
+        "polarization": True,
+        "birefringence": "exact",
+        "max_depth": 12,
+        "exposure": 1.0,
+        **(render or {}),
+    }
+    return wo.Scene.from_dict(
+        {
+            "camera": cam,
+            "render": ren,
+            "light": [light or {"type": "environment", "map": "studio"}],
+            "object": [obj],
+        }
+    )
 
 
 @dataclass
@@ -68,8 +95,10 @@ class Panel:
         xy = xyz[:2] / max(xyz.sum(), 1e-30)
         rgb = wo.color.gamut_clip(xyz[None], 1.0e30)[0]
         rgb = rgb / max(rgb.max(), 1e-30)
-        return (f"Y {xyz[1]:.4f}  xy ({xy[0]:.4f}, {xy[1]:.4f})  relative linear sRGB "
-                f"({rgb[0]:.2f}, {rgb[1]:.2f}, {rgb[2]:.2f})")
+        return (
+            f"Y {xyz[1]:.4f}  xy ({xy[0]:.4f}, {xy[1]:.4f})  relative linear sRGB "
+            f"({rgb[0]:.2f}, {rgb[1]:.2f}, {rgb[2]:.2f})"
+        )
 
 
 def render_panel(label: str, scene: wo.Scene, device=None) -> Panel:
@@ -121,12 +150,19 @@ def camera_axes(scene: wo.Scene) -> dict[str, np.ndarray]:
     right = np.cross(f, c.up)
     right /= np.linalg.norm(right)
     up = np.cross(right, f)
-    return {"toward the eye": -f, "left-right": right, "up-down": up,
-            "diagonal": (right + up) / np.sqrt(2.0)}
+    return {"toward the eye": -f, "left-right": right, "up-down": up, "diagonal": (right + up) / np.sqrt(2.0)}
 
 
-def axis_panels(material: str, orientations: list[str], *, size: int, wavelengths: int, device=None,
-                obj: dict | None = None, **scene_kw) -> list[Panel]:
+def axis_panels(
+    material: str,
+    orientations: list[str],
+    *,
+    size: int,
+    wavelengths: int,
+    device=None,
+    obj: dict | None = None,
+    **scene_kw,
+) -> list[Panel]:
     """One panel per optic-axis orientation (names of :func:`camera_axes`), same stone and light;
     ``scene_kw`` go to :func:`gem_scene` (camera, render, light)."""
     base = {"shape": "emerald", "length": 8.0, "width": 6.0, "material": material, **(obj or {})}
@@ -135,6 +171,41 @@ def axis_panels(material: str, orientations: list[str], *, size: int, wavelength
     out = []
     for name in orientations:
         a = axes[name]
-        sc = gem_scene({**base, "optic_axis": [float(v) for v in a]}, size=size, wavelengths=wavelengths, **scene_kw)
+        sc = gem_scene(
+            {**base, "optic_axis": [float(v) for v in a]}, size=size, wavelengths=wavelengths, **scene_kw
+        )
         out.append(render_panel(name, sc, device))
     return out
+
+
+#: the pleochroism panels (fig. 3, fig. 11 e-g): a long step cut seen from above on the white dome
+TOP_CAMERA = {"position": [0.0, -8.0, 40.0], "look_at": [0.0, 0.0, -0.5], "fov": 24.0}
+LONG_STEP_CUT = {"length": 14.0, "width": 7.0}
+
+
+def pleochroism_rows(
+    material: str, orientations: list[str], scales, *, size: int, wavelengths: int, device=None
+) -> list[list[tuple[str, np.ndarray]]]:
+    """Rows of panels (one row per absorbance scale, one panel per optic-axis orientation) of a
+    long step cut on the dome, printing each panel's colour and its dE00 against the row's first."""
+    rows = []
+    for scale in scales:
+        panels = axis_panels(
+            material,
+            orientations,
+            size=size,
+            wavelengths=wavelengths,
+            device=device,
+            obj={**LONG_STEP_CUT, "absorption_scale": scale},
+            camera=TOP_CAMERA,
+            render={"exposure": 0.0},
+            light={"type": "environment", "map": "dome"},
+        )
+        ref = panels[0]
+        for p in panels:
+            print(
+                f"  absorbance x{scale:g}  axis {p.label:15s} {p.describe()}  dE00 vs {ref.label} "
+                f"{delta_e(p, ref):5.2f}  ({p.seconds:.1f} s)"
+            )
+        rows.append([(f"x{scale:g}: axis {p.label}", p.image.display()) for p in panels])
+    return rows

@@ -21,14 +21,18 @@ import _seed002_panels as sp
 
 def main(argv: list[str] | None = None) -> int:
     args = sp.parser(__doc__, "docs/gallery/seed002_fig11_garnet_depth.png").parse_args(argv)
-    size, wl = sp.sizes(args, 128, 8)
+    size, wl = sp.sizes(args, 160, 16)
     t0 = time.perf_counter()
     panels = []
     for k, depth in ((0, 2), (1, 3), (2, 4), (3, 5), (None, 12)):
         label = f"{k} internal refl." if k is not None else "converged (depth 12)"
-        sc = sp.gem_scene({"shape": "round_brilliant", "diameter": 6.5, "material": "garnet"}, size=size,
-                          wavelengths=wl, render={"max_depth": depth},
-                          camera={"position": [0.0, -22.0, 30.0], "look_at": [0.0, 0.0, -0.3], "fov": 17.0})
+        sc = sp.gem_scene(
+            {"shape": "round_brilliant", "diameter": 6.5, "material": "garnet"},
+            size=size,
+            wavelengths=wl,
+            render={"max_depth": depth},
+            camera={"position": [0.0, -22.0, 30.0], "look_at": [0.0, 0.0, -0.3], "fov": 17.0},
+        )
         panels.append(sp.render_panel(label, sc, args.device))
     full = panels[-1]
     y_full = full.mean_xyz()[1]
@@ -40,8 +44,11 @@ def main(argv: list[str] | None = None) -> int:
         added = (y - prev) / y_full
         print(f"{p.label:22s} {depth:9d} {y:8.4f} {y / y_full:11.3f} {added:+7.3f} {p.seconds:6.1f}s")
         prev = y
-    sp.montage(args.output, [(p.label, p.image.display()) for p in panels],
-               title="garnet: 0, 1, 2, 3 internal reflections and converged (Guy & Soler fig. 11 a-d)")
+    sp.montage(
+        args.output,
+        [(p.label, p.image.display()) for p in panels],
+        title="garnet: 0, 1, 2, 3 internal reflections and converged (Guy & Soler fig. 11 a-d)",
+    )
     print(f"wrote {args.output}  total {time.perf_counter() - t0:.1f} s")
     return 0
 

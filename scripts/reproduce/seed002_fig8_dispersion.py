@@ -19,9 +19,9 @@ from __future__ import annotations
 import sys
 import time
 
+import _seed002_panels as sp
 import numpy as np
 
-import _seed002_panels as sp
 import warpoptics as wo
 
 
@@ -39,27 +39,44 @@ def main(argv: list[str] | None = None) -> int:
     obj = {"shape": "round_brilliant", "diameter": 6.5, "material": args.material}
     cam = {"position": [0.0, -22.0, 30.0], "look_at": [0.0, 0.0, -0.3], "fov": 17.0}
     spec = sp.render_panel("spectral", sp.gem_scene(obj, size=size, wavelengths=wl, camera=cam), args.device)
-    spec2 = sp.render_panel("spectral, seed 1", sp.gem_scene(obj, size=size, wavelengths=wl, camera=cam,
-                                                             render={"seed": 1}), args.device)
-    rgb3 = sp.render_panel("rgb3", sp.gem_scene(obj, size=size, wavelengths=3, camera=cam,
-                                                render={"spectral": "rgb3"}), args.device)
+    spec2 = sp.render_panel(
+        "spectral, seed 1",
+        sp.gem_scene(obj, size=size, wavelengths=wl, camera=cam, render={"seed": 1}),
+        args.device,
+    )
+    rgb3 = sp.render_panel(
+        "rgb3",
+        sp.gem_scene(obj, size=size, wavelengths=3, camera=cam, render={"spectral": "rgb3"}),
+        args.device,
+    )
     m = spec.stone & rgb3.stone
     de = wo.color.delta_e2000
     de_rgb3 = float(de(spec.image.xyz[m], rgb3.image.xyz[m]).mean())
     de_noise = float(de(spec.image.xyz[m], spec2.image.xyz[m]).mean())
     n = wo.materials.get(args.material).n(np.array([430.8, 686.7]))
-    print(f"{args.material} round brilliant 6.5 mm, {size} px; dispersion n(430.8) - n(686.7): "
-          f"o {n[0, 0] - n[1, 0]:.4f}, e {n[0, 1] - n[1, 1]:.4f}")
-    print(f"  spectral ({wl} stratified wavelengths)  {spec.describe()}  chroma {_chroma(spec.image, m):.1f}  "
-          f"({spec.seconds:.1f} s)")
-    print(f"  rgb3 (700, 546.1, 435.8 nm)            {rgb3.describe()}  chroma {_chroma(rgb3.image, m):.1f}  "
-          f"({rgb3.seconds:.1f} s)")
-    print(f"  mean dE00 spectral vs rgb3 over the stone: {de_rgb3:.2f}  "
-          f"(spectral vs spectral with another seed: {de_noise:.2f})")
+    print(
+        f"{args.material} round brilliant 6.5 mm, {size} px; dispersion n(430.8) - n(686.7): "
+        f"o {n[0, 0] - n[1, 0]:.4f}, e {n[0, 1] - n[1, 1]:.4f}"
+    )
+    print(
+        f"  spectral ({wl} stratified wavelengths)  {spec.describe()}  chroma {_chroma(spec.image, m):.1f}  "
+        f"({spec.seconds:.1f} s)"
+    )
+    print(
+        f"  rgb3 (700, 546.1, 435.8 nm)            {rgb3.describe()}  chroma {_chroma(rgb3.image, m):.1f}  "
+        f"({rgb3.seconds:.1f} s)"
+    )
+    print(
+        f"  mean dE00 spectral vs rgb3 over the stone: {de_rgb3:.2f}  "
+        f"(spectral vs spectral with another seed: {de_noise:.2f})"
+    )
     a, b = spec.image.display(), rgb3.image.display()
     diff = np.clip(np.abs(a - b) * 3.0, 0.0, 1.0)
-    sp.montage(args.output, [("spectral", a), ("rgb3", b), ("|difference| x3", diff)],
-               title=f"{args.material}: spectral | three wavelengths (rgb3) | difference (fig. 8)")
+    sp.montage(
+        args.output,
+        [("spectral", a), ("rgb3", b), ("|difference| x3", diff)],
+        title=f"{args.material}: spectral | three wavelengths (rgb3) | difference (fig. 8)",
+    )
     print(f"wrote {args.output}  total {time.perf_counter() - t0:.1f} s")
     return 0
 

@@ -5,7 +5,9 @@ Garnet, tourmaline (dravite), peridot, diamond, sapphire and andalusite, each a 
 indices (green value ± half the dispersion, Cauchy fits) and the absorbances (eq. 9 inverted to
 K^o(λ), K^e(λ) spectra; base-e per mm, see warpoptics.materials.absorption), optic axis along the
 table normal for the uniaxial (and treated-as-uniaxial biaxial) stones, exact o/e transport.
-Prints each stone's mean colour beside the colour names of the paper's table.
+Top row: the absorbances as tabulated; bottom row: x 5 (``absorption_scale``), at which the
+table's colour names become visible.  Prints each stone's mean colour beside the colour names of
+the paper's table.
 
 Usage:
     python scripts/reproduce/seed002_sec61_gems.py [-o docs/gallery/seed002_sec61_gems.png]
@@ -29,21 +31,29 @@ GEMS = [
 ]
 
 
+CAMERA = {"position": [0.0, -22.0, 30.0], "look_at": [0.0, 0.0, -0.3], "fov": 17.0}
+
+
 def main(argv: list[str] | None = None) -> int:
     args = sp.parser(__doc__, "docs/gallery/seed002_sec61_gems.png").parse_args(argv)
     size, wl = sp.sizes(args, 112, 8)
     t0 = time.perf_counter()
-    panels = []
-    for name, _ in GEMS:
-        sc = sp.gem_scene({"shape": "round_brilliant", "diameter": 6.5, "material": name}, size=size,
-                          wavelengths=wl, camera={"position": [0.0, -22.0, 30.0], "look_at": [0.0, 0.0, -0.3],
-                                                  "fov": 17.0})
-        panels.append(sp.render_panel(name, sc, args.device))
+    rows = []
     print(f"Guy & Soler 2004 §6.1 gems, round brilliant 6.5 mm, {size} px, {wl} wavelengths, studio light")
-    for p, (name, paper) in zip(panels, GEMS, strict=True):
-        print(f"  {name:10s} {p.describe()}  paper: {paper}  ({p.seconds:.1f} s)")
-    sp.montage(args.output, [(p.label, p.image.display()) for p in panels],
-               title="Guy & Soler 2004 §6.1: garnet, tourmaline, peridot, diamond, sapphire, andalusite")
+    for scale in (1.0, 5.0):
+        panels = []
+        for name, _ in GEMS:
+            obj = {"shape": "round_brilliant", "diameter": 6.5, "material": name, "absorption_scale": scale}
+            sc = sp.gem_scene(obj, size=size, wavelengths=wl, camera=CAMERA, render={"exposure": 0.0})
+            panels.append(sp.render_panel(name, sc, args.device))
+        for p, (name, paper) in zip(panels, GEMS, strict=True):
+            print(f"  x{scale:g} {name:10s} {p.describe()}  paper: {paper}  ({p.seconds:.1f} s)")
+        rows.append([(f"x{scale:g} {p.label}", p.image.display()) for p in panels])
+    sp.montage(
+        args.output,
+        rows,
+        title="Guy & Soler sec. 6.1 table: absorbance as tabulated (top) and x 5 (bottom)",
+    )
     print(f"wrote {args.output}  total {time.perf_counter() - t0:.1f} s")
     return 0
 
