@@ -103,7 +103,9 @@ def write_image(path, pixels, *, channel_names: Sequence[str] | None = None, dty
     return path
 
 
-def write_exr(path, pixels, channel_names: Sequence[str] | None = None, attributes: dict | None = None) -> Path:
+def write_exr(
+    path, pixels, channel_names: Sequence[str] | None = None, attributes: dict | None = None
+) -> Path:
     """Float32 EXR with named channels (default R, G, B[, A]) and optional header ``attributes``."""
     a = _as_hwc(pixels)
     if channel_names is None:

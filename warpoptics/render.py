@@ -313,7 +313,8 @@ class Renderer:
             # polarized illumination (a polariscope): the sheet faces the camera (views.py)
             from .views import polarizer_world_axis
 
-            self.environment.struct.polarizer = polarizer_world_axis(scene, self.camera, self.source_polarizer)
+            axis = polarizer_world_axis(scene, self.camera, self.source_polarizer)
+            self.environment.struct.polarizer = axis
         self.tables = spectral_tables(self.device)
         self.trace_config = TraceConfig(max_depth=r.max_depth, split_threshold=r.split_threshold,
                                         max_splits=r.max_splits,

@@ -274,7 +274,8 @@ def _view_config(table, file) -> str | None:
     try:
         k, arg = parse_view(kind, angle, field="view.kind")
     except InputError as exc:
-        raise InputError(exc.message, file=file, field=exc.field, value=exc.value, allowed=exc.allowed) from None
+        raise InputError(exc.message, file=file, field=exc.field, value=exc.value,
+                         allowed=exc.allowed) from None
     return None if k == "none" else (k if arg is None else f"{k}:{arg}")
 
 
@@ -337,8 +338,8 @@ class Scene:
             raise InputError("a scene needs at least one [[object]]", file=file, field="object")
         objects = tuple(_object_config(t, i, file, base_dir) for i, t in enumerate(objs_t))
         view = _view_config(data["view"], file) if "view" in data else None
-        return cls(camera=camera, render=render, lights=lights, objects=objects, data=copy.deepcopy(data), path=path,
-                   view=view)
+        return cls(camera=camera, render=render, lights=lights, objects=objects, data=copy.deepcopy(data),
+                   path=path, view=view)
 
     def with_overrides(self, overrides: dict[str, Any] | None = None, **kw) -> Scene:
         """A copy with dotted-path overrides applied, e.g. ``{"render.spp": 4,

@@ -87,9 +87,9 @@ def register(sub) -> None:
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="override any scene value by dotted path, e.g. --set object.0.pavilion_angle=41")
     p.add_argument("--view", metavar="VIEW",
-                   help="polarization view: analyzer:ANGLE (degrees from image right toward up), polariscope "
-                        "(crossed; polariscope:parallel), dichroscope[:ANGLE] (two orthogonal analyzers side by "
-                        "side) or none; default the scene's [view]")
+                   help="polarization view: analyzer:ANGLE (degrees from image right toward up), "
+                        "polariscope (crossed; polariscope:parallel), dichroscope[:ANGLE] (two orthogonal "
+                        "analyzers side by side) or none; default the scene's [view]")
     p.add_argument("--progress", action="store_true", help="show a progress bar even when not on a terminal")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=run)

@@ -156,8 +156,8 @@ class EnvironmentConfig:
         if self.polarizer is not None and not (isinstance(self.polarizer, (int, float))
                                                and not isinstance(self.polarizer, bool)
                                                and math.isfinite(self.polarizer)):
-            raise InputError("must be an angle in degrees or \"none\"", file=self.source, field="light.polarizer",
-                             value=self.polarizer)
+            raise InputError("must be an angle in degrees or \"none\"", file=self.source,
+                             field="light.polarizer", value=self.polarizer)
 
 
 class EnvironmentLight:
