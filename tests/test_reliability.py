@@ -780,7 +780,8 @@ def test_bad_bench_input(path, value, match):
 def test_render_too_large_for_memory_is_refused(monkeypatch):
     need = estimate_render_bytes(100_000, 100_000)
     assert need > 100_000 * 100_000 * 72  # at least the float64 film
-    with pytest.raises(InputError, match=r"about 2570\.5 GiB") as info:
+    # film and image with per-channel Stokes (polarization views): 564 bytes per pixel
+    with pytest.raises(InputError, match=r"about 5252\.7 GiB") as info:
         check_render_memory(100_000, 100_000, available=8 * 2**30, file=FILE)
     assert "100000x100000" in str(info.value) and FILE in str(info.value)
     assert check_render_memory(64, 64, available=8 * 2**30) == estimate_render_bytes(64, 64)

@@ -174,7 +174,8 @@ def test_image_outputs(device, tmp_path):
     exr = img.save(tmp_path / "x.exr")
     pixels, names = wo.image.read_image(exr)
     # EXR keeps channels by name (OpenImageIO lists R, G, B, A first, the rest sorted)
-    assert sorted(names) == sorted(["R", "G", "B", "A", "S0", "S1", "S2", "S3", "X", "Y", "Z"])
+    stokes_xz = [f"stokes_{c}.S{i}" for c in "XZ" for i in range(4)]  # per-channel Stokes (views.py)
+    assert sorted(names) == sorted(["R", "G", "B", "A", "S0", "S1", "S2", "S3", "X", "Y", "Z", *stokes_xz])
     ch = {n: i for i, n in enumerate(names)}
     np.testing.assert_array_equal(pixels[..., ch["Y"]], img.xyz[..., 1].astype(np.float32))
     np.testing.assert_array_equal(pixels[..., ch["S1"]], img.stokes[..., 1].astype(np.float32))

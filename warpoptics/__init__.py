@@ -18,7 +18,7 @@ try:
 except _metadata.PackageNotFoundError:  # running from a source tree without install
     __version__ = "0.0.0+unknown"
 
-from . import color, device, image, materials, metrics, optics, spectra, sweep
+from . import color, device, image, materials, metrics, optics, spectra, sweep, views
 from .bench import BenchScene, bench
 from .errors import InputError
 from .geometry import cuts
@@ -38,6 +38,7 @@ __all__ = [
     "spectra",
     "sweep",
     "thinfilm",
+    "views",
     "InputError",
     "BenchScene",
     "bench",

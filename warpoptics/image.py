@@ -49,11 +49,13 @@ def _as_hwc(pixels) -> np.ndarray:
     return a
 
 
-def write_image(path, pixels, *, channel_names: Sequence[str] | None = None, dtype: str | None = None) -> Path:
+def write_image(path, pixels, *, channel_names: Sequence[str] | None = None, dtype: str | None = None,
+                attributes: dict | None = None) -> Path:
     """Write ``pixels`` (height, width, channels) atomically; the format follows the extension.
 
     ``dtype`` is an OpenImageIO type name ("float", "half", "uint8", "uint16"); default "float"
     for EXR/HDR, "uint8" otherwise.  Floats for 8/16-bit formats are taken as [0, 1].
+    ``attributes``: extra metadata (name -> str/int/float) stored in the file header.
     """
     import OpenImageIO as oiio
 
@@ -85,6 +87,8 @@ def write_image(path, pixels, *, channel_names: Sequence[str] | None = None, dty
 
         stamp = time.strftime("%Y:%m:%d %H:%M:%S", time.gmtime(int(epoch)))
     spec.attribute("DateTime", stamp)
+    for key, value in (attributes or {}).items():
+        spec.attribute(key, value)
     with atomic_path(path) as tmp:
         out = oiio.ImageOutput.create(tmp)
         if out is None:
@@ -99,12 +103,14 @@ def write_image(path, pixels, *, channel_names: Sequence[str] | None = None, dty
     return path
 
 
-def write_exr(path, pixels, channel_names: Sequence[str] | None = None) -> Path:
-    """Float32 EXR with named channels (default R, G, B[, A])."""
+def write_exr(
+    path, pixels, channel_names: Sequence[str] | None = None, attributes: dict | None = None
+) -> Path:
+    """Float32 EXR with named channels (default R, G, B[, A]) and optional header ``attributes``."""
     a = _as_hwc(pixels)
     if channel_names is None:
         channel_names = ("R", "G", "B", "A")[: a.shape[2]] if a.shape[2] <= 4 else None
-    return write_image(path, a, channel_names=channel_names, dtype="float")
+    return write_image(path, a, channel_names=channel_names, dtype="float", attributes=attributes)
 
 
 def write_png(path, rgb) -> Path:

@@ -63,6 +63,7 @@ def _render_pixels(
     stokes_out: wp.array(dtype=wp.vec4d),
     alpha_out: wp.array(dtype=wp.float64),
     rays_out: wp.array(dtype=wp.int64),
+    stokes_xyz_out: wp.array2d(dtype=wp.vec4d),  # per-channel Stokes (pixel, X|Y|Z) for polarization views
 ):
     pix = base + wp.tid() + offset
     px = pix % film.width
@@ -74,6 +75,8 @@ def _render_pixels(
     rng_trace = wp.rand_init(film.seed * 1000003 + film.pass_index, pix + n_pix)
     xyz = wp.vec3d(0.0, 0.0, 0.0)
     stokes = wp.vec4d(0.0, 0.0, 0.0, 0.0)
+    stokes_x = wp.vec4d(0.0, 0.0, 0.0, 0.0)  # X- and Z-weighted Stokes (the Y one is `stokes`)
+    stokes_z = wp.vec4d(0.0, 0.0, 0.0, 0.0)
     hits = float(0.0)
     rays = int(0)
     total = film.spp * film.count
@@ -93,13 +96,17 @@ def _render_pixels(
         lu = wp.randf(rng)
         lv = wp.randf(rng)
         o, d, b = camera_ray(cam, float(px) + jx, float(py) + jy, lu, lv)
-        coh, xyz_k, hit, nr, rng_trace = trace_radiance(
+        coh_x, coh, coh_z, hit, nr, rng_trace = trace_radiance(
             tp, geom, mats, env, tables, polarized, o, d, b, wl, w, film.strata,
             film.strategy, u, stratum, rng_trace
         )
         s = stokes_from_coherency(coh)
-        xyz += wp.vec3d(wp.float64(xyz_k[0]), wp.float64(xyz_k[1]), wp.float64(xyz_k[2]))
+        sx = stokes_from_coherency(coh_x)
+        sz = stokes_from_coherency(coh_z)
+        xyz += wp.vec3d(wp.float64(sx[0]), wp.float64(s[0]), wp.float64(sz[0]))
         stokes += wp.vec4d(wp.float64(s[0]), wp.float64(s[1]), wp.float64(s[2]), wp.float64(s[3]))
+        stokes_x += wp.vec4d(wp.float64(sx[0]), wp.float64(sx[1]), wp.float64(sx[2]), wp.float64(sx[3]))
+        stokes_z += wp.vec4d(wp.float64(sz[0]), wp.float64(sz[1]), wp.float64(sz[2]), wp.float64(sz[3]))
         hits += float(hit)
         rays += nr
     # a trace at one wavelength estimates XYZ / count (its weight has 1/count); one with strata the whole
@@ -110,6 +117,9 @@ def _render_pixels(
     stokes_out[pix] = stokes_out[pix] + stokes * inv
     alpha_out[pix] = alpha_out[pix] + wp.float64(hits / float(total))
     rays_out[pix] = rays_out[pix] + wp.int64(rays)
+    stokes_xyz_out[pix, 0] = stokes_xyz_out[pix, 0] + stokes_x * inv
+    stokes_xyz_out[pix, 1] = stokes_xyz_out[pix, 1] + stokes * inv
+    stokes_xyz_out[pix, 2] = stokes_xyz_out[pix, 2] + stokes_z * inv
 
 
 @dataclass
@@ -117,7 +127,10 @@ class Image:
     """A rendered image.  ``xyz`` (H, W, 3) CIE XYZ (Y = 1 is the luminance of a white at the
     illuminant's level); ``stokes`` (H, W, 4) Y-weighted Stokes vector S0..S3 in the camera frame
     (x = image right, y = image up; S0 = Y); ``alpha`` (H, W) fraction of samples whose primary ray
-    hit an object."""
+    hit an object; ``stokes_xyz`` (H, W, 3, 4) the Stokes vector of each of X, Y, Z (its [..., c, 0]
+    is ``xyz[..., c]``, its Y row is ``stokes``), for the polarization views (:mod:`warpoptics.views`,
+    :meth:`view`); ``source_polarizer`` the angle (degrees, from image right toward image up) of the
+    polarizer in front of the light when the image was rendered with polarized light, else None."""
 
     xyz: np.ndarray
     stokes: np.ndarray
@@ -125,6 +138,25 @@ class Image:
     exposure: float = 0.0
     tone: str = "filmic"
     stats: dict = field(default_factory=dict)
+    stokes_xyz: np.ndarray | None = None
+    source_polarizer: float | None = None
+
+    def view(self, kind: str, angle: float | None = None) -> Image:
+        """A polarization view of this image (no re-render): ``"analyzer"`` (an ideal linear
+        analyzer at ``angle`` degrees), ``"polariscope"`` (analyzer crossed with the light's
+        polarizer; ``"polariscope:parallel"`` for parallel), ``"dichroscope"`` (analyzer at
+        ``angle`` and ``angle + 90`` side by side) or ``"none"``; ``kind`` may carry the angle
+        (``"analyzer:30"``).  See :mod:`warpoptics.views`."""
+        from .views import apply_view
+
+        return apply_view(self, kind, angle)
+
+    @classmethod
+    def load(cls, path: str | Path) -> Image:
+        """Read an EXR written by :meth:`save` (XYZ, A, the Stokes layers, the light's polarizer)."""
+        from .views import load_exr
+
+        return load_exr(path)
 
     @property
     def rgb(self) -> np.ndarray:
@@ -138,7 +170,9 @@ class Image:
         return color.encode_srgb(mapped)
 
     def save(self, path: str | Path) -> Path:
-        """EXR: R, G, B (linear sRGB), A, S0..S3 and X, Y, Z layers; PNG/JPEG/TIFF: tone mapped."""
+        """EXR: R, G, B (linear sRGB), A, S0..S3 (the Y-weighted Stokes vector) and X, Y, Z layers, and
+        with per-channel Stokes also ``stokes_X.S0..S3`` and ``stokes_Z.S0..S3`` (the Y ones are
+        S0..S3); PNG/JPEG/TIFF: tone mapped."""
         from .image import write_exr, write_png
 
         p = Path(path)
@@ -146,7 +180,14 @@ class Image:
         if ext == ".exr":
             data = np.concatenate([self.rgb, self.alpha[..., None], self.stokes, self.xyz], axis=-1)
             names = ["R", "G", "B", "A", "S0", "S1", "S2", "S3", "X", "Y", "Z"]
-            return write_exr(p, data.astype(np.float32), names)
+            attributes = None
+            if self.stokes_xyz is not None:
+                from .views import exr_stokes_layers
+
+                extra, extra_names, attributes = exr_stokes_layers(self)
+                data = np.concatenate([data, extra], axis=-1)
+                names += extra_names
+            return write_exr(p, data.astype(np.float32), names, attributes=attributes)
         if ext in (".png", ".jpg", ".jpeg", ".tif", ".tiff"):
             return write_png(p, self.display())
         raise InputError("unsupported image format", field="output", value=str(path), allowed=".exr, .png, .jpg, .tif")
@@ -208,10 +249,11 @@ def _world_axes(scene: Scene, mats, axes) -> np.ndarray:
     return out
 
 
-# bytes per pixel: the float64 film (xyz 24 + stokes 32 + alpha 8 + ray count 8) and, when the image
-# is read back and saved, its NumPy copies and the EXR buffer (11 channels float64 + float32)
-FILM_BYTES_PER_PIXEL = 24 + 32 + 8 + 8
-OUTPUT_BYTES_PER_PIXEL = FILM_BYTES_PER_PIXEL + 11 * 8 + 11 * 4
+# bytes per pixel: the float64 film (xyz 24 + stokes 32 + alpha 8 + ray count 8 + per-channel stokes
+# 3 x 32) and, when the image is read back and saved, its NumPy copies and the EXR buffer
+# (19 channels float64 + float32)
+FILM_BYTES_PER_PIXEL = 24 + 32 + 8 + 8 + 96
+OUTPUT_BYTES_PER_PIXEL = FILM_BYTES_PER_PIXEL + 19 * 8 + 19 * 4
 
 
 def estimate_render_bytes(width: int, height: int) -> int:
@@ -286,6 +328,13 @@ class Renderer:
         films = build_film_surfaces(scene, meshes, mats, device=self.device)
         self.camera = Camera(scene.camera)
         self.environment = EnvironmentLight(scene.lights[0], self.device)
+        self.source_polarizer = scene.lights[0].polarizer
+        if self.source_polarizer is not None:
+            # polarized illumination (a polariscope): the sheet faces the camera (views.py)
+            from .views import polarizer_world_axis
+
+            axis = polarizer_world_axis(scene, self.camera, self.source_polarizer)
+            self.environment.struct.polarizer = axis
         self.tables = spectral_tables(self.device)
         self.trace_config = TraceConfig(max_depth=r.max_depth, split_threshold=r.split_threshold,
                                         max_splits=r.max_splits,
@@ -322,12 +371,13 @@ class Renderer:
         self.stokes = wp.zeros(n, dtype=wp.vec4d, device=self.device)
         self.alpha = wp.zeros(n, dtype=wp.float64, device=self.device)
         self.rays = wp.zeros(n, dtype=wp.int64, device=self.device)
+        self.stokes_xyz = wp.zeros((n, 3), dtype=wp.vec4d, device=self.device)
 
     def run(self, *, progress: bool = False, threads: int | None = None, tile_size: int | None = None,
             rows_per_chunk: int | None = None) -> Image:
         f = self.film
         load_module(_render_pixels, self.device)  # compile (first run) outside the timed region
-        for arr in (self.xyz, self.stokes, self.alpha, self.rays):
+        for arr in (self.xyz, self.stokes, self.alpha, self.rays, self.stokes_xyz):
             arr.zero_()
         if rows_per_chunk is None:
             rows_per_chunk = max(1, min(f.height, 16384 // max(f.width, 1)))
@@ -341,7 +391,7 @@ class Renderer:
         polarized = 1 if self.trace_config.polarized else 0
         inputs_static = [self.camera.params, f, self.trace_params, self.geometry.geometry, self.materials,
                          self.environment.struct, self.tables, polarized,
-                         self.xyz, self.stokes, self.alpha, self.rays]
+                         self.xyz, self.stokes, self.alpha, self.rays, self.stokes_xyz]
         try:
             for row0 in chunks:
                 rows = min(rows_per_chunk, f.height - row0)
@@ -358,13 +408,15 @@ class Renderer:
         stokes = self.stokes.numpy().reshape(h, w, 4)
         alpha = self.alpha.numpy().reshape(h, w)
         rays = int(self.rays.numpy().sum())
+        stokes_xyz = self.stokes_xyz.numpy().reshape(h, w, 3, 4)
         if not (np.isfinite(xyz).all() and np.isfinite(stokes).all()):
             bad = int((~np.isfinite(xyz)).any(axis=-1).sum())
             raise FloatingPointError(f"{bad} pixels are not finite: this is a bug, please report the scene")
         stats = {"seconds": elapsed, "rays": rays, "rays_per_second": rays / elapsed if elapsed > 0 else math.inf,
                  "width": w, "height": h}
         r = self.scene.render
-        return Image(xyz=xyz, stokes=stokes, alpha=alpha, exposure=r.exposure, tone=r.tone, stats=stats)
+        return Image(xyz=xyz, stokes=stokes, alpha=alpha, exposure=r.exposure, tone=r.tone, stats=stats,
+                     stokes_xyz=stokes_xyz, source_polarizer=self.source_polarizer)
 
 
 def render(scene: Scene | str | Path, *, device=None, progress: bool = False, threads: int | None = None,

@@ -227,7 +227,7 @@ def _object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfi
     return ObjectConfig(**kw)
 
 
-_LIGHT_KEYS = {"type", "map", "intensity", "tint", "rotation"}
+_LIGHT_KEYS = {"type", "map", "intensity", "tint", "rotation", "polarizer"}
 
 
 def _light_config(table: dict, index: int, file, base_dir: Path | None = None) -> EnvironmentConfig:
@@ -256,11 +256,36 @@ def _light_config(table: dict, index: int, file, base_dir: Path | None = None) -
             raise InputError("must be >= 0", file=file, field=prefix + "tint", value=list(kw["tint"]))
     if "rotation" in table:
         kw["rotation_deg"] = float(_number(table["rotation"], file=file, field_name=prefix + "rotation"))
+    if "polarizer" in table and table["polarizer"] != "none":
+        # an ideal linear polarizer in front of the light (polariscope), degrees on the image
+        kw["polarizer"] = float(_number(table["polarizer"], file=file, field_name=prefix + "polarizer"))
     return EnvironmentConfig(**kw)
 
 
+_VIEW_KEYS = {"kind", "angle"}
+
+
+def _view_config(table, file) -> str | None:
+    """``[view]``: the polarization view the CLI applies (``warpoptics.views``), as a spec string."""
+    from .views import parse_view
+
+    if not isinstance(table, dict):
+        raise InputError("must be a table [view]", file=file, field="view", value=table)
+    _check_keys(table, _VIEW_KEYS, file=file, prefix="view.")
+    kind = table.get("kind", "none")
+    angle = table.get("angle")
+    if angle is not None:
+        angle = float(_number(angle, file=file, field_name="view.angle"))
+    try:
+        k, arg = parse_view(kind, angle, field="view.kind")
+    except InputError as exc:
+        raise InputError(exc.message, file=file, field=exc.field, value=exc.value,
+                         allowed=exc.allowed) from None
+    return None if k == "none" else (k if arg is None else f"{k}:{arg}")
+
+
 _CAMERA_KEYS = set(CameraConfig.__dataclass_fields__) - {"source"}
-_TOP_KEYS = {"camera", "render", "light", "object"}
+_TOP_KEYS = {"camera", "render", "light", "object", "view"}
 
 
 @dataclass(frozen=True)
@@ -273,6 +298,7 @@ class Scene:
     objects: tuple[ObjectConfig, ...]
     data: dict = field(repr=False, compare=False, default_factory=dict)
     path: str | None = None
+    view: str | None = None  # [view]: polarization view spec for the CLI ("polariscope", "analyzer:30")
 
     @classmethod
     def load(cls, path: str | Path) -> Scene:
@@ -316,7 +342,9 @@ class Scene:
         if not isinstance(objs_t, list) or not objs_t:
             raise InputError("a scene needs at least one [[object]]", file=file, field="object")
         objects = tuple(_object_config(t, i, file, base_dir) for i, t in enumerate(objs_t))
-        return cls(camera=camera, render=render, lights=lights, objects=objects, data=copy.deepcopy(data), path=path)
+        view = _view_config(data["view"], file) if "view" in data else None
+        return cls(camera=camera, render=render, lights=lights, objects=objects, data=copy.deepcopy(data),
+                   path=path, view=view)
 
     def with_overrides(self, overrides: dict[str, Any] | None = None, **kw) -> Scene:
         """A copy with dotted-path overrides applied, e.g. ``{"render.spp": 4,

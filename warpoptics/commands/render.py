@@ -55,8 +55,19 @@ def run(args) -> int:
     _check_writable(out)
     if overrides or kw:
         scene = scene.with_overrides(overrides, **kw)
+    view = args.view if args.view is not None else scene.view
+    if view is not None:
+        # check the view (and that the light is polarized for a polariscope) before rendering
+        from ..views import parse_view
+
+        kind, _ = parse_view(view)
+        if kind == "polariscope" and scene.lights[0].polarizer is None:
+            raise InputError("a polariscope view needs polarized light", field="--view", value=view,
+                             allowed="--set light.0.polarizer=ANGLE (degrees)")
     renderer = Renderer(scene, device=args.device)
     image = renderer.run(progress=not args.quiet and sys.stderr.isatty() or args.progress)
+    if view is not None:
+        image = image.view(view)
     image.save(out)
     s = image.stats
     print(
@@ -75,6 +86,10 @@ def register(sub) -> None:
     p.add_argument("--spp", type=int, help="override render.spp")
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="override any scene value by dotted path, e.g. --set object.0.pavilion_angle=41")
+    p.add_argument("--view", metavar="VIEW",
+                   help="polarization view: analyzer:ANGLE (degrees from image right toward up), "
+                        "polariscope (crossed; polariscope:parallel), dichroscope[:ANGLE] (two orthogonal "
+                        "analyzers side by side) or none; default the scene's [view]")
     p.add_argument("--progress", action="store_true", help="show a progress bar even when not on a terminal")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=run)

@@ -5,7 +5,7 @@ called per ray by the renderer's kernels; the NumPy wrappers re-exported here la
 those functions.
 """
 
-from . import birefringence, complex, jones  # noqa: F401
+from . import birefringence, complex, jones, polarizer  # noqa: F401
 from .birefringence import (
     GeneralizedFresnelResult,
     attenuation,
@@ -28,11 +28,13 @@ from .jones import (
     stokes,
     transport_bases,
 )
+from .polarizer import analyze, mueller_polarizer, sheet_polarizer_stokes
 
 __all__ = [
     "birefringence",
     "complex",
     "jones",
+    "polarizer",
     # Fresnel (isotropic)
     "fresnel",
     "fresnel_power",
@@ -47,6 +49,10 @@ __all__ = [
     "frame_change_matrix",
     "s_vectors",
     "transport_bases",
+    # ideal linear polarizers (Mueller matrix, sheet polarizer)
+    "mueller_polarizer",
+    "analyze",
+    "sheet_polarizer_stokes",
     # uniaxial crystals
     "extraordinary_index",
     "refract_extraordinary",

@@ -47,6 +47,10 @@ class Environment:
     texture: wp.array2d(dtype=wp.vec3f)  # lat-long map (height, width), linear sRGB
     width: int
     height: int
+    # polarized illumination (polariscope): absorbing axis (world, unit) of an ideal sheet
+    # polarizer every environment ray passes (optics.polarizer.sheet_polarizer_coherency);
+    # zero: unpolarized.  Set by the Renderer from ``EnvironmentConfig.polarizer`` and the camera.
+    polarizer: wp.vec3f
 
 
 @wp.func
@@ -161,6 +165,9 @@ class EnvironmentConfig:
     intensity: float = 1.0
     tint: tuple[float, float, float] = (1.0, 1.0, 1.0)
     rotation_deg: float = 0.0  # rotation of the map about z
+    # an ideal linear polarizer facing the camera in front of the light: transmission axis in
+    # degrees from image right toward image up (None: unpolarized light); see optics.polarizer
+    polarizer: float | None = None
     source: str | None = field(default=None, compare=False)  # scene file, for messages
 
     def __post_init__(self):
@@ -170,6 +177,11 @@ class EnvironmentConfig:
         if len(self.tint) != 3 or not all(math.isfinite(c) and c >= 0 for c in self.tint):
             raise InputError("must be three finite numbers >= 0", file=self.source, field="light.tint",
                              value=self.tint)
+        if self.polarizer is not None and not (isinstance(self.polarizer, (int, float))
+                                               and not isinstance(self.polarizer, bool)
+                                               and math.isfinite(self.polarizer)):
+            raise InputError("must be an angle in degrees or \"none\"", file=self.source,
+                             field="light.polarizer", value=self.polarizer)
 
 
 class EnvironmentLight:
@@ -194,6 +206,7 @@ class EnvironmentLight:
         env.rotation = wp.mat33f(c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0)
         env.texture = wp.array(tex, dtype=wp.vec3f, device=self.device)
         env.height, env.width = tex.shape[0], tex.shape[1]
+        env.polarizer = wp.vec3f(0.0, 0.0, 0.0)  # unpolarized (the Renderer sets a polarizer)
         self.struct = env
         self.texture = tex
 

@@ -65,6 +65,7 @@ from ..optics.jones import (
     jones_zero,
     s_vector,
 )
+from ..optics.polarizer import sheet_polarizer_coherency
 from ..spectra import STRATEGY_STRATIFIED, SpectralTables, sample_wavelength
 from .branches import (
     _B,
@@ -499,8 +500,9 @@ def trace_radiance(
     channel: int,
     rng: wp.uint32,
 ):
-    """The light arriving along a primary ray: (Y-weighted coherency matrix J in the camera frame,
-    XYZ, hit_any, rays_traced, rng).
+    """The light arriving along a primary ray: (coherency matrices J_X, J_Y, J_Z in the camera
+    frame — the X-, Y- and Z-weighted light, so tr(J_Y) = Y and the Stokes vector of J_Y is the
+    Y-weighted one — hit_any, rays_traced, rng).
 
     One wavelength (nm) with XYZ sample ``weight`` (``strata == 0``), or ``strata`` wavelengths
     weighted at every leaf (non-dispersive scenes, see :func:`_spectral_response`)."""
@@ -508,9 +510,10 @@ def trace_radiance(
     st = _write_row(st, 0, origin, direction, basis_x, jones_identity(), 1.0, -1, 0, -1, -direction)
     n = int(1)
     cand = _Cand()
-    acc = jones_zero()
-    acc_scalar = float(0.0)
-    acc_xyz = wp.vec3f(0.0, 0.0, 0.0)
+    acc_x = jones_zero()
+    acc_y = jones_zero()
+    acc_z = jones_zero()
+    scalar_xyz = wp.vec3f(0.0, 0.0, 0.0)
     response = _spectral_response(env, tables, wavelength, weight, strata, strategy, u_strata)
     hit_any = int(0)
     rays = int(0)
@@ -539,11 +542,14 @@ def trace_radiance(
             if inside < 0:
                 xyz = response * environment_coefficients(env, d)
                 if polarized != 0:
-                    acc = jones_add(acc, coherency_transform(m, coherency_unpolarized(w * xyz[1])))
-                    acc_xyz += xyz * _energy(m, w)
+                    # polarized illumination hook (polariscope): the light behind env.polarizer
+                    # (zero axis: unpolarized, coherency_unpolarized); frame (bx, k x bx), k = -d
+                    k_unit = coherency_transform(m, sheet_polarizer_coherency(env.polarizer, -d, bx, w))
+                    acc_x = jones_add(acc_x, jones_scale(k_unit, xyz[0]))
+                    acc_y = jones_add(acc_y, jones_scale(k_unit, xyz[1]))
+                    acc_z = jones_add(acc_z, jones_scale(k_unit, xyz[2]))
                 else:
-                    acc_scalar += w * xyz[1]
-                    acc_xyz += xyz * w
+                    scalar_xyz += xyz * w
             # a segment inside a solid that finds no exit leaked through a crack: dropped
             continue
         if depth == 0:
@@ -629,8 +635,10 @@ def trace_radiance(
             st[n, _W] = st[n, _W] * scale
             n += 1
     if polarized == 0:
-        acc = coherency_unpolarized(acc_scalar)
-    return acc, acc_xyz, hit_any, rays, rng
+        acc_x = coherency_unpolarized(scalar_xyz[0])
+        acc_y = coherency_unpolarized(scalar_xyz[1])
+        acc_z = coherency_unpolarized(scalar_xyz[2])
+    return acc_x, acc_y, acc_z, hit_any, rays, rng
 
 
 def default_params(objects_material: np.ndarray, absorption_scale: np.ndarray, object_axis: np.ndarray, *,

@@ -1,0 +1,227 @@
+"""Polarization views of a rendered image, computed from its per-channel Stokes image (no re-render).
+
+A render keeps, per pixel, the Stokes vector of each of X, Y and Z in the camera frame
+(``Image.stokes_xyz``, x = image right, y = image up).  Every view here is an ideal optical
+element put between the image and the eye, applied with the Mueller matrix of
+:func:`warpoptics.optics.polarizer.mueller_linear_polarizer` (one place) to each channel; the
+result is again an :class:`~warpoptics.render.Image` (XYZ = S0 of each channel behind the
+element), so views compose and save like renders.
+
+- ``analyzer`` (angle θ): an ideal linear polarizer with its transmission axis at θ degrees from
+  image right toward image up (counter-clockwise on the image).  Unpolarized light loses half.
+- ``polariscope``: crossed polarizers.  The *illumination* must be polarized: a render with
+  ``[[light]] polarizer = θp`` (an ideal sheet polarizer in front of the environment, facing the
+  camera; :func:`warpoptics.optics.polarizer.sheet_polarizer_coherency` at each path's light
+  end, so each path's Jones matrix M carries the polarized source as ``M ρ_in M†``).  The view
+  is the analyzer at θp + 90° (``polariscope:parallel``: at θp).  With nothing in view the
+  crossed field is black; an isotropic stone stays nearly dark (only the Fresnel/TIR phase
+  changes at oblique facets turn the polarization); a birefringent stone lights up except where
+  its optic axis lies along a polarizer direction or toward the eye.
+- ``dichroscope`` (angle θ, default 0): the analyzer at θ and at θ + 90° side by side (left,
+  right), as the calcite rhomb of a gemologist's dichroscope shows two orthogonally polarized
+  images of the same window: a pleochroic stone shows two colours.
+
+Why a render-time source polarizer and not a Mueller film: the film would have to accumulate a
+4x4 Mueller matrix per pixel and channel (48 float64, 16x the Stokes film) in a source frame
+shared by all paths, and the trace leaf would evaluate four source states; the analyzer side is
+free after the render anyway, and by linearity three renders (source polarizer at 0°, 45°, 90°)
+give the response to any linear source polarization if ever needed.  A source polarized at 45°
+to a stone's optic axis feeds its o- and e-waves equally, like unpolarized light, so a plate's
+dichroscope shows the same two colours as with unpolarized light at half the brightness; in a
+faceted stone the facets mix o and e (the tourmaline of scenes/tourmaline_polariscope.toml:
+window colours within dE00 3.4 and 0.7, brightness 0.33 and 0.60 of the unpolarized render), so
+use unpolarized light for a dichroscope.
+
+References:
+    D. Goldstein, *Polarized Light*, 2nd ed. (2003), §5.3 (Mueller matrices).  R. Webster,
+    *Gems*, 5th ed. (1994), ch. 34 (polariscope, dichroscope).  S. Guy, C. Soler, ACM TOG 23(3)
+    2004, §3.2 (pleochroism), eq. 12 (coherency along a path).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .errors import InputError
+from .optics.polarizer import analyze, sheet_absorbing_axis
+
+__all__ = [
+    "VIEW_KINDS",
+    "parse_view",
+    "apply_view",
+    "analyzer",
+    "polariscope",
+    "dichroscope",
+    "load_exr",
+    "exr_stokes_layers",
+    "polarizer_world_axis",
+]
+
+VIEW_KINDS = ("none", "analyzer", "polariscope", "dichroscope")
+_SOURCE_ATTR = "warpoptics:source_polarizer"
+
+
+def parse_view(
+    spec: str, angle: float | None = None, *, field: str = "--view"
+) -> tuple[str, float | str | None]:
+    """``"analyzer:30"`` -> ("analyzer", 30.0); ``"polariscope"`` / ``"polariscope:parallel"``;
+    ``"dichroscope[:angle]"``; ``"none"``.  ``angle`` (degrees) is used when the spec has none."""
+    if not isinstance(spec, str) or not spec.strip():
+        raise InputError("must be a view name", field=field, value=spec, allowed=", ".join(VIEW_KINDS))
+    kind, _, arg = spec.strip().partition(":")
+    kind = kind.strip().lower()
+    if kind not in VIEW_KINDS:
+        raise InputError("unknown view", field=field, value=spec,
+                         allowed="none, analyzer:ANGLE, polariscope[:parallel], dichroscope[:ANGLE]")
+    arg = arg.strip()
+    if kind == "polariscope":
+        if arg not in ("", "crossed", "parallel"):
+            raise InputError("unknown polariscope setting", field=field, value=spec,
+                             allowed="crossed, parallel")
+        return kind, arg or "crossed"
+    if kind == "none":
+        return kind, None
+    value = angle
+    if arg:
+        try:
+            value = float(arg)
+        except ValueError:
+            raise InputError("the angle must be a number of degrees", field=field, value=spec) from None
+    if kind == "analyzer" and value is None:
+        raise InputError("the analyzer needs an angle, e.g. analyzer:30 (degrees)", field=field, value=spec)
+    if value is not None and not math.isfinite(value):
+        raise InputError("the angle must be finite", field=field, value=spec)
+    return kind, (0.0 if value is None else float(value))
+
+
+def _stokes_xyz(image) -> np.ndarray:
+    if image.stokes_xyz is None:
+        raise InputError("this image has no per-channel Stokes vectors (render it with warpoptics.render, or "
+                         "load an EXR written by Image.save)", field="view")
+    return np.asarray(image.stokes_xyz, dtype=np.float64)
+
+
+def _from_stokes(image, s_xyz: np.ndarray, alpha: np.ndarray, view: str):
+    stats = dict(image.stats)
+    stats["view"] = view
+    return dataclasses.replace(
+        image, xyz=np.ascontiguousarray(s_xyz[..., 0]), stokes=np.ascontiguousarray(s_xyz[..., 1, :]),
+        alpha=alpha, stokes_xyz=s_xyz, stats=stats,
+    )
+
+
+def analyzer(image, angle: float, *, device=None):
+    """The image seen through an ideal linear analyzer at ``angle`` degrees (from image right
+    toward image up): XYZ = S0 of each channel after the polarizer's Mueller matrix."""
+    s = analyze(_stokes_xyz(image), float(angle), device=device)
+    return _from_stokes(image, s, image.alpha, f"analyzer:{float(angle):g}")
+
+
+def polariscope(image, *, parallel: bool = False, device=None):
+    """Crossed (or ``parallel``) polarizers: the analyzer at the light's polarizer angle + 90°
+    (+ 0°).  Needs an image rendered with polarized light (``[[light]] polarizer = angle``)."""
+    if image.source_polarizer is None:
+        raise InputError("a polariscope view needs polarized light: render with [[light]] polarizer = ANGLE "
+                         "(degrees), e.g. --set light.0.polarizer=45", field="view", value="polariscope")
+    out = analyzer(image, image.source_polarizer + (0.0 if parallel else 90.0), device=device)
+    out.stats["view"] = "polariscope:" + ("parallel" if parallel else "crossed")
+    return out
+
+
+def dichroscope(image, angle: float = 0.0, *, gap: int | None = None, device=None):
+    """Two images side by side: the analyzer at ``angle`` (left) and ``angle + 90`` (right),
+    separated by ``gap`` black pixels (default width/40, at least 2)."""
+    s = _stokes_xyz(image)
+    h, w = s.shape[:2]
+    g = max(2, w // 40) if gap is None else int(gap)
+    if g < 0:
+        raise InputError("must be >= 0", field="gap", value=gap)
+    left = analyze(s, float(angle), device=device)
+    right = analyze(s, float(angle) + 90.0, device=device)
+    pad = np.zeros((h, g, 3, 4))
+    s_out = np.concatenate([left, pad, right], axis=1)
+    alpha = np.concatenate([image.alpha, np.zeros((h, g)), image.alpha], axis=1)
+    return _from_stokes(image, s_out, alpha, f"dichroscope:{float(angle):g}")
+
+
+def apply_view(image, kind: str | None, angle: float | None = None, *, device=None):
+    """Apply a view by name (``"analyzer:30"``, ``"polariscope"``, ``"dichroscope"``, ``"none"``)."""
+    if kind is None:
+        return image
+    k, arg = parse_view(kind, angle)
+    if k == "none":
+        return image
+    if k == "analyzer":
+        return analyzer(image, arg, device=device)
+    if k == "polariscope":
+        return polariscope(image, parallel=arg == "parallel", device=device)
+    return dichroscope(image, arg, device=device)
+
+
+# ----------------------------------------------------------------------------------------------
+# renderer and file hooks
+
+
+def polarizer_world_axis(scene, camera, angle_deg: float):
+    """The absorbing axis (world, ``wp.vec3f``) of the light's sheet polarizer for a scene: the
+    sheet faces the camera, its transmission axis at ``angle_deg`` on the image.  Polarized light
+    needs the polarized (Jones) renderer."""
+    import warp as wp
+
+    if not scene.render.polarization:
+        raise InputError("polarized light needs render.polarization = true", file=scene.path,
+                         field="light.0.polarizer", value=angle_deg)
+    p = camera.params
+    a = sheet_absorbing_axis(np.array(p.right, dtype=np.float64), np.array(p.up, dtype=np.float64), angle_deg)
+    return wp.vec3f(*a.astype(np.float32))
+
+
+def exr_stokes_layers(image) -> tuple[np.ndarray, list[str], dict]:
+    """Extra EXR channels of :meth:`Image.save`: ``stokes_X.S0..S3``, ``stokes_Z.S0..S3`` (the Y
+    vector is the file's S0..S3) and the header attribute of the light's polarizer angle."""
+    s = _stokes_xyz(image)
+    data = np.concatenate([s[..., 0, :], s[..., 2, :]], axis=-1)
+    names = [f"stokes_{c}.S{i}" for c in "XZ" for i in range(4)]
+    attrs = {} if image.source_polarizer is None else {_SOURCE_ATTR: float(image.source_polarizer)}
+    return data, names, attrs
+
+
+def load_exr(path: str | Path):
+    """An :class:`~warpoptics.render.Image` from an EXR written by ``Image.save`` (float32 data)."""
+    import OpenImageIO as oiio
+
+    from .image import read_image
+    from .render import Image
+
+    pixels, names = read_image(path)
+    idx = {n: i for i, n in enumerate(names)}
+    need = ["X", "Y", "Z", "S0", "S1", "S2", "S3"]
+    missing = [n for n in need if n not in idx]
+    if missing:
+        raise InputError(f"not a warpoptics render (missing channels {', '.join(missing)})", file=str(path))
+
+    def ch(*keys):
+        return np.stack([pixels[..., idx[k]] for k in keys], axis=-1).astype(np.float64)
+
+    xyz = ch("X", "Y", "Z")
+    stokes = ch("S0", "S1", "S2", "S3")
+    alpha = pixels[..., idx["A"]].astype(np.float64) if "A" in idx else np.ones(xyz.shape[:2])
+    stokes_xyz = None
+    layer = [f"stokes_{c}.S{i}" for c in "XZ" for i in range(4)]
+    if all(n in idx for n in layer):
+        sx = ch(*layer[:4])
+        sz = ch(*layer[4:])
+        stokes_xyz = np.stack([sx, stokes, sz], axis=-2)
+    source = None
+    inp = oiio.ImageInput.open(str(path))
+    if inp is not None:
+        try:
+            v = inp.spec().getattribute(_SOURCE_ATTR)
+            source = None if v is None else float(v)
+        finally:
+            inp.close()
+    return Image(xyz=xyz, stokes=stokes, alpha=alpha, stokes_xyz=stokes_xyz, source_polarizer=source)
