@@ -29,6 +29,7 @@ from .scene import Scene
 from .spectra import SpectralTables, sample_wavelength, spectral_tables, strategy_id
 from .stages.camera import Camera, CameraParams, camera_ray
 from .stages.environment import Environment, EnvironmentLight
+from .stages.surfaces import Surfaces, SurfaceStage
 from .stages.trace import TraceConfig, TraceParams, default_params, trace_radiance
 
 __all__ = ["Image", "render", "Renderer", "FilmParams", "estimate_render_bytes", "available_memory_bytes",
@@ -56,6 +57,7 @@ def _render_pixels(
     geom: SceneGeometry,
     mats: MaterialTable,
     env: Environment,
+    surf: Surfaces,
     tables: SpectralTables,
     polarized: int,
     xyz_out: wp.array(dtype=wp.vec3d),
@@ -93,7 +95,7 @@ def _render_pixels(
         lv = wp.randf(rng)
         o, d, b = camera_ray(cam, float(px) + jx, float(py) + jy, lu, lv)
         coh, hit, nr, rng_trace = trace_radiance(
-            tp, geom, mats, env, tables, polarized, o, d, b, wl, stratum, rng_trace
+            tp, geom, mats, env, surf, tables, polarized, o, d, b, wl, stratum, rng_trace
         )
         s = stokes_from_coherency(coh)
         xyz += wp.vec3d(wp.float64(w[0] * s[0]), wp.float64(w[1] * s[0]), wp.float64(w[2] * s[0]))
@@ -154,10 +156,14 @@ def _build_objects(scene: Scene, device):
     from .geometry import cuts
 
     meshes, mats, axes = [], [], []
+    cache: dict = {}  # instancing: objects with the same shape and parameters share one mesh
     for i, ob in enumerate(scene.objects):
         where = f"object.{i}"
+        key = (ob.shape, ob.path, tuple(sorted((k, repr(v)) for k, v in ob.params.items())))
         try:
-            if ob.shape == "mesh":
+            if key in cache:
+                mesh = cache[key]
+            elif ob.shape == "mesh":
                 from .geometry.mesh import load_mesh
 
                 mesh = load_mesh(ob.path, repair=bool(ob.params.get("repair", False)))
@@ -174,6 +180,7 @@ def _build_objects(scene: Scene, device):
             raise exc from None
         except (ValueError, TypeError) as exc:
             raise InputError(str(exc), file=scene.path, field=f"{where}.shape", value=ob.shape) from None
+        cache[key] = mesh
         meshes.append((mesh, ob.transform()))
         try:
             mat = wo_materials.material_from_spec(ob.material)
@@ -260,10 +267,18 @@ class Renderer:
         r = scene.render
         check_render_memory(scene.camera.width, scene.camera.height, file=scene.path)
         meshes, mats, axes = _build_objects(scene, self.device)
-        self.geometry = GeometryScene(meshes, device=self.device)
-        self.materials, ids = build_material_table(mats, self.device)
+        self.geometry = GeometryScene(meshes, allow_empty=True, device=self.device)
+        if mats:
+            self.materials, ids = build_material_table(mats, self.device)
+        else:  # surfaces only: a placeholder material table (no object refers to it)
+            from .materials import material_from_spec
+
+            self.materials, ids = build_material_table([material_from_spec("diamond")], self.device)
+            ids = []
         self.camera = Camera(scene.camera)
         self.environment = EnvironmentLight(scene.lights[0], self.device)
+        self.surfaces = SurfaceStage(scene.surfaces, scene.lamps, max_diffuse=r.diffuse_depth, mis=r.mis,
+                                     stone_shadows=r.stone_shadows, source=scene.path, device=self.device)
         self.tables = spectral_tables(self.device)
         self.trace_config = TraceConfig(max_depth=r.max_depth, split_threshold=r.split_threshold,
                                         max_splits=r.max_splits,
@@ -310,7 +325,7 @@ class Renderer:
         t0 = time.perf_counter()
         polarized = 1 if self.trace_config.polarized else 0
         inputs_static = [self.camera.params, f, self.trace_params, self.geometry.geometry, self.materials,
-                         self.environment.struct, self.tables, polarized,
+                         self.environment.struct, self.surfaces.struct, self.tables, polarized,
                          self.xyz, self.stokes, self.alpha, self.rays]
         try:
             for row0 in chunks:

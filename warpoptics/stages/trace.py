@@ -94,6 +94,7 @@ from .branches import (
     write_row as _write_row,
 )
 from .environment import Environment, environment_radiance
+from .surfaces import Surfaces, surface_radiance, surfaces_closest_hit
 
 __all__ = ["TraceParams", "TraceConfig", "trace_radiance", "default_params", "STACK_SIZE", "BIREFRINGENCE"]
 
@@ -479,6 +480,7 @@ def trace_radiance(
     geom: SceneGeometry,
     mats: MaterialTable,
     env: Environment,
+    surf: Surfaces,
     tables: SpectralTables,
     polarized: int,
     origin: wp.vec3f,
@@ -519,6 +521,19 @@ def trace_radiance(
             hit = object_exit_hit(geom, inside, o, d, p.t_max)  # solids do not overlap
         else:
             hit = scene_closest_hit(geom, o, d, p.t_max)
+            # surfaces hook (stages/surfaces.py): an opaque surface or a lamp in front of every
+            # solid ends the branch with its (unpolarized) radiance, like the environment below
+            if surf.num_surfaces + surf.num_area > 0:
+                sh = surfaces_closest_hit(surf, o, d, hit.t)
+                if sh.kind != 0:
+                    radiance, rng = surface_radiance(surf, geom, mats, env, tables, p.object_material,
+                                                     p.object_absorption_scale, p.ambient[0], o, d, sh, wavelength,
+                                                     rng)
+                    if polarized != 0:
+                        acc = jones_add(acc, coherency_transform(m, coherency_unpolarized(w * radiance)))
+                    else:
+                        acc_scalar += w * radiance
+                    continue
         if hit.object < 0:
             if inside < 0:
                 radiance = environment_radiance(env, tables, d, wavelength)
