@@ -91,6 +91,8 @@ __all__ = [
     "bsdf_eval",
     "bsdf_pdf",
     "power_heuristic",
+    "env_sample",
+    "env_pdf",
     "reflectance_value",
     "rect_irradiance_factor",
     "bsdf_values",
@@ -164,6 +166,11 @@ class Surfaces:
     d_dir: wp.array(dtype=wp.vec3f)
     d_rgb: wp.array(dtype=wp.vec3f)
     d_cos_max: wp.array(dtype=wp.float32)
+    env_rows: int  # environment sampling table (0 rows: cosine-weighted sampling instead)
+    env_cols: int
+    env_marginal: wp.array(dtype=wp.float32)  # (rows + 1) CDF over rows (polar angle bands)
+    env_conditional: wp.array(dtype=wp.float32)  # rows x (cols + 1) CDF over columns per row
+    env_cell_pdf: wp.array(dtype=wp.float32)  # rows x cols, probability of each cell
     max_diffuse: int  # surface hits per camera-path leaf (1: direct light only)
     mis_mode: int  # 0 MIS, 1 light sampling only, 2 BSDF sampling only
     stone_shadows: int  # 1: straight-through filter; 0: stones block lamps (for caustic tracing)
@@ -345,6 +352,49 @@ def bsdf_sample(kind: int, roughness: float, n: wp.vec3f, wo: wp.vec3f, u0: floa
     t, b = _onb(n)
     h = wp.normalize(t * (sin_t * wp.cos(phi)) + b * (sin_t * wp.sin(phi)) + n * cos_t)
     return wp.normalize(h * (2.0 * wp.dot(wo, h)) - wo)
+
+
+@wp.func
+def _cdf_find(cdf: wp.array(dtype=wp.float32), start: int, count: int, u: float):
+    # index j in [0, count) with cdf[start + j] <= u < cdf[start + j + 1] (binary search)
+    lo = int(0)
+    hi = count
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if cdf[start + mid] <= u:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+@wp.func
+def env_sample(s: Surfaces, u1: float, u2: float, u3: float, u4: float):
+    """A direction drawn from the environment table: a cell by its probability (marginal row,
+    then column), then uniform in (polar angle, azimuth) within the cell.  The table is over
+    world directions, z up: theta = acos(z) in rows, phi = atan2(y, x) in columns."""
+    row = _cdf_find(s.env_marginal, 0, s.env_rows, u1)
+    col = _cdf_find(s.env_conditional, row * (s.env_cols + 1), s.env_cols, u2)
+    theta = (float(row) + u3) * wp.pi / float(s.env_rows)
+    phi = (float(col) + u4) * 2.0 * wp.pi / float(s.env_cols) - wp.pi
+    st = wp.sin(theta)
+    return wp.vec3f(st * wp.cos(phi), st * wp.sin(phi), wp.cos(theta))
+
+
+@wp.func
+def env_pdf(s: Surfaces, d: wp.vec3f):
+    """Solid-angle pdf (1/sr) of :func:`env_sample` drawing unit ``d``: cell probability over
+    the cell's (theta, phi) area times the Jacobian 1 / sin(theta)."""
+    theta = wp.acos(wp.clamp(d[2], -1.0, 1.0))
+    phi = wp.atan2(d[1], d[0])
+    row = wp.clamp(int(theta / wp.pi * float(s.env_rows)), 0, s.env_rows - 1)
+    col = wp.clamp(int((phi + wp.pi) / (2.0 * wp.pi) * float(s.env_cols)), 0, s.env_cols - 1)
+    st = wp.sin(theta)
+    if st <= 1.0e-7:
+        return 0.0
+    p = s.env_cell_pdf[row * s.env_cols + col]
+    area = (wp.pi / float(s.env_rows)) * (2.0 * wp.pi / float(s.env_cols))
+    return p / (area * st)
 
 
 @wp.func
@@ -540,9 +590,16 @@ def surface_radiance(
                 if s.mis_mode == _MIS:
                     w = power_heuristic(pdf_l, bsdf_pdf(kind, rough, n, wo, wi))
                 radiance += beta * w * f * wp.dot(n, wi) * le * vis / pdf_l
-            # the environment: cosine-weighted directions about the normal
-            wi_e = _cosine_dir(n, wp.randf(rng), wp.randf(rng))
-            pdf_e = wp.dot(n, wi_e) / wp.pi
+            # the environment: its importance table, or cosine-weighted directions about the normal
+            wi_e = wp.vec3f(0.0, 0.0, 1.0)
+            pdf_e = float(0.0)
+            if s.env_rows > 0:
+                wi_e = env_sample(s, wp.randf(rng), wp.randf(rng), wp.randf(rng), wp.randf(rng))
+                if wp.dot(n, wi_e) > 0.0:
+                    pdf_e = env_pdf(s, wi_e)
+            else:
+                wi_e = _cosine_dir(n, wp.randf(rng), wp.randf(rng))
+                pdf_e = wp.dot(n, wi_e) / wp.pi
             if pdf_e > 0.0:
                 f = bsdf_eval(kind, albedo, rough, ior, n, wo, wi_e)
                 if f > 0.0:
@@ -598,7 +655,10 @@ def surface_radiance(
             if s.mis_mode != _LIGHT_ONLY:
                 w = float(1.0)
                 if s.mis_mode == _MIS:
-                    w = power_heuristic(pdf_b, wp.dot(n, wi) / wp.pi)
+                    pdf_env = wp.dot(n, wi) / wp.pi
+                    if s.env_rows > 0:
+                        pdf_env = env_pdf(s, wi)
+                    w = power_heuristic(pdf_b, pdf_env)
                 radiance += beta * w * environment_radiance(env, tables, wi, wavelength)
             break
         if nxt.kind == _HIT_LIGHT:
@@ -654,6 +714,32 @@ def _bsdf_kernel(
     i = wp.tid() + offset
     f_out[i] = bsdf_eval(kind[i], albedo[i], roughness[i], ior[i], n[i], wo[i], wi[i])
     pdf_out[i] = bsdf_pdf(kind[i], roughness[i], n[i], wo[i], wi[i])
+
+
+@wp.kernel
+def _env_table_kernel(
+    offset: int,
+    env: Environment,
+    tables: SpectralTables,
+    rows: int,
+    cols: int,
+    sub: int,
+    out: wp.array(dtype=wp.float32),
+):
+    # mean radiance (sum of 3 wavelengths) over sub x sub directions of each (theta, phi) cell
+    i = wp.tid() + offset
+    row = i / cols
+    col = i - row * cols
+    acc = float(0.0)
+    for a in range(sub):
+        for b in range(sub):
+            theta = (float(row) + (float(a) + 0.5) / float(sub)) * wp.pi / float(rows)
+            phi = (float(col) + (float(b) + 0.5) / float(sub)) * 2.0 * wp.pi / float(cols) - wp.pi
+            st = wp.sin(theta)
+            d = wp.vec3f(st * wp.cos(phi), st * wp.sin(phi), wp.cos(theta))
+            for k in range(3):
+                acc += environment_radiance(env, tables, d, 450.0 + 100.0 * float(k))
+    out[i] = acc / float(sub * sub)
 
 
 @wp.kernel
@@ -759,7 +845,8 @@ class SurfaceStage:
     """Owns the :class:`Surfaces` struct of a scene's surfaces and lamps on a device."""
 
     def __init__(self, surfaces=(), lamps=(), *, max_diffuse: int = 3, mis: str = "mis",
-                 stone_shadows: bool = True, source: str | None = None, device=None):
+                 stone_shadows: bool = True, environment=None, env_table: tuple[int, int] = (64, 128),
+                 source: str | None = None, device=None):
         dev = get_device(device)
         self.device = dev
         s = Surfaces()
@@ -842,10 +929,44 @@ class SurfaceStage:
         s.d_dir = _arr(dirs, wp.vec3f, 3, dev)
         s.d_rgb = _arr([np.asarray(lp.tint) * lp.irradiance for lp in suns], wp.vec3f, 3, dev)
         s.d_cos_max = _arr([math.cos(math.radians(lp.angular_radius)) for lp in suns], wp.float32, 1, dev)
+        self._env_table(s, environment, env_table, dev)
         s.max_diffuse = int(max_diffuse)
         s.mis_mode = MIS_MODES[mis]
         s.stone_shadows = int(bool(stone_shadows))
         self.struct = s
+
+    def _env_table(self, s: Surfaces, environment, shape, dev) -> None:
+        """Importance table of the environment (``EnvironmentLight``) for NEE at surfaces:
+        cell probability proportional to (mean radiance + 1 % of the mean) x solid angle.  Only for
+        maps with structure (studio, sky, lat-long); a constant or dome sky keeps cosine sampling,
+        which is exact for a Lambertian surface there."""
+        from ..device import launch_tiled
+        from .environment import ENV_KINDS
+
+        rows, cols = shape
+        use = (environment is not None and s.num_surfaces > 0
+               and environment.struct.kind not in (ENV_KINDS["constant"], ENV_KINDS["dome"]))
+        if use:
+            lum = wp.zeros(rows * cols, dtype=wp.float32, device=dev)
+            launch_tiled(_env_table_kernel, rows * cols, [environment.struct, spectral_tables(dev), rows, cols, 4, lum],
+                         device=dev)
+            y = np.maximum(lum.numpy().astype(np.float64).reshape(rows, cols), 0.0)
+            theta = (np.arange(rows) + 0.5) * np.pi / rows
+            w = (y + 0.01 * max(y.mean(), 1e-30)) * np.sin(theta)[:, None]
+            p = w / w.sum()
+            row_p = p.sum(axis=1)
+            marg = np.concatenate([[0.0], np.cumsum(row_p)])
+            marg /= marg[-1]
+            cond = np.concatenate([np.zeros((rows, 1)), np.cumsum(p, axis=1)], axis=1)
+            cond /= np.maximum(cond[:, -1:], 1e-300)
+            s.env_rows, s.env_cols = rows, cols
+            s.env_marginal = wp.array(marg.astype(np.float32), dtype=wp.float32, device=dev)
+            s.env_conditional = wp.array(cond.ravel().astype(np.float32), dtype=wp.float32, device=dev)
+            s.env_cell_pdf = wp.array(p.ravel().astype(np.float32), dtype=wp.float32, device=dev)
+        else:
+            s.env_rows, s.env_cols = 0, 0
+            for name in ("env_marginal", "env_conditional", "env_cell_pdf"):
+                setattr(s, name, wp.zeros(1, dtype=wp.float32, device=dev))
 
     @property
     def empty(self) -> bool:
