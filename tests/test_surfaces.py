@@ -322,3 +322,31 @@ def test_environment_estimators_agree(device):
         assert abs(ma - mb) < 4 * math.hypot(sa, sb), out
     # importance sampling is the better estimator here (that is what it is for)
     assert out["light"][1] < out["bsdf"][1]
+
+
+@pytest.mark.parametrize("name", ["calcite", "diamonds_on_table", "dof"])
+def test_scenes_render_tiny(device, name):
+    """The surface scenes load and render (8 x 8, 4 wavelengths): finite, lit, stones hit."""
+    from warpoptics.render import render
+
+    img = render(SCENES / f"{name}.toml", device=device, width=8, height=8, wavelengths=4, spp=1)
+    assert np.isfinite(img.xyz).all()
+    assert img.xyz[..., 1].mean() > 0.01
+
+
+def test_cli_renders_a_surface_scene(tmp_path):
+    import subprocess
+    import sys
+
+    out = tmp_path / "calcite.png"
+    r = subprocess.run([sys.executable, "-m", "warpoptics.cli", "render", str(SCENES / "calcite.toml"), "-o",
+                        str(out), "--width", "12", "--height", "12", "--set", "render.wavelengths=4"],
+                       capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    assert out.is_file()
+    bad = tmp_path / "bad.toml"
+    bad.write_text((SCENES / "calcite.toml").read_text().replace("square = 1.0", "sqaure = 1.0"))
+    r = subprocess.run([sys.executable, "-m", "warpoptics.cli", "render", str(bad), "-o", str(out)],
+                       capture_output=True, text=True, timeout=600)
+    assert r.returncode == 2
+    assert "surface.0.sqaure" in r.stderr and "did you mean 'square'" in r.stderr and "Traceback" not in r.stderr
