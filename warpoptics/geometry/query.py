@@ -437,7 +437,8 @@ class GeometryScene:
             v = np.asarray(mesh.vertices, dtype=np.float64)
             center = 0.5 * (v.min(axis=0) + v.max(axis=0))
             spheres.append([*center, float(np.max(np.linalg.norm(v - center, axis=1)))])
-            shared[key] = (self.meshes[-1], plane_start[-1], plane_count[-1], face_start[-1], spheres[-1], use)
+            shared[key] = (self.meshes[-1], plane_start[-1], plane_count[-1], face_start[-1], spheres[-1],
+                           use)
         #: number of distinct meshes (BVHs) on the device; instances share one
         self.unique_meshes = len(shared)
         if not objs:

@@ -193,8 +193,9 @@ class SurfaceHit:
 
 
 @wp.func
-def _rect_hit(c: wp.vec3f, n: wp.vec3f, u: wp.vec3f, v: wp.vec3f, half: wp.vec2f, o: wp.vec3f, d: wp.vec3f,
-              t_max: float):
+def _rect_hit(
+    c: wp.vec3f, n: wp.vec3f, u: wp.vec3f, v: wp.vec3f, half: wp.vec2f, o: wp.vec3f, d: wp.vec3f, t_max: float
+):
     """Ray parameter and local coordinates of a rectangle hit in (0, t_max), else t = t_max."""
     dn = wp.dot(d, n)
     t_hit = t_max
@@ -296,7 +297,9 @@ def dielectric_reflectance(cos_i: float, ior: float):
 
 
 @wp.func
-def bsdf_eval(kind: int, albedo: float, roughness: float, ior: float, n: wp.vec3f, wo: wp.vec3f, wi: wp.vec3f):
+def bsdf_eval(
+    kind: int, albedo: float, roughness: float, ior: float, n: wp.vec3f, wo: wp.vec3f, wi: wp.vec3f
+):
     """BSDF value f(wo, wi) (1/sr) of a surface with unit normal ``n`` on the side of ``wo``;
     ``wo`` toward the viewer, ``wi`` toward the light (both unit, pointing away from the
     surface).  Diffuse: albedo / pi.  Glossy: GGX coat + transmitted diffuse (module doc)."""
@@ -464,8 +467,14 @@ def _interface_t(cos_i: float, n1: wp.vec2f, n2: wp.vec2f):
 
 @wp.func
 def gem_transmittance(
-    geom: SceneGeometry, mats: MaterialTable, obj_material: wp.array(dtype=wp.int32),
-    obj_absorption: wp.array(dtype=wp.float32), ambient: float, x: wp.vec3f, d: wp.vec3f, t_max: float,
+    geom: SceneGeometry,
+    mats: MaterialTable,
+    obj_material: wp.array(dtype=wp.int32),
+    obj_absorption: wp.array(dtype=wp.float32),
+    ambient: float,
+    x: wp.vec3f,
+    d: wp.vec3f,
+    t_max: float,
     wavelength: float,
 ):
     """Straight-through transmittance of the stones along the segment x + t d, 0 < t < t_max
@@ -508,8 +517,15 @@ def gem_transmittance(
 
 @wp.func
 def _visibility(
-    s: Surfaces, geom: SceneGeometry, mats: MaterialTable, obj_material: wp.array(dtype=wp.int32),
-    obj_absorption: wp.array(dtype=wp.float32), ambient: float, x: wp.vec3f, d: wp.vec3f, dist: float,
+    s: Surfaces,
+    geom: SceneGeometry,
+    mats: MaterialTable,
+    obj_material: wp.array(dtype=wp.int32),
+    obj_absorption: wp.array(dtype=wp.float32),
+    ambient: float,
+    x: wp.vec3f,
+    d: wp.vec3f,
+    dist: float,
     wavelength: float,
 ):
     """Transmittance of a shadow ray: 0 if a surface or lamp blocks it, else the stones' filter."""
@@ -570,8 +586,11 @@ def surface_radiance(
         if s.mis_mode != _BSDF_ONLY:
             for j in range(s.num_area):
                 h2 = s.a_half[j]
-                p = (s.a_centre[j] + s.a_u[j] * ((2.0 * wp.randf(rng) - 1.0) * h2[0])
-                     + s.a_v[j] * ((2.0 * wp.randf(rng) - 1.0) * h2[1]))
+                p = (
+                    s.a_centre[j]
+                    + s.a_u[j] * ((2.0 * wp.randf(rng) - 1.0) * h2[0])
+                    + s.a_v[j] * ((2.0 * wp.randf(rng) - 1.0) * h2[1])
+                )
                 to = p - xs
                 dist = wp.length(to)
                 if dist <= 0.0:
@@ -584,8 +603,9 @@ def surface_radiance(
                 f = bsdf_eval(kind, albedo, rough, ior, n, wo, wi)
                 if f <= 0.0:
                     continue
-                vis = _visibility(s, geom, mats, obj_material, obj_absorption, ambient, xs, wi, dist * 0.999,
-                                  wavelength)
+                vis = _visibility(
+                    s, geom, mats, obj_material, obj_absorption, ambient, xs, wi, dist * 0.999, wavelength
+                )
                 w = float(1.0)
                 if s.mis_mode == _MIS:
                     w = power_heuristic(pdf_l, bsdf_pdf(kind, rough, n, wo, wi))
@@ -605,8 +625,9 @@ def surface_radiance(
                 if f > 0.0:
                     le = environment_radiance(env, tables, wi_e, wavelength)
                     if le > 0.0:
-                        vis = _visibility(s, geom, mats, obj_material, obj_absorption, ambient, xs, wi_e, _BIG,
-                                          wavelength)
+                        vis = _visibility(
+                            s, geom, mats, obj_material, obj_absorption, ambient, xs, wi_e, _BIG, wavelength
+                        )
                         w = float(1.0)
                         if s.mis_mode == _MIS:
                             w = power_heuristic(pdf_e, bsdf_pdf(kind, rough, n, wo, wi_e))
@@ -649,8 +670,9 @@ def surface_radiance(
                 if g.object >= 0:
                     break
             else:
-                beta = beta * gem_transmittance(geom, mats, obj_material, obj_absorption, ambient, xs, wi, nxt.t,
-                                                wavelength)
+                beta = beta * gem_transmittance(
+                    geom, mats, obj_material, obj_absorption, ambient, xs, wi, nxt.t, wavelength
+                )
         if nxt.kind == _HIT_NONE:
             if s.mis_mode != _LIGHT_ONLY:
                 w = float(1.0)
@@ -763,8 +785,15 @@ def bsdf_values(kind: str, albedo, roughness, ior, normal, wo, wi, *, device=Non
     k = BSDF_KINDS[kind]
     f, pdf = elementwise(
         _bsdf_kernel,
-        [(k, wp.int32), (albedo, wp.float32), (roughness, wp.float32), (ior, wp.float32), (normal, wp.vec3f),
-         (wo, wp.vec3f), (wi, wp.vec3f)],
+        [
+            (k, wp.int32),
+            (albedo, wp.float32),
+            (roughness, wp.float32),
+            (ior, wp.float32),
+            (normal, wp.vec3f),
+            (wo, wp.vec3f),
+            (wi, wp.vec3f),
+        ],
         [wp.float32, wp.float32],
         device=device,
     )
@@ -774,8 +803,11 @@ def bsdf_values(kind: str, albedo, roughness, ior, normal, wo, wi, *, device=Non
 def reflectance_spectrum(rgb, wavelength_nm, *, device=None) -> np.ndarray:
     """NumPy wrapper of :func:`reflectance_value`: reflectance of linear-sRGB albedos at λ (nm)."""
     (out,) = elementwise(
-        _reflectance_kernel, [(rgb, wp.vec3f), (wavelength_nm, wp.float32)], [wp.float32],
-        extra=(spectral_tables(device),), device=device,
+        _reflectance_kernel,
+        [(rgb, wp.vec3f), (wavelength_nm, wp.float32)],
+        [wp.float32],
+        extra=(spectral_tables(device),),
+        device=device,
     )
     return out
 
@@ -844,14 +876,42 @@ def _arr(values, dtype, width, device):
 class SurfaceStage:
     """Owns the :class:`Surfaces` struct of a scene's surfaces and lamps on a device."""
 
-    def __init__(self, surfaces=(), lamps=(), *, max_diffuse: int = 3, mis: str = "mis",
-                 stone_shadows: bool = True, environment=None, env_table: tuple[int, int] = (64, 128),
-                 source: str | None = None, device=None):
+    def __init__(
+        self,
+        surfaces=(),
+        lamps=(),
+        *,
+        max_diffuse: int = 3,
+        mis: str = "mis",
+        stone_shadows: bool = True,
+        environment=None,
+        env_table: tuple[int, int] = (64, 128),
+        source: str | None = None,
+        device=None,
+    ):
         dev = get_device(device)
         self.device = dev
         s = Surfaces()
-        rows = {k: [] for k in ("centre", "normal", "u", "v", "half", "bsdf", "rough", "ior", "akind", "ca", "cb",
-                                "square", "tile", "tex_row", "tex_size")}
+        rows = {
+            k: []
+            for k in (
+                "centre",
+                "normal",
+                "u",
+                "v",
+                "half",
+                "bsdf",
+                "rough",
+                "ior",
+                "akind",
+                "ca",
+                "cb",
+                "square",
+                "tile",
+                "tex_row",
+                "tex_size",
+            )
+        }
         textures = []
         tex_rows = 0
         for i, sc in enumerate(surfaces):
@@ -899,7 +959,7 @@ class SurfaceStage:
             atlas = np.zeros((tex_rows, wmax, 3), dtype=np.float32)
             r0 = 0
             for t in textures:
-                atlas[r0:r0 + t.shape[0], : t.shape[1]] = t
+                atlas[r0 : r0 + t.shape[0], : t.shape[1]] = t
                 r0 += t.shape[0]
         else:
             atlas = np.zeros((1, 1, 3), dtype=np.float32)
@@ -944,12 +1004,19 @@ class SurfaceStage:
         from .environment import ENV_KINDS
 
         rows, cols = shape
-        use = (environment is not None and s.num_surfaces > 0
-               and environment.struct.kind not in (ENV_KINDS["constant"], ENV_KINDS["dome"]))
+        use = (
+            environment is not None
+            and s.num_surfaces > 0
+            and environment.struct.kind not in (ENV_KINDS["constant"], ENV_KINDS["dome"])
+        )
         if use:
             lum = wp.zeros(rows * cols, dtype=wp.float32, device=dev)
-            launch_tiled(_env_table_kernel, rows * cols, [environment.struct, spectral_tables(dev), rows, cols, 4, lum],
-                         device=dev)
+            launch_tiled(
+                _env_table_kernel,
+                rows * cols,
+                [environment.struct, spectral_tables(dev), rows, cols, 4, lum],
+                device=dev,
+            )
             y = np.maximum(lum.numpy().astype(np.float64).reshape(rows, cols), 0.0)
             theta = (np.arange(rows) + 0.5) * np.pi / rows
             w = (y + 0.01 * max(y.mean(), 1e-30)) * np.sin(theta)[:, None]
@@ -981,7 +1048,9 @@ def _load_texture(path: str | None, source: str | None, field_name: str) -> np.n
     try:
         pixels, _names = read_image(path)
     except InputError as exc:
-        raise InputError(f"unreadable texture ({exc.message})", file=source, field=field_name, value=path) from None
+        raise InputError(
+            f"unreadable texture ({exc.message})", file=source, field=field_name, value=path
+        ) from None
     if pixels.shape[2] < 3:
         pixels = np.repeat(pixels[..., :1], 3, axis=2)
     pixels = np.asarray(pixels[..., :3], dtype=np.float64)

@@ -527,8 +527,8 @@ def trace_radiance(
                 sh = surfaces_closest_hit(surf, o, d, hit.t)
                 if sh.kind != 0:
                     radiance, rng = surface_radiance(surf, geom, mats, env, tables, p.object_material,
-                                                     p.object_absorption_scale, p.ambient[0], o, d, sh, wavelength,
-                                                     rng)
+                                                     p.object_absorption_scale, p.ambient[0], o, d, sh,
+                                                     wavelength, rng)
                     if polarized != 0:
                         acc = jones_add(acc, coherency_transform(m, coherency_unpolarized(w * radiance)))
                     else:
