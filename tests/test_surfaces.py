@@ -57,8 +57,9 @@ def test_lambertian_plane_constant_sky_and_sun(device):
     # grey albedo 0.5 is a flat reflectance of 0.5 (the basis spectra sum to 1); the sky's
     # radiance has Y = 2.  Diffuse NEE and BSDF sampling both draw cos/pi directions, so each
     # MIS-weighted sample is exact: only the stratified spectral estimate of Y is noisy
-    # (a flat spectrum through 16 random strata; <1 % on 256 pixels)
-    assert img.xyz[..., 1].mean() == pytest.approx(1.0, rel=0.01)
+    # (16 jittered strata per pixel; measured +0.5 % on 256 pixels, and on the D65 sun below;
+    # 2 % covers it on any device's random sequence)
+    assert img.xyz[..., 1].mean() == pytest.approx(1.0, rel=0.02)
     theta = math.radians(35.0)
     d = _base()
     d["light"] = [
@@ -66,7 +67,7 @@ def test_lambertian_plane_constant_sky_and_sun(device):
     ]
     img = _render(d, device)
     # the sun's spectrum is the D65 basis (Y = 1 per unit irradiance); no sky
-    assert img.xyz[..., 1].mean() == pytest.approx(0.5 * 3.0 * math.cos(theta) / math.pi, rel=0.01)
+    assert img.xyz[..., 1].mean() == pytest.approx(0.5 * 3.0 * math.cos(theta) / math.pi, rel=0.02)
 
 
 def _rect_factor(a, b, c):
@@ -150,7 +151,7 @@ def test_shadows_through_stones(device):
     clear = _render(d, device).xyz[..., 1].mean()
     d["object"] = [dict(plate, material="garnet", absorption_scale=20.0)]
     absorbing = _render(d, device).xyz[..., 1].mean()
-    assert open_y == pytest.approx(0.8 * s / math.pi, rel=0.01)
+    assert open_y == pytest.approx(0.8 * s / math.pi, rel=0.02)  # spectral strata on 64 pixels: +0.9 %
     assert absorbing < 0.9 * clear
     assert clear < open_y
     # diamond n_D = 2.417 (dispersion moves R(45 deg) by < 0.3 %); the 2 % covers it and noise
