@@ -70,6 +70,27 @@ def test_lambertian_plane_constant_sky_and_sun(device):
     assert img.xyz[..., 1].mean() == pytest.approx(0.5 * 3.0 * math.cos(theta) / math.pi, rel=0.02)
 
 
+def test_spot_light_inverse_square_and_cone(device):
+    """A spot 5 mm above the plane, shining down: albedo / pi x I / h^2 on its axis; nothing
+    outside its cone (a 10 degree cone reaches 0.88 mm from the axis at 5 mm)."""
+    d = _base(width=8, height=8, view=0.05)
+    d["light"] = [
+        {
+            "type": "spot",
+            "center": [0.0, 0.0, 5.0],
+            "direction": [0.0, 0.0, -1.0],
+            "intensity": 4.0,
+            "cone_angle": 10.0,
+            "blend": 2.0,
+        }
+    ]
+    want = 0.5 / math.pi * 4.0 / 25.0
+    assert _render(d, device).xyz[..., 1].mean() == pytest.approx(want, rel=0.02)
+    d["camera"]["position"] = [1.5, 0.0, 20.0]
+    d["camera"]["look_at"] = [1.5, 0.0, 0.0]
+    assert _render(d, device).xyz[..., 1].max() == 0.0
+
+
 def _rect_factor(a, b, c):
     # configuration factor point -> parallel a x b rectangle, corner above the point (Siegel & Howell)
     A, B = a / c, b / c
@@ -276,7 +297,8 @@ def test_instances_share_one_mesh(device):
             "unknown key",
         ),
         ({"light": [{"type": "directional", "direction": [0, 0, 0]}]}, "light.0.direction", "zero"),
-        ({"light": [{"type": "spotlight"}]}, "light.0.type", "unknown value"),
+        ({"light": [{"type": "spotlight"}]}, "light.0.type", "did you mean 'spot'"),
+        ({"light": [{"type": "spot", "cone_angle": 120.0}]}, "light.0.cone_angle", "out of range"),
         ({"render": {"mis": "both"}}, "render.mis", "unknown value"),
     ],
 )

@@ -290,6 +290,7 @@ def _light_config(
 _LAMP_KEYS = {
     "directional": {"type", "direction", "irradiance", "tint", "angular_radius"},
     "area": {"type", "center", "normal", "up", "size", "radiance", "tint", "double_sided"},
+    "spot": {"type", "center", "direction", "intensity", "tint", "cone_angle", "blend"},
 }
 
 
@@ -326,7 +327,7 @@ def _lamp_config(table: dict, ltype: str, prefix: str, file) -> LampConfig:
         kw["center"] = _vec3(table["center"], file=file, field_name=prefix + "center")
     if "size" in table:
         kw["size"] = _size2(table["size"], file=file, field_name=prefix + "size")
-    for k in ("irradiance", "radiance"):
+    for k in ("irradiance", "radiance", "intensity"):
         if k in table:
             kw[k] = float(_number(table[k], file=file, field_name=prefix + k, lo=0.0, hi=1.0e12))
     if "tint" in table:
@@ -334,6 +335,9 @@ def _lamp_config(table: dict, ltype: str, prefix: str, file) -> LampConfig:
     if "angular_radius" in table:
         kw["angular_radius"] = float(_number(table["angular_radius"], file=file,
                                              field_name=prefix + "angular_radius", lo=0.0, hi=45.0))
+    for k in ("cone_angle", "blend"):
+        if k in table:
+            kw[k] = float(_number(table[k], file=file, field_name=prefix + k, lo=0.0, hi=90.0))
     if "double_sided" in table:
         if not isinstance(table["double_sided"], bool):
             raise InputError("must be true or false", file=file, field=prefix + "double_sided",

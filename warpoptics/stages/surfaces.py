@@ -17,12 +17,14 @@ The solids of ``geometry.query`` are gems: closed dielectric meshes that the spl
   radius sampled as a uniform cone) and rectangular ``area`` lights (light boxes: uniform
   radiance, one- or two-sided).  Area lights are opaque emitters seen by every ray: camera rays,
   the specular branches of the gem tree (a stone reflects a light box) and the surfaces' bounce
-  rays.  The environment (``stages.environment``) stays the background.
+  rays.  ``spot`` lights are point lights with a radiant intensity I on their axis (E = I cos /
+  d^2) and a smooth cone edge.  The environment (``stages.environment``) stays the background.
 
 Light transport at a surface hit (``surface_radiance``, called by the trace stage's hook when a
 branch in the ambient medium meets a surface or a lamp before any solid): next-event estimation
 with one sample of every area light, every sun and the environment (cosine-weighted about the
-normal), combined with one BSDF-sampled bounce by the power heuristic (Veach 1997 §9.2.4, beta
+normal, or from an importance table of the map's radiance for studio, sky and lat-long maps),
+combined with one BSDF-sampled bounce by the power heuristic (Veach 1997 §9.2.4, beta
 = 2) for the lights that both strategies can hit (area lights and environment; a sun is found by
 NEE only).  The bounce continues up to ``max_diffuse`` surface hits with Russian roulette.  A
 diffuse surface depolarizes: its radiance enters the branch as an unpolarized source (the
@@ -101,7 +103,7 @@ __all__ = [
 
 BSDF_KINDS = {"diffuse": 0, "glossy": 1}
 ALBEDO_KINDS = {"color": 0, "checker": 1, "texture": 2}
-LAMP_KINDS = ("directional", "area")
+LAMP_KINDS = ("directional", "area", "spot")
 #: how surface hits estimate direct light: both strategies with MIS (the renderer), or only
 #: one of them (for tests: each alone is unbiased for area lights and the environment)
 MIS_MODES = {"mis": 0, "light": 1, "bsdf": 2}
@@ -166,6 +168,12 @@ class Surfaces:
     d_dir: wp.array(dtype=wp.vec3f)
     d_rgb: wp.array(dtype=wp.vec3f)
     d_cos_max: wp.array(dtype=wp.float32)
+    num_spot: int
+    p_pos: wp.array(dtype=wp.vec3f)  # spot position, mm
+    p_dir: wp.array(dtype=wp.vec3f)  # unit axis (the direction the spot shines)
+    p_rgb: wp.array(dtype=wp.vec3f)  # radiant intensity on the axis (E = I cos / d^2, d in mm)
+    p_cos_outer: wp.array(dtype=wp.float32)  # cos of the cone half-angle (intensity 0 beyond)
+    p_cos_inner: wp.array(dtype=wp.float32)  # cos of (half-angle - blend): full intensity within
     env_rows: int  # environment sampling table (0 rows: cosine-weighted sampling instead)
     env_cols: int
     env_marginal: wp.array(dtype=wp.float32)  # (rows + 1) CDF over rows (polar angle bands)
@@ -654,6 +662,35 @@ def surface_radiance(
             e = rgb_spectrum_value(tables, s.d_rgb[j], wavelength)
             vis = _visibility(s, geom, mats, obj_material, obj_absorption, ambient, xs, wi, _BIG, wavelength)
             radiance += beta * f * cos_i * e * scale * vis
+        # spots (point lights with a smooth cone edge): light sampling only, like the suns
+        for j in range(s.num_spot):
+            to = s.p_pos[j] - xs
+            dist2 = wp.dot(to, to)
+            if dist2 <= 0.0:
+                continue
+            dist = wp.sqrt(dist2)
+            wi = to / dist
+            cos_i = wp.dot(n, wi)
+            if cos_i <= 0.0:
+                continue
+            c_ax = -wp.dot(wi, s.p_dir[j])
+            co = s.p_cos_outer[j]
+            cin = s.p_cos_inner[j]
+            fall = float(0.0)
+            if cin - co > 1.0e-7:
+                fall = wp.smoothstep(co, cin, c_ax)
+            elif c_ax >= co:
+                fall = 1.0
+            if fall <= 0.0:
+                continue
+            f = bsdf_eval(kind, albedo, rough, ior, n, wo, wi)
+            if f <= 0.0:
+                continue
+            e = rgb_spectrum_value(tables, s.p_rgb[j], wavelength) * fall / dist2
+            vis = _visibility(
+                s, geom, mats, obj_material, obj_absorption, ambient, xs, wi, dist * 0.999, wavelength
+            )
+            radiance += beta * f * cos_i * e * vis
         # --- BSDF-sampled bounce: finds area lights and the environment (MIS), and other surfaces
         wi = bsdf_sample(kind, rough, n, wo, wp.randf(rng), wp.randf(rng), wp.randf(rng))
         pdf_b = bsdf_pdf(kind, rough, n, wo, wi)
@@ -836,8 +873,10 @@ class SurfaceConfig:
 @dataclass(frozen=True)
 class LampConfig:
     """``[[light]] type = "directional"`` (``direction`` the light travels, ``irradiance``,
-    ``tint``, ``angular_radius`` degrees) or ``type = "area"`` (``center``, ``normal`` the
-    emitting side faces, ``size = [w, h]``, ``up``, ``radiance``, ``tint``, ``double_sided``)."""
+    ``tint``, ``angular_radius`` degrees), ``type = "area"`` (``center``, ``normal`` the
+    emitting side faces, ``size = [w, h]``, ``up``, ``radiance``, ``tint``, ``double_sided``) or
+    ``type = "spot"`` (``center`` its position, ``direction`` its axis, ``intensity`` on the axis,
+    ``cone_angle`` half-angle and ``blend`` of the soft edge, degrees)."""
 
     type: str
     direction: tuple[float, float, float] = (0.0, 0.0, -1.0)
@@ -850,6 +889,9 @@ class LampConfig:
     radiance: float = 1.0
     tint: tuple[float, float, float] = (1.0, 1.0, 1.0)
     double_sided: bool = False
+    intensity: float = 1.0
+    cone_angle: float = 30.0
+    blend: float = 5.0
     source: str | None = field(default=None, compare=False)
 
 
@@ -989,6 +1031,17 @@ class SurfaceStage:
         s.d_dir = _arr(dirs, wp.vec3f, 3, dev)
         s.d_rgb = _arr([np.asarray(lp.tint) * lp.irradiance for lp in suns], wp.vec3f, 3, dev)
         s.d_cos_max = _arr([math.cos(math.radians(lp.angular_radius)) for lp in suns], wp.float32, 1, dev)
+        spots = [lp for lp in lamps if lp.type == "spot"]
+        s.num_spot = len(spots)
+        s.p_pos = _arr([lp.center for lp in spots], wp.vec3f, 3, dev)
+        s.p_dir = _arr(
+            [np.asarray(lp.direction) / np.linalg.norm(lp.direction) for lp in spots], wp.vec3f, 3, dev
+        )
+        s.p_rgb = _arr([np.asarray(lp.tint) * lp.intensity for lp in spots], wp.vec3f, 3, dev)
+        s.p_cos_outer = _arr([math.cos(math.radians(lp.cone_angle)) for lp in spots], wp.float32, 1, dev)
+        s.p_cos_inner = _arr(
+            [math.cos(math.radians(max(lp.cone_angle - lp.blend, 0.0))) for lp in spots], wp.float32, 1, dev
+        )
         self._env_table(s, environment, env_table, dev)
         s.max_diffuse = int(max_diffuse)
         s.mis_mode = MIS_MODES[mis]
