@@ -484,9 +484,11 @@ def gem_transmittance(
     d: wp.vec3f,
     t_max: float,
     wavelength: float,
+    rgb3_channel: int,
 ):
     """Straight-through transmittance of the stones along the segment x + t d, 0 < t < t_max
-    (module doc: Fresnel 1 - R at entry and exit x exp(-alpha l); refraction is NOT followed)."""
+    (module doc: Fresnel 1 - R at entry and exit x exp(-alpha l); refraction is NOT followed).
+    ``rgb3_channel`` >= 0: the rgb3 mode's eq. 9 absorbances of that channel, as the tracer uses."""
     tr = float(1.0)
     o = x
     remaining = t_max
@@ -508,6 +510,9 @@ def gem_transmittance(
         mid = obj_material[k]
         no, ne = material_eval(mats, mid, wavelength)
         a_o, a_e = material_alpha(mats, mid, wavelength)
+        if rgb3_channel >= 0:
+            a_o = mats.rgb3_alpha_o[mid][rgb3_channel]
+            a_e = mats.rgb3_alpha_e[mid][rgb3_channel]
         sc = obj_absorption[k]
         amb = wp.vec2f(ambient, 0.0)
         n_o = wp.vec2f(no[0], 0.0)
@@ -535,6 +540,7 @@ def _visibility(
     d: wp.vec3f,
     dist: float,
     wavelength: float,
+    rgb3_channel: int,
 ):
     """Transmittance of a shadow ray: 0 if a surface or lamp blocks it, else the stones' filter."""
     h = surfaces_closest_hit(s, x, d, dist)
@@ -547,7 +553,9 @@ def _visibility(
         if g.object >= 0:
             return 0.0
         return 1.0
-    return gem_transmittance(geom, mats, obj_material, obj_absorption, ambient, x, d, dist, wavelength)
+    return gem_transmittance(
+        geom, mats, obj_material, obj_absorption, ambient, x, d, dist, wavelength, rgb3_channel
+    )
 
 
 @wp.func
@@ -564,6 +572,7 @@ def surface_radiance(
     direction: wp.vec3f,
     first: SurfaceHit,
     wavelength: float,
+    rgb3_channel: int,
     rng: wp.uint32,
 ):
     """Unpolarized spectral radiance leaving the surface or lamp ``first`` (found along the ray
@@ -612,7 +621,17 @@ def surface_radiance(
                 if f <= 0.0:
                     continue
                 vis = _visibility(
-                    s, geom, mats, obj_material, obj_absorption, ambient, xs, wi, dist * 0.999, wavelength
+                    s,
+                    geom,
+                    mats,
+                    obj_material,
+                    obj_absorption,
+                    ambient,
+                    xs,
+                    wi,
+                    dist * 0.999,
+                    wavelength,
+                    rgb3_channel,
                 )
                 w = float(1.0)
                 if s.mis_mode == _MIS:
@@ -634,7 +653,17 @@ def surface_radiance(
                     le = environment_radiance(env, tables, wi_e, wavelength)
                     if le > 0.0:
                         vis = _visibility(
-                            s, geom, mats, obj_material, obj_absorption, ambient, xs, wi_e, _BIG, wavelength
+                            s,
+                            geom,
+                            mats,
+                            obj_material,
+                            obj_absorption,
+                            ambient,
+                            xs,
+                            wi_e,
+                            _BIG,
+                            wavelength,
+                            rgb3_channel,
                         )
                         w = float(1.0)
                         if s.mis_mode == _MIS:
@@ -660,7 +689,9 @@ def surface_radiance(
             if f <= 0.0:
                 continue
             e = rgb_spectrum_value(tables, s.d_rgb[j], wavelength)
-            vis = _visibility(s, geom, mats, obj_material, obj_absorption, ambient, xs, wi, _BIG, wavelength)
+            vis = _visibility(
+                s, geom, mats, obj_material, obj_absorption, ambient, xs, wi, _BIG, wavelength, rgb3_channel
+            )
             radiance += beta * f * cos_i * e * scale * vis
         # spots (point lights with a smooth cone edge): light sampling only, like the suns
         for j in range(s.num_spot):
@@ -688,7 +719,17 @@ def surface_radiance(
                 continue
             e = rgb_spectrum_value(tables, s.p_rgb[j], wavelength) * fall / dist2
             vis = _visibility(
-                s, geom, mats, obj_material, obj_absorption, ambient, xs, wi, dist * 0.999, wavelength
+                s,
+                geom,
+                mats,
+                obj_material,
+                obj_absorption,
+                ambient,
+                xs,
+                wi,
+                dist * 0.999,
+                wavelength,
+                rgb3_channel,
             )
             radiance += beta * f * cos_i * e * vis
         # --- BSDF-sampled bounce: finds area lights and the environment (MIS), and other surfaces
@@ -708,7 +749,7 @@ def surface_radiance(
                     break
             else:
                 beta = beta * gem_transmittance(
-                    geom, mats, obj_material, obj_absorption, ambient, xs, wi, nxt.t, wavelength
+                    geom, mats, obj_material, obj_absorption, ambient, xs, wi, nxt.t, wavelength, rgb3_channel
                 )
         if nxt.kind == _HIT_NONE:
             if s.mis_mode != _LIGHT_ONLY:

@@ -526,9 +526,12 @@ def trace_radiance(
             if surf.num_surfaces + surf.num_area > 0:
                 sh = surfaces_closest_hit(surf, o, d, hit.t)
                 if sh.kind != 0:
+                    ch3 = int(-1)  # rgb3 mode: the channel's eq. 9 absorbances in shadow rays too
+                    if p.rgb3 != 0:
+                        ch3 = wp.clamp(channel, 0, 2)
                     radiance, rng = surface_radiance(surf, geom, mats, env, tables, p.object_material,
                                                      p.object_absorption_scale, p.ambient[0], o, d, sh,
-                                                     wavelength, rng)
+                                                     wavelength, ch3, rng)
                     if polarized != 0:
                         acc = jones_add(acc, coherency_transform(m, coherency_unpolarized(w * radiance)))
                     else:
