@@ -482,6 +482,7 @@ def test_rgb3_shadow_uses_the_channel_absorbance(device):
     k = table.rgb3_alpha_o.numpy()[ids[0]]  # 1/mm per R, G, B channel
     chord = 1.0 / math.cos(math.radians(45.0))  # straight through the 1 mm plate at 45 degrees
     ratio = garnet / clear
-    # the channel order of the shadow follows exp(-K chord); rgb mixes channels a little
+    # each channel's shadow is exp(-K chord) (measured within 0.6 %: the XYZ -> sRGB step mixes
+    # the three rgb3 wavelengths a little)
+    np.testing.assert_allclose(ratio, np.exp(-k * chord), rtol=0.02)
     assert np.argmin(ratio) == np.argmax(k)
-    assert ratio[np.argmin(k)] == pytest.approx(math.exp(-k.min() * chord), rel=0.1)
