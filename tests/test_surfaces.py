@@ -450,7 +450,7 @@ def test_cli_renders_a_surface_scene(tmp_path):
     assert r.returncode == 0, r.stderr
     assert out.is_file()
     bad = tmp_path / "bad.toml"
-    bad.write_text((SCENES / "calcite.toml").read_text().replace("square = 1.0", "sqaure = 1.0"))
+    bad.write_text((SCENES / "calcite.toml").read_text().replace("square = 2.0", "sqaure = 2.0"))
     r = subprocess.run(
         [sys.executable, "-m", "warpoptics.cli", "render", str(bad), "-o", str(out)],
         capture_output=True,
