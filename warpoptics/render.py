@@ -29,6 +29,7 @@ from .scene import Scene
 from .spectra import SpectralTables, sample_wavelength, spectral_tables, strategy_id
 from .stages.camera import Camera, CameraParams, camera_ray
 from .stages.environment import Environment, EnvironmentLight
+from .stages.surfaces import Surfaces, SurfaceStage
 from .stages.trace import TraceConfig, TraceParams, default_params, trace_radiance
 
 __all__ = ["Image", "render", "Renderer", "FilmParams", "estimate_render_bytes", "available_memory_bytes",
@@ -57,6 +58,7 @@ def _render_pixels(
     geom: SceneGeometry,
     mats: MaterialTable,
     env: Environment,
+    surf: Surfaces,
     tables: SpectralTables,
     polarized: int,
     xyz_out: wp.array(dtype=wp.vec3d),
@@ -97,7 +99,7 @@ def _render_pixels(
         lv = wp.randf(rng)
         o, d, b = camera_ray(cam, float(px) + jx, float(py) + jy, lu, lv)
         coh_x, coh, coh_z, hit, nr, rng_trace = trace_radiance(
-            tp, geom, mats, env, tables, polarized, o, d, b, wl, w, film.strata,
+            tp, geom, mats, env, surf, tables, polarized, o, d, b, wl, w, film.strata,
             film.strategy, u, stratum, rng_trace
         )
         s = stokes_from_coherency(coh)
@@ -198,10 +200,14 @@ def _build_objects(scene: Scene, device):
     from .geometry import cuts
 
     meshes, mats, axes = [], [], []
+    cache: dict = {}  # instancing: objects with the same shape and parameters share one mesh
     for i, ob in enumerate(scene.objects):
         where = f"object.{i}"
+        key = (ob.shape, ob.path, tuple(sorted((k, repr(v)) for k, v in ob.params.items())))
         try:
-            if ob.shape == "mesh":
+            if key in cache:
+                mesh = cache[key]
+            elif ob.shape == "mesh":
                 from .geometry.mesh import load_mesh
 
                 film = getattr(ob, "film", None)  # films: shells and film surfaces may be open meshes
@@ -220,6 +226,7 @@ def _build_objects(scene: Scene, device):
             raise exc from None
         except (ValueError, TypeError) as exc:
             raise InputError(str(exc), file=scene.path, field=f"{where}.shape", value=ob.shape) from None
+        cache[key] = mesh
         meshes.append((mesh, ob.transform()))
         try:
             mat = wo_materials.material_from_spec(ob.material)
@@ -321,8 +328,14 @@ class Renderer:
         r = scene.render
         check_render_memory(scene.camera.width, scene.camera.height, file=scene.path)
         meshes, mats, axes = _build_objects(scene, self.device)
-        self.geometry = GeometryScene(meshes, device=self.device)
-        self.materials, ids = build_material_table(mats, self.device)
+        self.geometry = GeometryScene(meshes, allow_empty=True, device=self.device)
+        if mats:
+            self.materials, ids = build_material_table(mats, self.device)
+        else:  # surfaces only: a placeholder material table (no object refers to it)
+            from .materials import material_from_spec
+
+            self.materials, ids = build_material_table([material_from_spec("diamond")], self.device)
+            ids = []
         from .stages.coated import build_film_surfaces  # films: coatings, shells, film surfaces
 
         films = build_film_surfaces(scene, meshes, mats, device=self.device)
@@ -335,6 +348,9 @@ class Renderer:
 
             axis = polarizer_world_axis(scene, self.camera, self.source_polarizer)
             self.environment.struct.polarizer = axis
+        self.surfaces = SurfaceStage(scene.surfaces, scene.lamps, max_diffuse=r.diffuse_depth, mis=r.mis,
+                                     stone_shadows=r.stone_shadows, environment=self.environment,
+                                     source=scene.path, device=self.device)
         self.tables = spectral_tables(self.device)
         self.trace_config = TraceConfig(max_depth=r.max_depth, split_threshold=r.split_threshold,
                                         max_splits=r.max_splits,
@@ -363,7 +379,9 @@ class Renderer:
         self.shared_spectrum = (r.spectral != "rgb3" and shared_spectrum is not False
                                 and _non_dispersive(mats)
                                 # films: a film's r and t depend on the wavelength (stages/coated.py)
-                                and not any(getattr(ob, "film", None) for ob in scene.objects))
+                                and not any(getattr(ob, "film", None) for ob in scene.objects)
+                                # surfaces and lamps: spectral albedos, one random path per wavelength
+                                and not scene.surfaces and not scene.lamps)
         film.strata = r.wavelengths if self.shared_spectrum else 0
         self.film = film
         n = film.width * film.height
@@ -390,7 +408,7 @@ class Renderer:
         t0 = time.perf_counter()
         polarized = 1 if self.trace_config.polarized else 0
         inputs_static = [self.camera.params, f, self.trace_params, self.geometry.geometry, self.materials,
-                         self.environment.struct, self.tables, polarized,
+                         self.environment.struct, self.surfaces.struct, self.tables, polarized,
                          self.xyz, self.stokes, self.alpha, self.rays, self.stokes_xyz]
         try:
             for row0 in chunks:

@@ -1,6 +1,6 @@
 """TOML scenes -> validated configuration objects, with errors that name file, field and value.
 
-A scene file has the tables ``[camera]``, ``[render]``, ``[[light]]`` and ``[[object]]`` (see
+A scene file has the tables ``[camera]``, ``[render]``, ``[[light]]``, ``[[object]]`` and ``[[surface]]`` (see
 DESIGN.md and the files in ``scenes/``).  ``Scene.load(path)`` reads and validates it;
 ``scene.with_overrides({"render.spp": 4, "object.0.diameter": 5.0})`` returns a modified copy
 (dotted paths, as the CLI's ``--set`` and the sweep axes use them).
@@ -9,6 +9,7 @@ DESIGN.md and the files in ``scenes/``).  ``Scene.load(path)`` reads and validat
 from __future__ import annotations
 
 import copy
+import dataclasses
 import difflib
 import inspect
 import math
@@ -22,12 +23,14 @@ import numpy as np
 from .errors import InputError
 from .stages.camera import CameraConfig
 from .stages.environment import EnvironmentConfig
+from .stages.surfaces import BSDF_KINDS, LAMP_KINDS, MIS_MODES, LampConfig, SurfaceConfig
 
 __all__ = ["Scene", "RenderConfig", "ObjectConfig", "SHAPES", "SPECTRAL_MODES"]
 
 SPECTRAL_MODES = ("rgb3", "uniform", "importance", "stratified")
 BIREFRINGENCE_MODES = ("exact", "approx")
 TONE_CURVES = ("filmic", "reinhard", "clip")
+MIS_CHOICES = tuple(MIS_MODES)
 
 
 def _suggest(key: str, allowed) -> str:
@@ -88,6 +91,11 @@ class RenderConfig:
     exposure: float = 0.0
     tone: str = "filmic"
     ambient_index: float = 1.0
+    # surfaces (stages/surfaces.py): surface hits per path leaf, direct-light estimator, and
+    # whether stones filter shadow rays (straight-through) or block them
+    diffuse_depth: int = 3
+    mis: str = "mis"
+    stone_shadows: bool = True
 
 
 _RENDER_FIELDS = {f for f in RenderConfig.__dataclass_fields__}
@@ -103,9 +111,15 @@ def _render_config(table: dict, file) -> RenderConfig:
         _choice(t["birefringence"], BIREFRINGENCE_MODES, file=file, field_name=f("birefringence"))
     if "tone" in t:
         _choice(t["tone"], TONE_CURVES, file=file, field_name=f("tone"))
+    if "mis" in t:
+        _choice(t["mis"], MIS_CHOICES, file=file, field_name=f("mis"))
+    if "stone_shadows" in t and not isinstance(t["stone_shadows"], bool):
+        raise InputError("must be true or false", file=file, field=f("stone_shadows"),
+                         value=t["stone_shadows"])
     if "polarization" in t and not isinstance(t["polarization"], bool):
         raise InputError("must be true or false", file=file, field=f("polarization"), value=t["polarization"])
-    for k, lo, hi in (("wavelengths", 1, 4096), ("max_depth", 0, 256), ("max_splits", 0, 4096), ("spp", 1, 1 << 20), ("seed", 0, 2**31 - 1)):
+    for k, lo, hi in (("wavelengths", 1, 4096), ("max_depth", 0, 256), ("max_splits", 0, 4096), ("spp", 1, 1 << 20), ("seed", 0, 2**31 - 1),
+                      ("diffuse_depth", 1, 8)):
         if k in t:
             _number(t[k], file=file, field_name=f(k), lo=lo, hi=hi, integer=True)
     for k, lo, hi in (("split_threshold", 0.0, 1.0), ("rr_threshold", 0.0, 1.0), ("exposure", -40.0, 40.0),
@@ -122,14 +136,14 @@ def _shape_functions() -> dict:
     from .geometry import cuts
 
     names = ["round_brilliant", "oval", "pear", "marquise", "emerald", "princess", "prism", "plate", "cube",
-             "sphere", "step_cut", "wavy_sheet"]
+             "sphere", "step_cut", "wavy_sheet", "rhomb"]
     return {n: getattr(cuts, n) for n in names if hasattr(cuts, n)}
 
 
 SHAPES = ("round_brilliant", "oval", "pear", "marquise", "emerald", "princess", "prism", "plate", "cube", "sphere",
-          "step_cut", "mesh", "gemcad", "wavy_sheet")
+          "step_cut", "rhomb", "mesh", "gemcad", "wavy_sheet")
 _OBJECT_COMMON = {"shape", "material", "position", "rotation", "scale", "optic_axis", "absorption_scale", "path",
-                  "name"}
+                  "name", "instances"}
 _OBJECT_COMMON |= {"surface", "coating", "film_thickness", "roughness"}  # films: stages/coated.py
 
 
@@ -227,15 +241,34 @@ def _object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfi
     return ObjectConfig(**kw)
 
 
+def _object_configs(table: dict, index: int, file, base_dir: Path) -> list[ObjectConfig]:
+    """One ``[[object]]`` table: one object, or one per entry of ``instances = [[x, y, z], ...]``
+    (positions in mm that replace ``position``; the instances share one mesh)."""
+    ob = _object_config(table, index, file, base_dir)
+    if "instances" not in table:
+        return [ob]
+    inst = table["instances"]
+    field_name = f"object.{index}.instances"
+    if not isinstance(inst, list) or not inst:
+        raise InputError("must be a non-empty list of positions [[x, y, z], ...]", file=file,
+                         field=field_name, value=inst)
+    return [dataclasses.replace(ob, position=_vec3(p, file=file, field_name=f"{field_name}.{j}"))
+            for j, p in enumerate(inst)]
+
+
 _LIGHT_KEYS = {"type", "map", "intensity", "tint", "rotation", "polarizer"}
 
 
-def _light_config(table: dict, index: int, file, base_dir: Path | None = None) -> EnvironmentConfig:
+def _light_config(
+    table: dict, index: int, file, base_dir: Path | None = None
+) -> EnvironmentConfig | LampConfig:
     prefix = f"light.{index}."
     if not isinstance(table, dict):
         raise InputError("must be a table [[light]]", file=file, field=f"light.{index}", value=table)
     ltype = table.get("type", "environment")
-    _choice(ltype, ("environment", "constant"), file=file, field_name=prefix + "type")
+    _choice(ltype, ("environment", "constant", *LAMP_KINDS), file=file, field_name=prefix + "type")
+    if ltype in LAMP_KINDS:
+        return _lamp_config(table, ltype, prefix, file)
     _check_keys(table, _LIGHT_KEYS, file=file, prefix=prefix)
     kw: dict[str, Any] = {"source": file}
     if ltype == "constant":
@@ -284,8 +317,149 @@ def _view_config(table, file) -> str | None:
     return None if k == "none" else (k if arg is None else f"{k}:{arg}")
 
 
+_LAMP_KEYS = {
+    "directional": {"type", "direction", "irradiance", "tint", "angular_radius"},
+    "area": {"type", "center", "normal", "up", "size", "radiance", "tint", "double_sided"},
+    "spot": {"type", "center", "direction", "intensity", "tint", "cone_angle", "blend"},
+}
+
+
+def _unit(v, *, file, field_name):
+    x = _vec3(v, file=file, field_name=field_name)
+    if np.linalg.norm(x) == 0:
+        raise InputError("must not be the zero vector", file=file, field=field_name, value=list(x))
+    return x
+
+
+def _size2(v, *, file, field_name, hi=1.0e6):
+    if not isinstance(v, (list, tuple)) or len(v) != 2:
+        raise InputError("must be a list of two numbers [width, height] in mm", file=file, field=field_name,
+                         value=v)
+    return tuple(float(_number(c, file=file, field_name=field_name, lo=0.0, hi=hi, lo_open=True)) for c in v)
+
+
+def _rgb(v, *, file, field_name, hi=math.inf):
+    x = _vec3(v, file=file, field_name=field_name)
+    if min(x) < 0 or max(x) > hi:
+        raise InputError("out of range", file=file, field=field_name, value=list(x),
+                         allowed=f"linear sRGB components >= 0 and <= {hi}" if hi != math.inf else ">= 0")
+    return x
+
+
+def _lamp_config(table: dict, ltype: str, prefix: str, file) -> LampConfig:
+    """``[[light]] type = "directional"`` or ``"area"`` (stages/surfaces.py)."""
+    _check_keys(table, _LAMP_KEYS[ltype], file=file, prefix=prefix)
+    kw: dict[str, Any] = {"type": ltype, "source": file}
+    for k in ("direction", "normal", "up"):
+        if k in table:
+            kw[k] = _unit(table[k], file=file, field_name=prefix + k)
+    if "center" in table:
+        kw["center"] = _vec3(table["center"], file=file, field_name=prefix + "center")
+    if "size" in table:
+        kw["size"] = _size2(table["size"], file=file, field_name=prefix + "size")
+    for k in ("irradiance", "radiance", "intensity"):
+        if k in table:
+            kw[k] = float(_number(table[k], file=file, field_name=prefix + k, lo=0.0, hi=1.0e12))
+    if "tint" in table:
+        kw["tint"] = _rgb(table["tint"], file=file, field_name=prefix + "tint")
+    if "angular_radius" in table:
+        kw["angular_radius"] = float(_number(table["angular_radius"], file=file,
+                                             field_name=prefix + "angular_radius", lo=0.0, hi=45.0))
+    for k in ("cone_angle", "blend"):
+        if k in table:
+            kw[k] = float(_number(table[k], file=file, field_name=prefix + k, lo=0.0, hi=90.0))
+    if "double_sided" in table:
+        if not isinstance(table["double_sided"], bool):
+            raise InputError("must be true or false", file=file, field=prefix + "double_sided",
+                             value=table["double_sided"])
+        kw["double_sided"] = table["double_sided"]
+    if "up" in kw and "normal" in kw and np.linalg.norm(np.cross(kw["up"], kw["normal"])) < 1e-9:
+        raise InputError("is parallel to the normal", file=file, field=prefix + "up", value=list(kw["up"]))
+    return LampConfig(**kw)
+
+
+SURFACE_TYPES = ("plane", "rectangle")
+_SURFACE_KEYS = {
+    "plane": {"type", "height", "size", "bsdf", "roughness", "ior", "color", "checker", "square", "texture",
+              "tile"},
+    "rectangle": {"type", "center", "normal", "up", "size", "bsdf", "roughness", "ior", "color", "checker",
+                  "square", "texture", "tile"},
+}
+
+
+def _surface_config(table: dict, index: int, file, base_dir: Path) -> SurfaceConfig:
+    """``[[surface]]``: ``type = "plane"`` (``height`` mm, ``size`` mm) or ``"rectangle"``
+    (``center``, ``normal``, ``up``, ``size = [w, h]``); ``bsdf = "diffuse" | "glossy"``
+    (``roughness``, coat ``ior``); albedo ``color = [r, g, b]``, or ``checker = [[r, g, b], [r, g, b]]``
+    with ``square`` mm, or ``texture = "file.png"`` with ``tile = [w, h]`` mm."""
+    prefix = f"surface.{index}."
+    if not isinstance(table, dict):
+        raise InputError("must be a table [[surface]]", file=file, field=f"surface.{index}", value=table)
+    stype = _choice(table.get("type", "plane"), SURFACE_TYPES, file=file, field_name=prefix + "type")
+    _check_keys(table, _SURFACE_KEYS[stype], file=file, prefix=prefix)
+    kw: dict[str, Any] = {}
+    if stype == "plane":
+        h = float(_number(table.get("height", 0.0), file=file, field_name=prefix + "height"))
+        s = float(_number(table.get("size", 1000.0), file=file, field_name=prefix + "size", lo=0.0, hi=1.0e6,
+                          lo_open=True))
+        kw.update(center=(0.0, 0.0, h), normal=(0.0, 0.0, 1.0), size=(s, s), up=(0.0, 1.0, 0.0))
+    else:
+        for k in ("normal", "up"):
+            if k in table:
+                kw[k] = _unit(table[k], file=file, field_name=prefix + k)
+        if "center" in table:
+            kw["center"] = _vec3(table["center"], file=file, field_name=prefix + "center")
+        if "size" in table:
+            kw["size"] = _size2(table["size"], file=file, field_name=prefix + "size")
+        if "up" in kw and np.linalg.norm(np.cross(kw["up"], kw.get("normal", (0.0, 0.0, 1.0)))) < 1e-9:
+            raise InputError("is parallel to the normal", file=file, field=prefix + "up",
+                             value=list(kw["up"]))
+    if "bsdf" in table:
+        kw["bsdf"] = _choice(table["bsdf"], tuple(BSDF_KINDS), file=file, field_name=prefix + "bsdf")
+    if "roughness" in table:
+        kw["roughness"] = float(_number(table["roughness"], file=file, field_name=prefix + "roughness",
+                                        lo=0.01, hi=1.0))
+    if "ior" in table:
+        kw["ior"] = float(_number(table["ior"], file=file, field_name=prefix + "ior", lo=1.0, hi=4.0))
+    albedos = [k for k in ("color", "checker", "texture") if k in table]
+    if len(albedos) > 1:
+        raise InputError("give one albedo: color, checker or texture", file=file, field=prefix + albedos[1],
+                         allowed="one of color, checker, texture")
+    if "color" in table:
+        kw["color"] = _rgb(table["color"], file=file, field_name=prefix + "color", hi=1.0)
+    if "checker" in table:
+        c = table["checker"]
+        if not isinstance(c, list) or len(c) != 2:
+            raise InputError("must be two colours [[r, g, b], [r, g, b]]", file=file,
+                             field=prefix + "checker", value=c)
+        kw["albedo"] = "checker"
+        kw["color"] = _rgb(c[0], file=file, field_name=prefix + "checker.0", hi=1.0)
+        kw["color2"] = _rgb(c[1], file=file, field_name=prefix + "checker.1", hi=1.0)
+    elif "square" in table:
+        raise InputError("square needs checker = [[r, g, b], [r, g, b]]", file=file, field=prefix + "square")
+    if "square" in table:
+        kw["square"] = float(_number(table["square"], file=file, field_name=prefix + "square", lo=0.0,
+                                     hi=1.0e6, lo_open=True))
+    if "texture" in table:
+        t = table["texture"]
+        if not isinstance(t, str):
+            raise InputError("must be an image file path", file=file, field=prefix + "texture", value=t)
+        p = Path(t)
+        if not p.is_absolute():
+            p = base_dir / p
+        if not p.is_file():
+            raise InputError("texture file not found", file=file, field=prefix + "texture", value=t)
+        kw["albedo"] = "texture"
+        kw["texture"] = str(p)
+    if "tile" in table:
+        if "texture" not in table:
+            raise InputError("tile needs texture = \"file\"", file=file, field=prefix + "tile")
+        kw["tile"] = _size2(table["tile"], file=file, field_name=prefix + "tile")
+    return SurfaceConfig(**kw)
+
+
 _CAMERA_KEYS = set(CameraConfig.__dataclass_fields__) - {"source"}
-_TOP_KEYS = {"camera", "render", "light", "object", "view"}
+_TOP_KEYS = {"camera", "render", "light", "object", "surface", "view"}
 
 
 @dataclass(frozen=True)
@@ -299,6 +473,8 @@ class Scene:
     data: dict = field(repr=False, compare=False, default_factory=dict)
     path: str | None = None
     view: str | None = None  # [view]: polarization view spec for the CLI ("polariscope", "analyzer:30")
+    surfaces: tuple[SurfaceConfig, ...] = ()  # [[surface]] (stages/surfaces.py)
+    lamps: tuple[LampConfig, ...] = ()  # [[light]] of type directional / area
 
     @classmethod
     def load(cls, path: str | Path) -> Scene:
@@ -334,17 +510,26 @@ class Scene:
         lights_t = data.get("light", [{"type": "environment", "map": "studio"}])
         if not isinstance(lights_t, list):
             raise InputError("must be an array of tables [[light]]", file=file, field="light")
-        lights = tuple(_light_config(t, i, file, base_dir) for i, t in enumerate(lights_t))
+        all_lights = [_light_config(t, i, file, base_dir) for i, t in enumerate(lights_t)]
+        lamps = tuple(lt for lt in all_lights if isinstance(lt, LampConfig))
+        lights = tuple(lt for lt in all_lights if not isinstance(lt, LampConfig))
+        if not lights and lamps:
+            lights = (EnvironmentConfig(map="constant", intensity=0.0, source=file),)  # lamps only: black sky
         if len(lights) != 1:
             raise InputError("exactly one environment light is supported", file=file, field="light",
                              value=len(lights))
+        surf_t = data.get("surface", [])
+        if not isinstance(surf_t, list):
+            raise InputError("must be an array of tables [[surface]]", file=file, field="surface")
+        surfaces = tuple(_surface_config(t, i, file, base_dir) for i, t in enumerate(surf_t))
         objs_t = data.get("object", [])
-        if not isinstance(objs_t, list) or not objs_t:
-            raise InputError("a scene needs at least one [[object]]", file=file, field="object")
-        objects = tuple(_object_config(t, i, file, base_dir) for i, t in enumerate(objs_t))
+        if not isinstance(objs_t, list) or (not objs_t and not surfaces):
+            raise InputError("a scene needs at least one [[object]] or [[surface]]", file=file,
+                             field="object")
+        objects = tuple(ob for i, t in enumerate(objs_t) for ob in _object_configs(t, i, file, base_dir))
         view = _view_config(data["view"], file) if "view" in data else None
         return cls(camera=camera, render=render, lights=lights, objects=objects, data=copy.deepcopy(data),
-                   path=path, view=view)
+                   path=path, view=view, surfaces=surfaces, lamps=lamps)
 
     def with_overrides(self, overrides: dict[str, Any] | None = None, **kw) -> Scene:
         """A copy with dotted-path overrides applied, e.g. ``{"render.spp": 4,
@@ -377,7 +562,7 @@ def set_dotted(data: dict, dotted: str, value, *, file: str = "<scene>") -> None
                                  field=".".join(parts[: i + 1])) from None
         else:
             if part not in node:
-                if part in ("object", "light"):
+                if part in ("object", "light", "surface"):
                     raise InputError("no such array of tables", file=file, field=".".join(parts[: i + 1]))
                 node[part] = {}
             node = node[part]

@@ -45,6 +45,8 @@ from ..errors import InputError
 __all__ = [
     "Proportions",
     "convex_from_planes",
+    "rhomb",
+    "rhomb_axis_angle",
     "measure_proportions",
     "round_brilliant",
     "oval",
@@ -838,6 +840,47 @@ def sphere(diameter: float = 1.0, subdivisions: int = 3) -> trimesh.Trimesh:
     return m
 
 
+#: calcite's cleavage rhombohedron: the interfacial angle between adjacent cleavage faces is
+#: 74.95 deg (its supplement 105.05 deg), e.g. Hurlbut & Klein, *Manual of Mineralogy*, 19th ed.
+CALCITE_RHOMB_ANGLE = 74.95
+
+
+def rhomb_axis_angle(face_angle: float = CALCITE_RHOMB_ANGLE) -> float:
+    """Angle (degrees) between the 3-fold axis of a rhombohedron and each face normal, from the
+    angle ``face_angle`` between adjacent face normals: cos(face_angle) = (3 cos^2 beta - 1) / 2
+    (three normals at beta from the axis, 120 deg apart).  Calcite: 44.63 deg."""
+    c = math.cos(math.radians(face_angle))
+    return math.degrees(math.acos(math.sqrt((2.0 * c + 1.0) / 3.0)))
+
+
+def rhomb(thickness: float = 5.0, face_angle: float = CALCITE_RHOMB_ANGLE) -> trimesh.Trimesh:
+    """A rhombohedron (a cleavage rhomb of calcite by default) with all three pairs of opposite
+    faces ``thickness`` mm apart, centred on the origin.
+
+    One face pair is normal to z ("top" +z, "bottom" -z).  The 3-fold axis (calcite's optic axis,
+    ``metadata["optic_axis"]``) lies in the x-z plane at :func:`rhomb_axis_angle` from z (44.63 deg
+    for calcite), and the other two face normals are the top normal turned by +-120 deg about it,
+    so adjacent faces meet at ``face_angle`` between normals (dihedral 180 - face_angle).
+    """
+    thickness = _check("thickness", thickness, 0.0, 1e5, lo_open=True, unit=" mm")
+    face_angle = _check("face_angle", face_angle, 1.0, 89.0, unit=" deg")
+    beta = math.radians(rhomb_axis_angle(face_angle))
+    axis = np.array([math.sin(beta), 0.0, math.cos(beta)])
+    n1 = np.array([0.0, 0.0, 1.0])
+
+    def turn(v, ang):  # Rodrigues rotation about the axis
+        a = math.radians(ang)
+        return v * math.cos(a) + np.cross(axis, v) * math.sin(a) + axis * (axis @ v) * (1 - math.cos(a))
+
+    n2, n3 = turn(n1, 120.0), turn(n1, -120.0)
+    normals = np.array([n1, -n1, n2, -n2, n3, -n3])
+    names = ["top", "bottom", "face 2", "face -2", "face 3", "face -3"]
+    m = convex_from_planes(normals, np.full(6, thickness / 2), names)
+    m.metadata["shape"] = "rhomb"
+    m.metadata["optic_axis"] = axis
+    return m
+
+
 def ground_plane(size: float = 100.0, thickness: float = 1.0, z: float = 0.0) -> trimesh.Trimesh:
     """A ground slab ``size`` x ``size`` x ``thickness`` mm whose top face is the plane z = ``z``.
 
@@ -904,5 +947,6 @@ SHAPES: dict[str, Callable[..., trimesh.Trimesh]] = {
     "cube": cube,
     "sphere": sphere,
     "ground_plane": ground_plane,
+    "rhomb": rhomb,
 }
 # (``wavy_sheet`` is an open surface for films, not a solid: scene files name it, SHAPES does not)

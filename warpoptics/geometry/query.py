@@ -374,6 +374,7 @@ class GeometryScene:
         *,
         convex: bool | str | Sequence[bool | str] = "auto",
         convex_max_planes: int = 256,
+        allow_empty: bool = False,
         device=None,
     ) -> None:
         self.device = _device.get_device(device)
@@ -387,7 +388,7 @@ class GeometryScene:
                 if xf.shape != (4, 4) or not np.all(np.isfinite(xf)):
                     raise ValueError("an object transform must be a finite 4x4 matrix")
                 objs.append((mesh, xf))
-        if not objs:
+        if not objs and not allow_empty:
             raise ValueError("a scene needs at least one object")
         if isinstance(convex, (bool, str)):
             convex = [convex] * len(objs)
@@ -398,7 +399,21 @@ class GeometryScene:
         planes_all, face_facet_all, w2o, spheres = [], [], [], []
         plane_start, plane_count, face_start = [], [], []
         np_, nf = 0, 0
+        # instancing: objects given the SAME trimesh object share one wp.Mesh (one BVH, one set of
+        # vertices) and one range of facet planes; only their transforms differ
+        shared: dict[tuple[int, str], tuple] = {}
         for (mesh, xf), flag in zip(objs, convex, strict=True):
+            key = (id(mesh), str(flag))
+            if key in shared:
+                wmesh, p0, pc, f0, sphere, use = shared[key]
+                self.convex_flags.append(use)
+                self.meshes.append(wmesh)
+                plane_start.append(p0)
+                plane_count.append(pc)
+                face_start.append(f0)
+                w2o.append(np.linalg.inv(xf))
+                spheres.append(sphere)
+                continue
             planes, face_facet = facet_planes(mesh)
             can = bool(mesh.is_watertight and mesh.is_convex)
             if flag == "auto":
@@ -422,12 +437,22 @@ class GeometryScene:
             v = np.asarray(mesh.vertices, dtype=np.float64)
             center = 0.5 * (v.min(axis=0) + v.max(axis=0))
             spheres.append([*center, float(np.max(np.linalg.norm(v - center, axis=1)))])
+            shared[key] = (self.meshes[-1], plane_start[-1], plane_count[-1], face_start[-1], spheres[-1],
+                           use)
+        #: number of distinct meshes (BVHs) on the device; instances share one
+        self.unique_meshes = len(shared)
+        if not objs:
+            # an empty scene (surfaces only): dummy rows, num_objects = 0
+            planes_all, face_facet_all = [np.zeros((1, 4))], [np.zeros(1, dtype=np.int64)]
+            w2o, spheres = [np.eye(4)], [[0.0, 0.0, 0.0, 0.0]]
+            plane_start, plane_count, face_start = [0], [0], [0]
+            self.convex_flags = [False]
         dev = self.device
         self._convex_possible = [bool(m.is_watertight and m.is_convex) for m, _ in objs]
         g = SceneGeometry()
         g.num_objects = len(objs)
         g.mode = MODE_AUTO
-        ids = np.array([m.id for m in self.meshes], dtype=np.uint64)
+        ids = np.array([m.id for m in self.meshes] or [0], dtype=np.uint64)
         g.mesh_ids = wp.array(ids, dtype=wp.uint64, device=dev)
         g.world_to_object = wp.array(np.array(w2o, dtype=np.float32), dtype=wp.mat44f, device=dev)
         g.convex = wp.array(np.array(self.convex_flags, dtype=np.int32), dtype=wp.int32, device=dev)

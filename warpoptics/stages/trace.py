@@ -97,6 +97,7 @@ from .branches import (
 )
 from .coated import FilmSurfaces, empty_film_surfaces, film_children  # films: coated interfaces, shells
 from .environment import Environment, environment_basis, environment_coefficients
+from .surfaces import Surfaces, surface_radiance, surfaces_closest_hit
 
 __all__ = ["TraceParams", "TraceConfig", "trace_radiance", "default_params", "STACK_SIZE", "BIREFRINGENCE"]
 
@@ -482,11 +483,19 @@ def _spectral_response(env: Environment, tables: SpectralTables, wavelength: flo
 
 
 @wp.func
+def _add_light(acc_x: Jones, acc_y: Jones, acc_z: Jones, k_unit: Jones, xyz: wp.vec3f):
+    """Add light of colour ``xyz`` arriving with coherency ``k_unit`` per unit radiance."""
+    return (jones_add(acc_x, jones_scale(k_unit, xyz[0])), jones_add(acc_y, jones_scale(k_unit, xyz[1])),
+            jones_add(acc_z, jones_scale(k_unit, xyz[2])))
+
+
+@wp.func
 def trace_radiance(
     p: TraceParams,
     geom: SceneGeometry,
     mats: MaterialTable,
     env: Environment,
+    surf: Surfaces,
     tables: SpectralTables,
     polarized: int,
     origin: wp.vec3f,
@@ -538,6 +547,25 @@ def trace_radiance(
             hit = object_exit_hit(geom, inside, o, d, p.t_max)  # solids do not overlap
         else:
             hit = scene_closest_hit(geom, o, d, p.t_max)
+            # surfaces hook (stages/surfaces.py): an opaque surface or a lamp in front of every
+            # solid ends the branch with its (unpolarized) radiance, like the environment below
+            if surf.num_surfaces + surf.num_area > 0:
+                sh = surfaces_closest_hit(surf, o, d, hit.t)
+                if sh.kind != 0:
+                    ch3 = int(-1)  # rgb3 mode: the channel's eq. 9 absorbances in shadow rays too
+                    if p.rgb3 != 0:
+                        ch3 = wp.clamp(channel, 0, 2)
+                    radiance, rng = surface_radiance(surf, geom, mats, env, tables, p.object_material,
+                                                     p.object_absorption_scale, p.ambient[0], o, d, sh,
+                                                     wavelength, ch3, rng)
+                    # one wavelength per path here: surfaces turn the shared-spectrum path off
+                    xyz_s = weight * radiance
+                    if polarized != 0:
+                        k_unit = coherency_transform(m, coherency_unpolarized(w))
+                        acc_x, acc_y, acc_z = _add_light(acc_x, acc_y, acc_z, k_unit, xyz_s)
+                    else:
+                        scalar_xyz += xyz_s * w
+                    continue
         if hit.object < 0:
             if inside < 0:
                 xyz = response * environment_coefficients(env, d)
@@ -545,9 +573,7 @@ def trace_radiance(
                     # polarized illumination hook (polariscope): the light behind env.polarizer
                     # (zero axis: unpolarized, coherency_unpolarized); frame (bx, k x bx), k = -d
                     k_unit = coherency_transform(m, sheet_polarizer_coherency(env.polarizer, -d, bx, w))
-                    acc_x = jones_add(acc_x, jones_scale(k_unit, xyz[0]))
-                    acc_y = jones_add(acc_y, jones_scale(k_unit, xyz[1]))
-                    acc_z = jones_add(acc_z, jones_scale(k_unit, xyz[2]))
+                    acc_x, acc_y, acc_z = _add_light(acc_x, acc_y, acc_z, k_unit, xyz)
                 else:
                     scalar_xyz += xyz * w
             # a segment inside a solid that finds no exit leaked through a crack: dropped
