@@ -25,9 +25,9 @@ from _gallery import GALLERY, ROOT, Timer, write_json  # noqa: E402
 
 # name: (scene file, width, height, [render] overrides) — sizes chosen to stay under 5 min on 2 cores
 SCENES = {
-    "dof": ("dof.toml", 320, 200, {}),
+    "dof": ("dof.toml", 320, 200, {"spp": 12}),
     "soap_bubble": ("soap_bubble.toml", 240, 240, {}),
-    "diamonds_on_table": ("diamonds_on_table.toml", 320, 240, {}),
+    "diamonds_on_table": ("diamonds_on_table.toml", 320, 240, {"spp": 12}),
     "calcite": ("calcite.toml", 240, 240, {}),
     "mystic_topaz": ("mystic_topaz.toml", 240, 240, {}),
     "oil_slick": ("oil_slick.toml", 256, 192, {}),
