@@ -220,3 +220,39 @@ def test_caustics_deterministic_across_threads(device):
     f1 = r.caustics.run(threads=1)
     f2 = r.caustics.run(threads=2, tile_size=997)
     assert np.array_equal(f1, f2)
+
+
+def test_caustics_input_errors_and_no_lamps(device):
+    from warpoptics.errors import InputError
+
+    for key, value in (("caustics", "yes"), ("caustic_paths", -5), ("caustic_paths", 1.5)):
+        d = _slab_scene()
+        d["render"][key] = value
+        with pytest.raises(InputError, match=f"render.{key}"):
+            Scene.from_dict(d)
+    # only an environment: the light tracer has no lamp and adds nothing (and does not fail)
+    d = _slab_scene(paths=1000)
+    d["light"] = [{"type": "constant", "intensity": 1.0}]
+    r = Renderer(Scene.from_dict(d), device=device)
+    img = r.run()
+    assert np.isfinite(img.xyz).all() and not r.caustics.enabled
+    assert np.all(r.caustics.run() == 0.0)
+
+
+def test_caustics_scene_renders_from_the_cli(tmp_path):
+    """scenes/caustics.toml through the CLI at a tiny size: finite, and the light tracer ran."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    out = tmp_path / "c.exr"
+    cmd = [sys.executable, "-m", "warpoptics.cli", "render", str(root / "scenes" / "caustics.toml"), "-o", str(out),
+           "--set", "camera.width=32", "--set", "camera.height=24", "--set", "render.caustic_paths=4000",
+           "--set", "render.spp=1", "--set", "render.wavelengths=4"]
+    res = subprocess.run(cmd, capture_output=True, text=True, timeout=600, cwd=root)
+    assert res.returncode == 0, res.stderr[-2000:]
+    from warpoptics.image import read_image
+
+    data = read_image(out)
+    assert np.isfinite(np.asarray(data[0] if isinstance(data, tuple) else data)).all()
