@@ -175,13 +175,13 @@ def test_glass_sphere_focuses_and_conserves_power(device):
     data = {
         "camera": {"type": "perspective", "position": [0.0, -30.0, 30.0 * math.tan(el)], "look_at": [0.0, 0.0, 0.0],
                    "up": [0.0, 0.0, 1.0], "fov": 10.0, "width": 24, "height": 24},
-        "render": {"spectral": "stratified", "wavelengths": 8, "spp": 1, "seed": 5, "max_depth": 24,
+        "render": {"spectral": "stratified", "wavelengths": 8, "spp": 1, "seed": 5, "max_depth": 64,
                    "caustics": True, "caustic_paths": 80_000},
         "light": [{"type": "constant", "intensity": 0.0},
                   {"type": "directional", "direction": [0.0, 0.0, -1.0], "irradiance": E_SUN}],
         "surface": [{"type": "plane", "height": 0.0, "size": 1000.0, "color": [1.0, 1.0, 1.0]}],
         # paraxial focus of a ball lens: n R / (2 (n - 1)) = 3 mm from the centre
-        "object": [{"shape": "sphere", "diameter": 2 * radius, "subdivisions": 4,
+        "object": [{"shape": "sphere", "diameter": 2 * radius, "subdivisions": 5,
                     "material": {"cauchy": [N_GLASS]}, "position": [0.0, 0.0, 3.0]}],
     }
     r = Renderer(Scene.from_dict(data), device=device)
@@ -193,9 +193,11 @@ def test_glass_sphere_focuses_and_conserves_power(device):
     rd = float(r.caustics.params.t_radius.numpy()[0])  # the emission disc's radius
     power_plane = E_SUN * math.pi * rd**2 * led[0]
     reference = E_SUN * math.pi * radius**2 * _sphere_reference(N_GLASS)
-    # position sampling over the disc: ~0.3 % Monte Carlo; the 5120-facet sphere's silhouette and
-    # incidence angles differ from the sphere's by ~0.1 %; 1 %
+    # position sampling over the disc: ~0.1 % Monte Carlo; the 20480-facet icosphere is not a
+    # sphere: its facets trap a little light (TIR), cut at max_depth (measured 0.16 %), and its
+    # incidence angles differ slightly (measured: power 0.3 % below the ideal sphere's); 1 %
     assert power_plane == pytest.approx(reference, rel=0.01)
+    assert led[3] < 0.005  # truncated
     assert led[6] == 0.0  # no deposit overflow
 
 
