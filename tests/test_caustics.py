@@ -159,7 +159,8 @@ def test_small_area_light_through_wide_slab(device):
     data["object"][0].update(width=30.0, length=30.0)
     # a lower camera (10 degrees) that sees the table under the wide slab: at 20 degrees the table
     # is seen through the slab, an L S+ D S+ E path that no estimator owns (module docstring)
-    data["camera"].update(position=[0.0, -40.0, 40.0 * math.tan(math.radians(10.0))], fov=3.0, width=8, height=8)
+    low = [0.0, -40.0, 40.0 * math.tan(math.radians(10.0))]
+    data["camera"].update(position=low, fov=3.0, width=8, height=8)
     r = Renderer(Scene.from_dict(data), device=device)
     r.run()
     caustic = r.caustics.run().reshape(8, 8, 3)
@@ -196,8 +197,8 @@ def test_glass_sphere_focuses_and_conserves_power(device):
     radius = 2.0
     el = math.radians(20.0)  # the focus (3 mm below the centre) sees the camera past the sphere
     data = {
-        "camera": {"type": "perspective", "position": [0.0, -30.0, 30.0 * math.tan(el)], "look_at": [0.0, 0.0, 0.0],
-                   "up": [0.0, 0.0, 1.0], "fov": 10.0, "width": 24, "height": 24},
+        "camera": {"type": "perspective", "position": [0.0, -30.0, 30.0 * math.tan(el)],
+                   "look_at": [0.0, 0.0, 0.0], "up": [0.0, 0.0, 1.0], "fov": 10.0, "width": 24, "height": 24},
         "render": {"spectral": "stratified", "wavelengths": 8, "spp": 1, "seed": 5, "max_depth": 64,
                    "caustics": True, "caustic_paths": 80_000},
         "light": [{"type": "constant", "intensity": 0.0},
@@ -272,7 +273,8 @@ def test_caustics_scene_renders_from_the_cli(tmp_path):
 
     root = Path(__file__).resolve().parent.parent
     out = tmp_path / "c.exr"
-    cmd = [sys.executable, "-m", "warpoptics.cli", "render", str(root / "scenes" / "caustics.toml"), "-o", str(out),
+    scene = str(root / "scenes" / "caustics.toml")
+    cmd = [sys.executable, "-m", "warpoptics.cli", "render", scene, "-o", str(out),
            "--set", "camera.width=32", "--set", "camera.height=24", "--set", "render.caustic_paths=4000",
            "--set", "render.spp=1", "--set", "render.wavelengths=4"]
     res = subprocess.run(cmd, capture_output=True, text=True, timeout=600, cwd=root)

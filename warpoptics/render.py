@@ -459,7 +459,8 @@ def _caustic_stage(renderer: Renderer, meshes, ids, mats, axes):
     paths = r.caustic_paths or f.width * f.height * r.spp
     return CausticStage(
         meshes=meshes, lamps=scene.lamps, object_material=ids,
-        absorption_scale=[ob.absorption_scale for ob in scene.objects], object_axis=_world_axes(scene, mats, axes),
+        absorption_scale=[ob.absorption_scale for ob in scene.objects],
+        object_axis=_world_axes(scene, mats, axes),
         camera=renderer.camera, surfaces=renderer.surfaces.struct, geometry=renderer.geometry.geometry,
         materials=renderer.materials, tables=renderer.tables, spectral=r.spectral, wavelengths=r.wavelengths,
         paths=paths, max_depth=r.max_depth, ambient=r.ambient_index, seed=r.seed, device=renderer.device,

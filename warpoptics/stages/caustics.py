@@ -420,7 +420,9 @@ def _caustic_kernel(
                         blocked = scene_closest_hit(geom, xs, w_cam, dist * 0.999).object >= 0
                     if not blocked:
                         albedo = reflectance_value(tables, _albedo_rgb(surf, k, sh.a, sh.b), wl)
-                        f_r = bsdf_eval(surf.bsdf[k], albedo, surf.roughness[k], surf.ior[k], nrm_s, w_cam, -d)
+                        f_r = bsdf_eval(
+                            surf.bsdf[k], albedo, surf.roughness[k], surf.ior[k], nrm_s, w_cam, -d
+                        )
                         val = e * flux * f_r * imp * cp.splat_scale
                         if val > 0.0:
                             if ndep < cp.max_deposits:
@@ -580,6 +582,12 @@ def _luminance(rgb) -> float:
     return max(0.2126 * r + 0.7152 * g + 0.0722 * b, 0.0)
 
 
+def _solid_angles(centres, radii, point) -> float:
+    """Approximate total solid angle (pi r^2 / d^2, at most pi) of the target spheres from a point."""
+    return sum(math.pi * rk**2 / max(float(np.sum((ck - point) ** 2)), rk**2)
+               for ck, rk in zip(centres, radii, strict=True))
+
+
 def _bounding_spheres(meshes) -> tuple[np.ndarray, np.ndarray]:
     """World bounding sphere (centre of the bounding box, max vertex distance) of each (mesh, xf)."""
     centres, radii = [], []
@@ -626,11 +634,11 @@ class CausticStage:
         for lp in areas:
             a = float(np.prod(lp.size))
             c = np.asarray(lp.center, dtype=np.float64)
-            om = sum(math.pi * rk**2 / max(float(np.sum((ck - c) ** 2)), rk**2) for ck, rk in zip(centres, radii, strict=True))
+            om = _solid_angles(centres, radii, c)
             power.append(_luminance(np.asarray(lp.tint) * lp.radiance) * a * om)
         for lp in spots:
             c = np.asarray(lp.center, dtype=np.float64)
-            om = sum(math.pi * rk**2 / max(float(np.sum((ck - c) ** 2)), rk**2) for ck, rk in zip(centres, radii, strict=True))
+            om = _solid_angles(centres, radii, c)
             power.append(_luminance(np.asarray(lp.tint) * lp.intensity) * om)
         power = np.asarray(power, dtype=np.float64)
         self.enabled = len(radii) > 0 and len(power) > 0 and power.sum() > 0.0
@@ -652,8 +660,8 @@ class CausticStage:
         cp.t_centre = wp.array(cent.astype(np.float32), dtype=wp.vec3f, device=dev)
         cp.t_radius = wp.array(rad.astype(np.float32), dtype=wp.float32, device=dev)
         cp.t_prob = wp.array(np.resize(t_prob, nt).astype(np.float32), dtype=wp.float32, device=dev)
-        cp.t_cdf = wp.array(np.concatenate([[0.0], np.cumsum(np.resize(t_prob, nt))[:-1], [1.0]]).astype(np.float32),
-                            dtype=wp.float32, device=dev)
+        t_cdf = np.concatenate([[0.0], np.cumsum(np.resize(t_prob, nt))[:-1], [1.0]])
+        cp.t_cdf = wp.array(t_cdf.astype(np.float32), dtype=wp.float32, device=dev)
         lo = (cent - rad[:, None]).min(axis=0)
         hi = (cent + rad[:, None]).max(axis=0)
         cp.all_centre = wp.vec3f(*(0.5 * (lo + hi)))
@@ -669,11 +677,11 @@ class CausticStage:
         self.params = cp
         self.forward = forward_params(
             np.asarray(object_material, dtype=np.int32) if len(object_material) else np.zeros(1, np.int32),
-            np.asarray(absorption_scale, dtype=np.float32) if len(absorption_scale) else np.ones(1, np.float32),
-            np.asarray(object_axis, dtype=np.float32).reshape(-1, 3) if len(object_axis) else np.zeros((1, 3)),
-            -np.ones(max(len(object_material), 1), dtype=np.int32),
-            config=ForwardConfig(max_depth=max_depth, split_threshold=split_threshold, max_deposits=max_deposits,
-                                 seed=seed),
+            np.asarray(absorption_scale, np.float32) if len(absorption_scale) else np.ones(1, np.float32),
+            np.asarray(object_axis, np.float32).reshape(-1, 3) if len(object_axis) else np.zeros((1, 3)),
+            -np.ones(max(len(object_material), 1), dtype=np.int32),  # no coatings (check_caustic_scene)
+            config=ForwardConfig(max_depth=max_depth, split_threshold=split_threshold,
+                                 max_deposits=max_deposits, seed=seed),
             ambient=(ambient, 0.0), device=dev,
         )
         self.coatings = make_coating_stack([[]], device=dev)
