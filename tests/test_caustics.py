@@ -106,10 +106,14 @@ def test_slab_caustic_matches_closed_form(device, kind):
     front = _footprints(data["camera"])[..., 1].max(axis=2) < -5.3
     assert front.sum() >= 100
     assert camera_pass[..., 1][front].mean() == pytest.approx(E_SUN / math.pi, rel=0.02)
-    led = dict(zip(("surface", "absorbed", "escaped", "truncated", "lost", "interface", "overflow"),
-                   r.caustics.ledger / r.caustics.paths, strict=True))
+    from warpoptics.stages.caustics import CAUSTIC_LEDGER
+
+    led = dict(zip(CAUSTIC_LEDGER, r.caustics.ledger / r.caustics.paths, strict=True))
     assert led["overflow"] == 0.0 and led["lost"] == 0.0 and led["absorbed"] == 0.0
-    assert sum(led.values()) - led["overflow"] == pytest.approx(1.0, abs=1e-4)
+    # the slab's top reflects straight up: nothing reaches the table after one interface
+    assert led["reflected"] == 0.0
+    parts = ("surface", "absorbed", "escaped", "truncated", "lost", "interface")
+    assert sum(led[k] for k in parts) == pytest.approx(1.0, abs=1e-4)
 
 
 def _spot_slab_reference(rho, height, n, lambertian=False):
@@ -181,14 +185,16 @@ def _sphere_reference(n: float) -> float:
     rs = ((ci - n * ct) / (ci + n * ct)) ** 2
     rp = ((n * ci - ct) / (n * ci + ct)) ** 2
     total = np.zeros_like(u)
+    reflected = np.zeros_like(u)
     for r in (rs, rp):
         down = np.cos(np.pi - 2 * th) > 0
         f = r * down
+        reflected += 0.5 * f
         for k in range(40):
             dev = 2 * (th - tt) + k * (np.pi - 2 * tt)
             f = f + (1 - r) ** 2 * r**k * (np.cos(dev) > 0)
         total += 0.5 * f
-    return float(np.sum(2 * u * total) / len(u))
+    return float(np.sum(2 * u * total) / len(u)), float(np.sum(2 * u * reflected) / len(u))
 
 
 def test_glass_sphere_focuses_and_conserves_power(device):
@@ -216,13 +222,18 @@ def test_glass_sphere_focuses_and_conserves_power(device):
     led = r.caustics.ledger / r.caustics.paths
     rd = float(r.caustics.params.t_radius.numpy()[0])  # the emission disc's radius
     power_plane = E_SUN * math.pi * rd**2 * led[0]
-    reference = E_SUN * math.pi * radius**2 * _sphere_reference(N_GLASS)
+    f_all, f_refl = _sphere_reference(N_GLASS)
+    reference = E_SUN * math.pi * radius**2 * f_all
     # position sampling over the disc: ~0.1 % Monte Carlo; the 20480-facet icosphere is not a
     # sphere: its facets trap a little light (TIR), cut at max_depth (measured 0.16 %), and its
     # incidence angles differ slightly (measured: power 0.3 % below the ideal sphere's); 1 %
     assert power_plane == pytest.approx(reference, rel=0.01)
     assert led[3] < 0.005  # truncated
     assert led[6] == 0.0  # no deposit overflow
+    # the external reflections that go down (theta > 45 degrees): the reflective caustic, 7 % of the
+    # power; measured 2 % low: near grazing R(theta) is steep and the facets' normals differ from
+    # the sphere's by up to ~1.4 degrees; Monte Carlo ~0.8 %; 5 %
+    assert E_SUN * math.pi * rd**2 * led[7] == pytest.approx(E_SUN * math.pi * radius**2 * f_refl, rel=0.05)
 
 
 def test_caustics_off_is_the_old_image_and_on_only_adds(device):

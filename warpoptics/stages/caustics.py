@@ -79,7 +79,9 @@ that reached a surface after >= 1 gem interface (whether or not the camera sees 
 in the gems, ``escaped`` (left the scene, hit a lamp, or reached a surface before any gem),
 ``truncated`` (``max_depth``), ``lost`` (no exit from a solid), ``interface`` (not accounted for
 by the Fresnel amplitudes); ``overflow`` (of the ``surface`` power: splats beyond the path's
-``max_deposits`` slots, counted but not splatted).
+``max_deposits`` slots, counted but not splatted); ``reflected`` (of the ``surface`` power: light
+that met exactly one interface, an external reflection off a facet - seed 001's "reflective
+caustics"; the rest went through a stone).
 
 References:
     Veach, E. 1997. Robust Monte Carlo Methods for Light Transport Simulation. PhD thesis,
@@ -141,8 +143,8 @@ from .surfaces import Surfaces, _albedo_rgb, bsdf_eval, reflectance_value, surfa
 __all__ = ["CausticParams", "CausticStage", "CAUSTIC_LEDGER", "caustic_importance"]
 
 #: names of the ledger columns (module docstring)
-CAUSTIC_LEDGER = ("surface", "absorbed", "escaped", "truncated", "lost", "interface", "overflow")
-_C_SURF, _C_ABS, _C_ESC, _C_TRUNC, _C_LOST, _C_IFACE, _C_OVER = 0, 1, 2, 3, 4, 5, 6
+CAUSTIC_LEDGER = ("surface", "absorbed", "escaped", "truncated", "lost", "interface", "overflow", "reflected")
+_C_SURF, _C_ABS, _C_ESC, _C_TRUNC, _C_LOST, _C_IFACE, _C_OVER, _C_REFL = 0, 1, 2, 3, 4, 5, 6, 7
 
 _ORTHO = wp.constant(1)
 _HIT_SURFACE = wp.constant(1)
@@ -389,6 +391,7 @@ def _caustic_kernel(
     e_lost = float(0.0)
     e_iface = float(0.0)
     e_over = float(0.0)
+    e_refl = float(0.0)
     while n > 0:
         n -= 1
         o = _row_vec(st, n, _O)
@@ -407,6 +410,8 @@ def _caustic_kernel(
             if sh.kind == _HIT_SURFACE and depth >= 1:
                 # L S+ D: this tracer's path; connect the diffuse point to the eye (D E)
                 e_surf += e
+                if depth == 1:
+                    e_refl += e  # an external reflection off a facet (reflective caustic)
                 k = sh.index
                 x = o + d * sh.t
                 nrm_s = surf.normal[k]
@@ -575,6 +580,7 @@ def _caustic_kernel(
     ledger[li, _C_LOST] = wp.float64(e_lost)
     ledger[li, _C_IFACE] = wp.float64(e_iface)
     ledger[li, _C_OVER] = wp.float64(e_over)
+    ledger[li, _C_REFL] = wp.float64(e_refl)
 
 
 def _luminance(rgb) -> float:
