@@ -349,7 +349,9 @@ class Renderer:
             axis = polarizer_world_axis(scene, self.camera, self.source_polarizer)
             self.environment.struct.polarizer = axis
         self.surfaces = SurfaceStage(scene.surfaces, scene.lamps, max_diffuse=r.diffuse_depth, mis=r.mis,
-                                     stone_shadows=r.stone_shadows, environment=self.environment,
+                                     # caustics own the light through stones: stones then block NEE
+                                     stone_shadows=r.stone_shadows and not r.caustics,
+                                     environment=self.environment,
                                      source=scene.path, device=self.device)
         self.tables = spectral_tables(self.device)
         self.trace_config = TraceConfig(max_depth=r.max_depth, split_threshold=r.split_threshold,
@@ -390,6 +392,9 @@ class Renderer:
         self.alpha = wp.zeros(n, dtype=wp.float64, device=self.device)
         self.rays = wp.zeros(n, dtype=wp.int64, device=self.device)
         self.stokes_xyz = wp.zeros((n, 3), dtype=wp.vec4d, device=self.device)
+        self.caustics = None  # caustics hook: the light tracer (stages/caustics.py)
+        if r.caustics:
+            self.caustics = _caustic_stage(self, meshes, ids, mats, axes)
 
     def run(self, *, progress: bool = False, threads: int | None = None, tile_size: int | None = None,
             rows_per_chunk: int | None = None) -> Image:
@@ -427,14 +432,39 @@ class Renderer:
         alpha = self.alpha.numpy().reshape(h, w)
         rays = int(self.rays.numpy().sum())
         stokes_xyz = self.stokes_xyz.numpy().reshape(h, w, 3, 4)
+        caustic_stats = {}
+        if self.caustics is not None:
+            # caustics hook: add the light tracer's film (unpolarized: S0 only) to the camera's
+            cxyz = self.caustics.run(threads=threads, tile_size=tile_size).reshape(h, w, 3)
+            xyz = xyz + cxyz
+            stokes[..., 0] += cxyz[..., 1]
+            stokes_xyz[..., 0] += cxyz  # the S0 of each of X, Y, Z
+            caustic_stats = {"caustic_seconds": self.caustics.seconds, "caustic_paths": self.caustics.paths}
         if not (np.isfinite(xyz).all() and np.isfinite(stokes).all()):
             bad = int((~np.isfinite(xyz)).any(axis=-1).sum())
             raise FloatingPointError(f"{bad} pixels are not finite: this is a bug, please report the scene")
         stats = {"seconds": elapsed, "rays": rays, "rays_per_second": rays / elapsed if elapsed > 0 else math.inf,
-                 "width": w, "height": h}
+                 "width": w, "height": h, **caustic_stats}
         r = self.scene.render
         return Image(xyz=xyz, stokes=stokes, alpha=alpha, exposure=r.exposure, tone=r.tone, stats=stats,
                      stokes_xyz=stokes_xyz, source_polarizer=self.source_polarizer)
+
+
+def _caustic_stage(renderer: Renderer, meshes, ids, mats, axes):
+    """Caustics hook: the light tracer of a scene with ``[render] caustics = true``."""
+    from .stages.caustics import CausticStage, check_caustic_scene
+
+    scene, r, f = renderer.scene, renderer.scene.render, renderer.film
+    check_caustic_scene(scene)
+    paths = r.caustic_paths or f.width * f.height * r.spp
+    return CausticStage(
+        meshes=meshes, lamps=scene.lamps, object_material=ids,
+        absorption_scale=[ob.absorption_scale for ob in scene.objects],
+        object_axis=_world_axes(scene, mats, axes),
+        camera=renderer.camera, surfaces=renderer.surfaces.struct, geometry=renderer.geometry.geometry,
+        materials=renderer.materials, tables=renderer.tables, spectral=r.spectral, wavelengths=r.wavelengths,
+        paths=paths, max_depth=r.max_depth, ambient=r.ambient_index, seed=r.seed, device=renderer.device,
+    )
 
 
 def render(scene: Scene | str | Path, *, device=None, progress: bool = False, threads: int | None = None,

@@ -96,6 +96,11 @@ class RenderConfig:
     diffuse_depth: int = 3
     mis: str = "mis"
     stone_shadows: bool = True
+    # caustics (stages/caustics.py): a light tracer for lamp -> gem -> surface -> eye; with it on,
+    # stones block the camera's shadow rays (stone_shadows is ignored); caustic_paths 0: one light
+    # path per pixel sample (width x height x spp)
+    caustics: bool = False
+    caustic_paths: int = 0
 
 
 _RENDER_FIELDS = {f for f in RenderConfig.__dataclass_fields__}
@@ -116,6 +121,10 @@ def _render_config(table: dict, file) -> RenderConfig:
     if "stone_shadows" in t and not isinstance(t["stone_shadows"], bool):
         raise InputError("must be true or false", file=file, field=f("stone_shadows"),
                          value=t["stone_shadows"])
+    if "caustics" in t and not isinstance(t["caustics"], bool):  # caustics (stages/caustics.py)
+        raise InputError("must be true or false", file=file, field=f("caustics"), value=t["caustics"])
+    if "caustic_paths" in t:
+        _number(t["caustic_paths"], file=file, field_name=f("caustic_paths"), lo=0, hi=1 << 34, integer=True)
     if "polarization" in t and not isinstance(t["polarization"], bool):
         raise InputError("must be true or false", file=file, field=f("polarization"), value=t["polarization"])
     for k, lo, hi in (("wavelengths", 1, 4096), ("max_depth", 0, 256), ("max_splits", 0, 4096), ("spp", 1, 1 << 20), ("seed", 0, 2**31 - 1),

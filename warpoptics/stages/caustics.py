@@ -1,0 +1,736 @@
+"""Caustics on the table: a light tracer for the paths lamp -> gem(s) -> diffuse surface -> eye.
+
+The camera tracer (``stages.trace`` + ``stages.surfaces``) cannot find light that a gem
+*refracts or reflects* onto a diffuse table: a diffuse hit's next-event estimation aims at the
+lamps in straight lines, and a lamp seen through a gem is a specular connection (a sun, a spot and
+a small light box have no area a BSDF ray could find through a stone).  This stage traces those
+paths from the lamps (Veach 1997 §10, "particle tracing") and splats them into the camera's film.
+
+Path ownership (Heckbert notation, L lamp, S a gem interface, D a diffuse/glossy surface, E eye)
+----------------------------------------------------------------------------------------------
+- **The camera estimator** owns every path whose light reaches a diffuse point *without* meeting
+  a gem: E S* D (D)* L through next-event estimation and the BSDF bounce, and E S* L (a lamp or the
+  environment seen directly or through gems).  With caustics on, the Renderer forces
+  ``stone_shadows = false`` semantics (``Surfaces.stone_shadows = 0``): a gem on a shadow ray or
+  on a diffuse bounce ray *blocks* it, so no light through a stone reaches a diffuse point through
+  the camera estimator (else the straight-through filter would count it a second time).
+- **This light tracer** owns L S+ D E: light leaves a lamp, meets at least one gem interface
+  (refraction or reflection; ``depth >= 1``), lands on a surface and is connected straight to the
+  camera by a shadow ray that no gem and no surface blocks.  A lamp ray that hits a surface before
+  any gem is dropped here (camera-owned: E D L).
+- **Nobody** owns L S+ D S+ E (a caustic seen through or reflected in a gem), L S+ D D+ E (a
+  caustic's light bounced again by the table) nor environment light refracted by a gem onto the
+  table (the environment is not a light source of this tracer, and its NEE is blocked by stones).
+  These are the stage's limitations; they are dim next to the direct caustic.
+
+Light paths
+-----------
+Lamps (``stages.surfaces.Surfaces``: suns, area lights, spots; index order suns, areas, spots)
+are chosen with probabilities ``lamp_prob`` (the host's estimate of each lamp's power toward the
+gems; any positive choice is unbiased).  Each object is a *target*: the world bounding sphere of
+its mesh, chosen with probability proportional to its radius squared.  Emission only aims at the
+targets, because a lamp ray that meets no gem is camera-owned anyway:
+
+- sun (irradiance E on a surface facing it, angular radius r): a position uniform on a disc of
+  radius R / cos r perpendicular to the sun about the target's centre, moved upstream beyond all
+  targets, and a direction uniform in the sun's cone.  Weight E scale cos / pdf_A with
+  scale = 2 (1 - cos r) / (1 - cos^2 r) (``surfaces`` sun sampling), pdf_A the mixture over
+  targets of 1 / (pi R_k^2) for the discs the ray crosses (parallel discs, translation along the
+  ray keeps the area measure);
+- spot (intensity I on its axis, cone falloff): a direction uniform in the cone subtended by the
+  target sphere; weight I fall / pdf_omega, pdf_omega the mixture over the targets' cones of
+  1 / (2 pi (1 - cos alpha_k));
+- area light (radiance L): a point uniform on the rectangle (pdf 1/A), then a direction as for a
+  spot; weight L |cos theta_l| A / pdf_omega.
+
+One wavelength per path, ``spectra.sample_wavelength`` with the scene's strategy (uniform,
+importance, or stratified over ``count`` consecutive paths; rgb3 scenes use importance), so a path
+estimates XYZ with the CMF weight ``w_xyz``.  The path then follows the optical bench's transport
+(``stages.forward``): Fresnel / generalized Fresnel amplitudes, Jones matrices normalised to power,
+Bouguer-Lambert absorption, o/e splitting, deterministic splitting above ``split_threshold`` and
+one child by power (weighted 1/p) below it - the same ``@wp.func``s (``_push``, ``_push_wave``,
+``ray_power``, ``_medium_index``, ``_crystal``, ``_segment_alpha``) and the shared branch stack
+(``stages.branches``).  The interface block of the kernel mirrors ``forward_trace_kernel``'s (the
+two kernels differ only in their sinks and sources).  The lamps are unpolarized (source coherency
+I/2).  Coated objects and films are not supported (``InputError``).
+
+Connection to the camera (importance of a pinhole, Veach 1997 §10.1-10.3 / pbrt-v3 §16.1.1
+``PerspectiveCamera::We``).  A pixel's value is the mean radiance over the pixel's raster square
+(box filter, the camera pass's estimator).  For a perspective camera with raster scales
+s_x = W / (2 tan(fov_x/2)), s_y = H / (2 tan(fov_y/2)) pixels per unit length on the image plane at
+distance 1, a raster area dp relates to solid angle by dp = s_x s_y dw / cos^3(theta_c) (theta_c the
+angle to the optical axis), and dw = cos(theta_x) dA / r^2 for a surface patch at distance r.  So a
+particle of flux Phi landing at x adds to its pixel
+
+    Phi f_r(x, w_cam, w_light) cos(theta_x) s_x s_y / (r^2 cos^3(theta_c))
+
+(pbrt's We = 1 / (A cos^4 theta) with A = 1 / (s_x s_y) the pixel's area on the z = 1 plane,
+times the cos(theta_c) / r^2 of the connection).  Orthographic: dp = s_x s_y cos(theta_x) dA with
+s = W / view_width pixels per mm, so the splat is Phi f_r cos(theta_x) s_x s_y.  A thin-lens camera
+is connected as a pinhole at its lens centre (caustics are not defocused: a documented
+approximation).  Diffuse surfaces depolarize: the splat is unpolarized (S0 = Y, S1..S3 = 0).
+
+Determinism: every thread writes its own deposit slots (pixel, XYZ) and ledger row and draws its
+own random stream; the host adds the deposits into the film in a fixed order (``np.add.at``), so a
+caustic image does not depend on the thread count or the tiling.
+
+Ledger per path (relative to its emitted power, columns of ``CAUSTIC_LEDGER``): ``surface`` power
+that reached a surface after >= 1 gem interface (whether or not the camera sees it), ``absorbed``
+in the gems, ``escaped`` (left the scene, hit a lamp, or reached a surface before any gem),
+``truncated`` (``max_depth``), ``lost`` (no exit from a solid), ``interface`` (not accounted for
+by the Fresnel amplitudes); ``overflow`` (of the ``surface`` power: splats beyond the path's
+``max_deposits`` slots, counted but not splatted); ``reflected`` (of the ``surface`` power: light
+that met exactly one interface, an external reflection off a facet - seed 001's "reflective
+caustics"; the rest went through a stone).
+
+References:
+    Veach, E. 1997. Robust Monte Carlo Methods for Light Transport Simulation. PhD thesis,
+        Stanford, §10.1-10.3 (particle tracing, importance of a camera, ownership of path classes).
+    Pharr, M., Jakob, W., Humphreys, G. 2016. Physically Based Rendering, 3rd ed., §16.1.1
+        (``PerspectiveCamera::We``, ``Sample_Wi``), §16.2 (light tracing splats).
+    Guy, S., Soler, C. 2004. Graphics Gems Revisited. ACM TOG 23(3) (the forward transport of
+        ``stages.forward``).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import warp as wp
+
+from ..device import get_device, launch_tiled, load_module
+from ..errors import InputError
+from ..geometry.query import SceneGeometry, scene_closest_hit
+from ..materials.dispersion import MaterialTable
+from ..optics.birefringence import generalized_fresnel
+from ..optics.fresnel import fresnel_amplitudes
+from ..optics.jones import (
+    frame_change,
+    jones,
+    jones_diag,
+    jones_identity,
+    jones_mul,
+    jones_real,
+    jones_scale,
+    perpendicular,
+    s_vector,
+)
+from ..optics.thinfilm import CoatingStack, coating_amplitudes, make_coating_stack
+from ..spectra import SpectralTables, rgb_spectrum_value, sample_wavelength, strategy_id
+from .branches import _B, _D, _DEPTH, _IN, _MODE, _O, _W, _WN, STACK_SIZE
+from .branches import Stack as _Stack
+from .branches import row_jones as _row_jones
+from .branches import row_vec as _row_vec
+from .camera import CameraParams
+from .forward import (
+    ForwardConfig,
+    ForwardParams,
+    _copy_row,
+    _crystal,
+    _is_uniaxial,
+    _medium_index,
+    _push,
+    _push_wave,
+    _segment_alpha,
+    _wave_ctx,
+    forward_params,
+    ray_power,
+)
+from .surfaces import Surfaces, _albedo_rgb, bsdf_eval, reflectance_value, surfaces_closest_hit
+
+__all__ = ["CausticParams", "CausticStage", "CAUSTIC_LEDGER", "caustic_importance"]
+
+#: names of the ledger columns (module docstring)
+CAUSTIC_LEDGER = ("surface", "absorbed", "escaped", "truncated", "lost", "interface", "overflow", "reflected")
+_C_SURF, _C_ABS, _C_ESC, _C_TRUNC, _C_LOST, _C_IFACE, _C_OVER, _C_REFL = 0, 1, 2, 3, 4, 5, 6, 7
+
+_ORTHO = wp.constant(1)
+_HIT_SURFACE = wp.constant(1)
+_EPS_SURF = 1.0e-3  # mm, shadow-ray origin offset off a surface (as stages.surfaces)
+_CHUNK = 1 << 16  # light paths per launch (deposit buffers: CHUNK x max_deposits slots)
+
+
+@wp.struct
+class CausticParams:
+    """Per-run settings of the light tracer (values, not compile-time constants)."""
+
+    num_lamps: int  # suns, then area lights, then spots (Surfaces order)
+    lamp_cdf: wp.array(dtype=wp.float32)  # num_lamps + 1
+    lamp_prob: wp.array(dtype=wp.float32)
+    num_targets: int
+    t_centre: wp.array(dtype=wp.vec3f)  # world bounding sphere of each object, mm
+    t_radius: wp.array(dtype=wp.float32)
+    t_cdf: wp.array(dtype=wp.float32)  # num_targets + 1
+    t_prob: wp.array(dtype=wp.float32)
+    all_centre: wp.vec3f  # a sphere around all targets (upstream start of sun rays)
+    all_radius: float
+    strategy: int  # spectra strategy id
+    count: int  # wavelength strata per group of paths
+    splat_scale: float  # count / number of paths
+    seed: int
+    max_deposits: int
+
+
+@wp.func
+def _pick(cdf: wp.array(dtype=wp.float32), n: int, u: float):
+    j = int(0)
+    while j < n - 1 and u >= cdf[j + 1]:
+        j += 1
+    return j
+
+
+@wp.func
+def _onb(n: wp.vec3f):
+    # Duff et al. 2017 branchless orthonormal basis (as stages.surfaces)
+    sign = float(1.0)
+    if n[2] < 0.0:
+        sign = -1.0
+    a = -1.0 / (sign + n[2])
+    b = n[0] * n[1] * a
+    t = wp.vec3f(1.0 + sign * n[0] * n[0] * a, sign * b, -sign * n[0])
+    bb = wp.vec3f(b, sign + n[1] * n[1] * a, -n[1])
+    return t, bb
+
+
+@wp.func
+def _cone_dir(axis: wp.vec3f, cos_max: float, u1: float, u2: float):
+    # uniform direction in the cone of half-angle acos(cos_max) about the unit axis
+    ct = 1.0 - u1 * (1.0 - cos_max)
+    st = wp.sqrt(wp.max(1.0 - ct * ct, 0.0))
+    ph = 2.0 * wp.pi * u2
+    ta, tb = _onb(axis)
+    return wp.normalize(ta * (st * wp.cos(ph)) + tb * (st * wp.sin(ph)) + axis * ct)
+
+
+@wp.func
+def _target_cone(cp: CausticParams, k: int, y: wp.vec3f):
+    # axis and cos(half-angle) of the cone from y around target sphere k (whole sphere if inside)
+    to = cp.t_centre[k] - y
+    d2 = wp.dot(to, to)
+    r = cp.t_radius[k]
+    if d2 <= r * r * 1.0001:
+        return wp.vec3f(0.0, 0.0, 1.0), -1.0
+    dist = wp.sqrt(d2)
+    return to / dist, wp.sqrt(wp.max(1.0 - r * r / d2, 0.0))
+
+
+@wp.func
+def _cone_pdf(cp: CausticParams, y: wp.vec3f, w: wp.vec3f):
+    """Mixture solid-angle pdf of a direction w from y: sum_k p_k [w in cone_k] / (2 pi (1 - cos a_k))."""
+    pdf = float(0.0)
+    for k in range(cp.num_targets):
+        ax, cmax = _target_cone(cp, k, y)
+        if wp.dot(w, ax) >= cmax:
+            pdf += cp.t_prob[k] / (2.0 * wp.pi * (1.0 - cmax))
+    return pdf
+
+
+@wp.func
+def _disc_pdf(cp: CausticParams, axis: wp.vec3f, cos_max: float, o: wp.vec3f, d: wp.vec3f):
+    """Mixture area pdf (per unit area perpendicular to the sun axis) of the sun ray o + t d:
+    sum_k p_k [crosses disc_k] / (pi R_k'^2), disc_k through target k's centre, perpendicular to
+    ``axis``, radius R_k' = R_k / cos_max."""
+    pdf = float(0.0)
+    for k in range(cp.num_targets):
+        c = cp.t_centre[k]
+        rr = cp.t_radius[k] / cos_max
+        t = wp.dot(c - o, axis) / wp.dot(d, axis)
+        q = o + d * t - c
+        if wp.dot(q, q) <= rr * rr:
+            pdf += cp.t_prob[k] / (wp.pi * rr * rr)
+    return pdf
+
+
+@wp.func
+def _emit(cp: CausticParams, s: Surfaces, tables: SpectralTables, wl: float, rng: wp.uint32):
+    """A lamp ray aimed at the targets: (origin, unit direction, spectral flux weight (already
+    divided by the lamp's and the direction's / position's probabilities), rng)."""
+    lamp = _pick(cp.lamp_cdf, cp.num_lamps, wp.randf(rng))
+    k = _pick(cp.t_cdf, cp.num_targets, wp.randf(rng))
+    p_lamp = cp.lamp_prob[lamp]
+    o = wp.vec3f(0.0)
+    d = wp.vec3f(0.0, 0.0, -1.0)
+    flux = float(0.0)
+    if lamp < s.num_sun:
+        j = lamp
+        axis = -s.d_dir[j]  # direction of travel of the sunlight
+        cmax = s.d_cos_max[j]
+        d = axis
+        scale = float(1.0)
+        if cmax < 1.0:
+            d = _cone_dir(axis, cmax, wp.randf(rng), wp.randf(rng))
+            scale = 2.0 * (1.0 - cmax) / (1.0 - cmax * cmax)
+        # a point uniform on target k's disc (perpendicular to the axis), moved upstream along d
+        # to a plane beyond every target
+        ta, tb = _onb(axis)
+        rr = cp.t_radius[k] / cmax
+        rad = rr * wp.sqrt(wp.randf(rng))
+        ph = 2.0 * wp.pi * wp.randf(rng)
+        p = cp.t_centre[k] + ta * (rad * wp.cos(ph)) + tb * (rad * wp.sin(ph))
+        back = (wp.dot(p - cp.all_centre, axis) + cp.all_radius + 1.0) / wp.dot(d, axis)
+        o = p - d * back
+        pdf = _disc_pdf(cp, axis, cmax, o, d)
+        if pdf > 0.0:
+            flux = rgb_spectrum_value(tables, s.d_rgb[j], wl) * scale * wp.dot(d, axis) / (pdf * p_lamp)
+    elif lamp < s.num_sun + s.num_area:
+        j = lamp - s.num_sun
+        h2 = s.a_half[j]
+        o = (
+            s.a_centre[j]
+            + s.a_u[j] * ((2.0 * wp.randf(rng) - 1.0) * h2[0])
+            + s.a_v[j] * ((2.0 * wp.randf(rng) - 1.0) * h2[1])
+        )
+        ax, cmax = _target_cone(cp, k, o)
+        d = _cone_dir(ax, cmax, wp.randf(rng), wp.randf(rng))
+        cos_l = wp.dot(d, s.a_normal[j])
+        if s.a_two_sided[j] != 0:
+            cos_l = wp.abs(cos_l)
+        pdf = _cone_pdf(cp, o, d)
+        if cos_l > 0.0 and pdf > 0.0:
+            area = 4.0 * h2[0] * h2[1]
+            flux = rgb_spectrum_value(tables, s.a_rgb[j], wl) * cos_l * area / (pdf * p_lamp)
+        o = o + d * 1.0e-4
+    else:
+        j = lamp - s.num_sun - s.num_area
+        o = s.p_pos[j]
+        ax, cmax = _target_cone(cp, k, o)
+        d = _cone_dir(ax, cmax, wp.randf(rng), wp.randf(rng))
+        c_ax = wp.dot(d, s.p_dir[j])
+        co = s.p_cos_outer[j]
+        cin = s.p_cos_inner[j]
+        fall = float(0.0)  # the falloff of stages.surfaces' spot NEE
+        if cin - co > 1.0e-7:
+            fall = wp.smoothstep(co, cin, c_ax)
+        elif c_ax >= co:
+            fall = 1.0
+        pdf = _cone_pdf(cp, o, d)
+        if fall > 0.0 and pdf > 0.0:
+            flux = rgb_spectrum_value(tables, s.p_rgb[j], wl) * fall / (pdf * p_lamp)
+    return o, d, flux, rng
+
+
+@wp.func
+def caustic_importance(cam: CameraParams, x: wp.vec3f, n: wp.vec3f):
+    """Camera connection of a surface point x (unit normal n on the lit side): returns (pixel
+    index or -1, unit direction from x to the camera, distance to it, importance factor
+    cos(theta_x) s_x s_y / (r^2 cos^3 theta_c) (perspective, pinhole at the lens centre) or
+    cos(theta_x) s_x s_y (orthographic); module docstring, Veach 1997 §10 / pbrt ``We``)."""
+    pix = int(-1)
+    w = wp.vec3f(0.0)
+    dist = float(0.0)
+    imp = float(0.0)
+    p = x - cam.position
+    z = wp.dot(p, cam.forward)
+    if z > 0.0:
+        sx = float(0.0)
+        sy = float(0.0)
+        if cam.kind == _ORTHO:
+            w = -cam.forward
+            dist = z
+            sx = wp.dot(p, cam.right) / cam.half_width
+            sy = wp.dot(p, cam.up) / cam.half_height
+            imp = float(cam.width) * float(cam.height) / (4.0 * cam.half_width * cam.half_height)
+        else:
+            dist = wp.length(p)
+            w = -p / dist
+            sx = wp.dot(p, cam.right) / (z * cam.tan_half_x)
+            sy = wp.dot(p, cam.up) / (z * cam.tan_half_y)
+            cos_c = z / dist
+            imp = float(cam.width) * float(cam.height) / (4.0 * cam.tan_half_x * cam.tan_half_y)
+            imp = imp / (dist * dist * cos_c * cos_c * cos_c)
+        cos_x = wp.dot(n, w)
+        px = (sx + 1.0) * 0.5 * float(cam.width)
+        py = (1.0 - sy) * 0.5 * float(cam.height)
+        if cos_x > 0.0 and px >= 0.0 and py >= 0.0 and px < float(cam.width) and py < float(cam.height):
+            ix = wp.min(int(px), cam.width - 1)
+            iy = wp.min(int(py), cam.height - 1)
+            pix = iy * cam.width + ix
+            imp = imp * cos_x
+    return pix, w, dist, imp
+
+
+@wp.kernel
+def _caustic_kernel(
+    offset: int,
+    base_path: int,
+    cp: CausticParams,
+    fp: ForwardParams,
+    geom: SceneGeometry,
+    mats: MaterialTable,
+    coatings: CoatingStack,
+    surf: Surfaces,
+    cam: CameraParams,
+    tables: SpectralTables,
+    dep_pix: wp.array(dtype=wp.int32),
+    dep_xyz: wp.array(dtype=wp.vec3f),
+    ledger: wp.array2d(dtype=wp.float64),
+):
+    """One light path (i = base_path + thread) and its split tree; deposit slots and ledger rows
+    are indexed by the thread (chunk-relative)."""
+    li = wp.tid() + offset
+    i = base_path + li
+    rng = wp.rand_init(cp.seed, i)
+    wl, w_xyz = sample_wavelength(tables, cp.strategy, wp.randf(rng), i % cp.count, cp.count)
+    o0, d0, flux, rng = _emit(cp, surf, tables, wl, rng)
+    csrc = jones_scale(jones_identity(), 0.5)  # unpolarized lamps: coherency I/2 (trace 1)
+    base = li * cp.max_deposits
+    for k in range(cp.max_deposits):
+        dep_pix[base + k] = -1
+    st = _Stack()
+    n = int(0)
+    if flux > 0.0:
+        st = _push(st, 0, o0, d0, d0, perpendicular(d0), jones_identity(), 1.0, -1, 0, -1)
+        n = 1
+    ndep = int(0)
+    e_surf = float(0.0)
+    e_abs = float(0.0)
+    e_esc = float(0.0)
+    e_trunc = float(0.0)
+    e_lost = float(0.0)
+    e_iface = float(0.0)
+    e_over = float(0.0)
+    e_refl = float(0.0)
+    while n > 0:
+        n -= 1
+        o = _row_vec(st, n, _O)
+        d = _row_vec(st, n, _D)
+        s_in = _row_vec(st, n, _WN)
+        bx = _row_vec(st, n, _B)
+        m = _row_jones(st, n)
+        w = st[n, _W]
+        inside = int(st[n, _IN])
+        depth = int(st[n, _DEPTH])
+        mode = int(st[n, _MODE])
+        e = ray_power(m, w, csrc)
+        hit = scene_closest_hit(geom, o, d, fp.t_max)
+        if inside < 0:
+            sh = surfaces_closest_hit(surf, o, d, hit.t)
+            if sh.kind == _HIT_SURFACE and depth >= 1:
+                # L S+ D: this tracer's path; connect the diffuse point to the eye (D E)
+                e_surf += e
+                if depth == 1:
+                    e_refl += e  # an external reflection off a facet (reflective caustic)
+                k = sh.index
+                x = o + d * sh.t
+                nrm_s = surf.normal[k]
+                if wp.dot(d, nrm_s) > 0.0:
+                    nrm_s = -nrm_s  # the lit side
+                pix, w_cam, dist, imp = caustic_importance(cam, x, nrm_s)
+                if pix >= 0 and imp > 0.0:
+                    xs = x + nrm_s * _EPS_SURF
+                    blocked = surfaces_closest_hit(surf, xs, w_cam, dist * 0.999).kind != 0
+                    if not blocked:
+                        blocked = scene_closest_hit(geom, xs, w_cam, dist * 0.999).object >= 0
+                    if not blocked:
+                        albedo = reflectance_value(tables, _albedo_rgb(surf, k, sh.a, sh.b), wl)
+                        f_r = bsdf_eval(
+                            surf.bsdf[k], albedo, surf.roughness[k], surf.ior[k], nrm_s, w_cam, -d
+                        )
+                        val = e * flux * f_r * imp * cp.splat_scale
+                        if val > 0.0:
+                            if ndep < cp.max_deposits:
+                                dep_pix[base + ndep] = pix
+                                dep_xyz[base + ndep] = w_xyz * val
+                                ndep += 1
+                            else:
+                                e_over += e  # no free deposit slot: counted, not splatted
+                continue
+            if sh.kind != 0:
+                # a lamp, or a surface before any gem (camera-owned E D L): not this tracer's
+                e_esc += e
+                continue
+            if hit.object < 0:
+                e_esc += e
+                continue
+        elif hit.object < 0:
+            e_lost += e  # a ray inside a solid found no exit
+            continue
+        if inside >= 0:
+            att = wp.exp(-_segment_alpha(fp, mats, inside, mode, s_in, wl) * hit.t)
+            e_abs += e * (1.0 - att)
+            w = w * att
+            e = e * att
+        if depth >= fp.max_depth:
+            e_trunc += e
+            continue
+        if e <= 0.0:
+            continue
+        # ---- one interface event: the block of stages.forward.forward_trace_kernel ----
+        x = o + d * hit.t
+        n_out = hit.normal
+        entering = wp.dot(d, n_out) < 0.0
+        nrm = n_out
+        obj_b = hit.object
+        if not entering:
+            nrm = -n_out
+            obj_b = -1
+        obj_a = inside
+        c = int(0)
+        e_sum = float(0.0)
+        ea = wp.vec4f(0.0)
+        if _is_uniaxial(fp, mats, obj_a) == 0 and _is_uniaxial(fp, mats, obj_b) == 0:
+            n_a, n_a_e = _medium_index(fp, mats, obj_a, wl)
+            n_b, n_b_e = _medium_index(fp, mats, obj_b, wl)
+            n_a = wp.vec2f(n_a[0], 0.0)
+            cos_a = wp.clamp(-wp.dot(d, nrm), 0.0, 1.0)
+            s = s_vector(d, n_out)
+            f = fresnel_amplitudes(cos_a, n_a, n_b)
+            rs = f.rs
+            rp = f.rp
+            ts = f.ts
+            tp = f.tp
+            coat = fp.object_coating[hit.object]
+            if coat >= 0:
+                if entering:
+                    rs, rp, ts, tp = coating_amplitudes(coatings, coat, wl, cos_a, n_a, n_b, 0)
+                else:
+                    rs, rp, ts, tp = coating_amplitudes(coatings, coat, wl, cos_a, n_b, n_a, 1)
+            m_sp = jones_mul(jones_real(frame_change(d, bx, s)), m)
+            d_r = wp.normalize(d + nrm * (2.0 * cos_a))
+            m_r = jones_mul(jones_diag(rs, rp), m_sp)
+            e_r = ray_power(m_r, w, csrc)
+            if e_r > 0.0:
+                st = _push(st, n + c, x + d_r * fp.epsilon, d_r, d_r, s, m_r, w, obj_a, depth + 1, -1)
+                ea[c] = e_r
+                e_sum += e_r
+                c += 1
+            eta = n_a[0] / n_b[0]
+            sin2_b = eta * eta * (1.0 - cos_a * cos_a)
+            if sin2_b < 1.0:
+                cos_b = wp.sqrt(1.0 - sin2_b)
+                d_t = wp.normalize(d * eta + nrm * (eta * cos_a - cos_b))
+                ratio = float(0.0)
+                if f.n1_cos_i[0] > 0.0:
+                    ratio = wp.max(f.n2_cos_t[0], 0.0) / f.n1_cos_i[0]
+                m_t = jones_scale(jones_mul(jones_diag(ts, tp), m_sp), wp.sqrt(ratio))
+                e_t = ray_power(m_t, w, csrc)
+                if e_t > 0.0:
+                    st = _push(st, n + c, x + d_t * fp.epsilon, d_t, d_t, s, m_t, w, obj_b, depth + 1, -1)
+                    ea[c] = e_t
+                    e_sum += e_t
+                    c += 1
+        else:
+            ma = _crystal(fp, mats, obj_a, wl)
+            mb = _crystal(fp, mats, obj_b, wl)
+            zero = wp.vec2f(0.0, 0.0)
+            if mode < 0:
+                so = generalized_fresnel(s_in, 0, nrm, ma, mb)
+                se = generalized_fresnel(s_in, 1, nrm, ma, mb)
+                m_in = jones_mul(jones_real(frame_change(s_in, bx, so.incident.e_re)), m)
+                ctx = _wave_ctx(x, fp.epsilon, w, csrc, depth + 1, so.incident.flux)
+                st, ea, e_sum, c = _push_wave(
+                    st, n, c, ea, e_sum, ctx, so.ro, jones(so.r_o, se.r_o, so.r_e, se.r_e), m_in, obj_a, -1
+                )
+                st, ea, e_sum, c = _push_wave(
+                    st, n, c, ea, e_sum, ctx, so.to, jones(so.t_o, se.t_o, zero, zero), m_in, obj_b, 0
+                )
+                st, ea, e_sum, c = _push_wave(
+                    st, n, c, ea, e_sum, ctx, so.te, jones(so.t_e, se.t_e, zero, zero), m_in, obj_b, 1
+                )
+            else:
+                sol = generalized_fresnel(s_in, mode, nrm, ma, mb)
+                ctx = _wave_ctx(x, fp.epsilon, w, csrc, depth + 1, sol.incident.flux)
+                st, ea, e_sum, c = _push_wave(
+                    st, n, c, ea, e_sum, ctx, sol.ro, jones_diag(sol.r_o, zero), m, obj_a, 0
+                )
+                st, ea, e_sum, c = _push_wave(
+                    st, n, c, ea, e_sum, ctx, sol.re, jones_diag(sol.r_e, zero), m, obj_a, 1
+                )
+                if _is_uniaxial(fp, mats, obj_b) == 0:
+                    st, ea, e_sum, c = _push_wave(
+                        st, n, c, ea, e_sum, ctx, sol.to, jones(sol.t_o, zero, sol.t_e, zero), m, obj_b, -1
+                    )
+                else:
+                    st, ea, e_sum, c = _push_wave(
+                        st, n, c, ea, e_sum, ctx, sol.to, jones_diag(sol.t_o, zero), m, obj_b, 0
+                    )
+                    st, ea, e_sum, c = _push_wave(
+                        st, n, c, ea, e_sum, ctx, sol.te, jones_diag(sol.t_e, zero), m, obj_b, 1
+                    )
+        if e_sum > e:
+            g = e / e_sum
+            for j in range(c):
+                st[n + j, _W] = st[n + j, _W] * g
+                ea[j] = ea[j] * g
+            e_sum = e
+        e_iface += e - e_sum
+        if c == 0:
+            continue
+        if e_sum >= fp.split_threshold and n + c <= STACK_SIZE - 3:
+            n += c
+        else:
+            u = wp.randf(rng) * e_sum
+            j = int(0)
+            acc = ea[0]
+            while j < c - 1 and u >= acc:
+                j += 1
+                acc += ea[j]
+            if j != 0:
+                st = _copy_row(st, n + j, n)
+            st[n, _W] = st[n, _W] * (e_sum / ea[j])
+            n += 1
+    if flux <= 0.0:
+        e_esc = 1.0  # an emission sample that carries nothing (outside a spot's cone, behind a box)
+    ledger[li, _C_SURF] = wp.float64(e_surf)
+    ledger[li, _C_ABS] = wp.float64(e_abs)
+    ledger[li, _C_ESC] = wp.float64(e_esc)
+    ledger[li, _C_TRUNC] = wp.float64(e_trunc)
+    ledger[li, _C_LOST] = wp.float64(e_lost)
+    ledger[li, _C_IFACE] = wp.float64(e_iface)
+    ledger[li, _C_OVER] = wp.float64(e_over)
+    ledger[li, _C_REFL] = wp.float64(e_refl)
+
+
+def _luminance(rgb) -> float:
+    r, g, b = (float(v) for v in rgb)
+    return max(0.2126 * r + 0.7152 * g + 0.0722 * b, 0.0)
+
+
+def _solid_angles(centres, radii, point) -> float:
+    """Approximate total solid angle (pi r^2 / d^2, at most pi) of the target spheres from a point."""
+    return sum(math.pi * rk**2 / max(float(np.sum((ck - point) ** 2)), rk**2)
+               for ck, rk in zip(centres, radii, strict=True))
+
+
+def _bounding_spheres(meshes) -> tuple[np.ndarray, np.ndarray]:
+    """World bounding sphere (centre of the bounding box, max vertex distance) of each (mesh, xf)."""
+    centres, radii = [], []
+    for mesh, xf in meshes:
+        v = np.asarray(mesh.vertices, dtype=np.float64)
+        xf = np.asarray(xf, dtype=np.float64)
+        vw = v @ xf[:3, :3].T + xf[:3, 3]
+        c = 0.5 * (vw.min(axis=0) + vw.max(axis=0))
+        centres.append(c)
+        radii.append(float(np.linalg.norm(vw - c, axis=1).max()) * 1.001 + 1.0e-4)
+    return np.asarray(centres).reshape(-1, 3), np.asarray(radii)
+
+
+class CausticStage:
+    """The light tracer of a :class:`~warpoptics.render.Renderer` (``[render] caustics = true``).
+
+    ``paths``: number of light paths (rounded up to a multiple of the wavelength ``count``).
+    :meth:`run` returns the caustic film (H*W, 3) XYZ in float64 that the Renderer adds to its
+    camera film; :attr:`ledger` the summed ledger (``CAUSTIC_LEDGER``) of the last run, relative
+    to one path's emitted power (divide by ``paths`` for fractions)."""
+
+    def __init__(self, *, meshes, lamps, object_material, absorption_scale, object_axis, camera, surfaces,
+                 geometry, materials, tables, spectral: str, wavelengths: int, paths: int,
+                 max_depth: int = 12, split_threshold: float = 0.01, max_deposits: int = 16,
+                 ambient: float = 1.0, seed: int = 0, device=None):
+        self.device = get_device(device)
+        dev = self.device
+        self.camera = camera
+        self.surfaces = surfaces
+        self.geometry = geometry
+        self.materials = materials
+        self.tables = tables
+        centres, radii = _bounding_spheres(meshes)
+        s = surfaces
+        # lamp powers toward the gems (selection probabilities; any positive choice is unbiased)
+        r2 = float((radii**2).sum()) if len(radii) else 0.0
+        power = []
+        suns = [lp for lp in lamps if lp.type == "directional"]
+        areas = [lp for lp in lamps if lp.type == "area"]
+        spots = [lp for lp in lamps if lp.type == "spot"]
+        for lp in suns:
+            cmax = math.cos(math.radians(lp.angular_radius))
+            power.append(_luminance(np.asarray(lp.tint) * lp.irradiance) * math.pi * r2 / cmax**2)
+        for lp in areas:
+            a = float(np.prod(lp.size))
+            c = np.asarray(lp.center, dtype=np.float64)
+            om = _solid_angles(centres, radii, c)
+            power.append(_luminance(np.asarray(lp.tint) * lp.radiance) * a * om)
+        for lp in spots:
+            c = np.asarray(lp.center, dtype=np.float64)
+            om = _solid_angles(centres, radii, c)
+            power.append(_luminance(np.asarray(lp.tint) * lp.intensity) * om)
+        power = np.asarray(power, dtype=np.float64)
+        self.enabled = len(radii) > 0 and len(power) > 0 and power.sum() > 0.0
+        if not self.enabled:
+            power = np.ones(1)
+        lamp_prob = power / power.sum()
+        t_prob = radii**2 / r2 if r2 > 0 else np.ones(1)
+        if self.enabled:
+            assert len(lamp_prob) == s.num_sun + s.num_area + s.num_spot
+        cp = CausticParams()
+        cp.num_lamps = len(lamp_prob)
+        cp.lamp_prob = wp.array(lamp_prob.astype(np.float32), dtype=wp.float32, device=dev)
+        cp.lamp_cdf = wp.array(np.concatenate([[0.0], np.cumsum(lamp_prob)[:-1], [1.0]]).astype(np.float32),
+                               dtype=wp.float32, device=dev)
+        nt = max(len(radii), 1)
+        cp.num_targets = len(radii)
+        cent = centres if len(radii) else np.zeros((1, 3))
+        rad = radii if len(radii) else np.ones(1)
+        cp.t_centre = wp.array(cent.astype(np.float32), dtype=wp.vec3f, device=dev)
+        cp.t_radius = wp.array(rad.astype(np.float32), dtype=wp.float32, device=dev)
+        cp.t_prob = wp.array(np.resize(t_prob, nt).astype(np.float32), dtype=wp.float32, device=dev)
+        t_cdf = np.concatenate([[0.0], np.cumsum(np.resize(t_prob, nt))[:-1], [1.0]])
+        cp.t_cdf = wp.array(t_cdf.astype(np.float32), dtype=wp.float32, device=dev)
+        lo = (cent - rad[:, None]).min(axis=0)
+        hi = (cent + rad[:, None]).max(axis=0)
+        cp.all_centre = wp.vec3f(*(0.5 * (lo + hi)))
+        cp.all_radius = float(0.5 * np.linalg.norm(hi - lo)) + 1.0e-3
+        strat = spectral if spectral in ("uniform", "importance", "stratified") else "importance"
+        count = int(wavelengths) if strat == "stratified" else 1
+        cp.strategy = strategy_id(strat)
+        cp.count = count
+        self.paths = int(math.ceil(max(int(paths), 1) / count) * count)
+        cp.splat_scale = float(count) / float(self.paths)
+        cp.seed = int(seed) * 7919 + 104729  # a stream apart from the camera pass's
+        cp.max_deposits = int(max_deposits)
+        self.params = cp
+        self.forward = forward_params(
+            np.asarray(object_material, dtype=np.int32) if len(object_material) else np.zeros(1, np.int32),
+            np.asarray(absorption_scale, np.float32) if len(absorption_scale) else np.ones(1, np.float32),
+            np.asarray(object_axis, np.float32).reshape(-1, 3) if len(object_axis) else np.zeros((1, 3)),
+            -np.ones(max(len(object_material), 1), dtype=np.int32),  # no coatings (check_caustic_scene)
+            config=ForwardConfig(max_depth=max_depth, split_threshold=split_threshold,
+                                 max_deposits=max_deposits, seed=seed),
+            ambient=(ambient, 0.0), device=dev,
+        )
+        self.coatings = make_coating_stack([[]], device=dev)
+        self.ledger = np.zeros(len(CAUSTIC_LEDGER))
+        self.seconds = 0.0
+
+    def run(self, *, threads: int | None = None, tile_size: int | None = None) -> np.ndarray:
+        cam = self.camera.params
+        npix = cam.width * cam.height
+        film = np.zeros((npix, 3), dtype=np.float64)
+        self.ledger = np.zeros(len(CAUSTIC_LEDGER))
+        if not self.enabled:
+            return film
+        dev = self.device
+        load_module(_caustic_kernel, dev)
+        t0 = time.perf_counter()
+        chunk = min(_CHUNK, self.paths)
+        md = self.params.max_deposits
+        dep_pix = wp.zeros(chunk * md, dtype=wp.int32, device=dev)
+        dep_xyz = wp.zeros(chunk * md, dtype=wp.vec3f, device=dev)
+        ledger = wp.zeros((chunk, len(CAUSTIC_LEDGER)), dtype=wp.float64, device=dev)
+        for base in range(0, self.paths, chunk):
+            nb = min(chunk, self.paths - base)
+            launch_tiled(_caustic_kernel, nb,
+                         [base, self.params, self.forward, self.geometry, self.materials, self.coatings,
+                          self.surfaces, cam, self.tables, dep_pix, dep_xyz, ledger],
+                         device=dev, threads=threads, tile_size=tile_size)
+            pix = dep_pix.numpy()[: nb * md]
+            xyz = dep_xyz.numpy()[: nb * md]
+            keep = pix >= 0
+            # fixed-order reduction on the host: deterministic for any thread count
+            np.add.at(film, pix[keep], xyz[keep].astype(np.float64))
+            self.ledger += ledger.numpy()[:nb].sum(axis=0)
+        self.seconds = time.perf_counter() - t0
+        if not np.isfinite(film).all():
+            raise FloatingPointError("caustic film is not finite: this is a bug, please report the scene")
+        return film
+
+
+def check_caustic_scene(scene) -> None:
+    """Refuse what the light tracer does not model (coated objects / films)."""
+    for i, ob in enumerate(scene.objects):
+        if getattr(ob, "film", None) is not None or getattr(ob, "coating", None):
+            raise InputError("caustics do not support coated objects or films", file=scene.path,
+                             field=f"object.{i}", value=getattr(ob, "shape", None),
+                             allowed="render.caustics = false")
