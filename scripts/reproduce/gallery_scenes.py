@@ -9,6 +9,7 @@ atomically.
     python scripts/reproduce/gallery_scenes.py soap_bubble          # seed 004 fig. 6: a bubble in 3D
     python scripts/reproduce/gallery_scenes.py diamonds_on_table    # seed 001: two gems, two light boxes
     python scripts/reproduce/gallery_scenes.py calcite              # the double image of a calcite rhomb
+    python scripts/reproduce/gallery_scenes.py caustics             # a gem's fire thrown on the table (light tracer)
     python scripts/reproduce/gallery_scenes.py mystic_topaz | oil_slick | morpho
     python scripts/reproduce/gallery_scenes.py dof --quick          # tiny, for the tests
 """
@@ -32,6 +33,7 @@ SCENES = {
     "mystic_topaz": ("mystic_topaz.toml", 240, 240, {}),
     "oil_slick": ("oil_slick.toml", 256, 192, {}),
     "morpho": ("morpho.toml", 256, 192, {}),
+    "caustics": ("caustics.toml", 384, 288, {}),
 }
 
 
@@ -48,6 +50,8 @@ def main(argv=None) -> int:
     file, w, h, over = SCENES[args.name]
     if args.quick:
         w, h = 48, max(1, 48 * h // w)
+        if args.name == "caustics":
+            over = {**over, "caustic_paths": 20000}
     out = Path(args.output) if args.output else GALLERY / f"scene_{args.name}.png"
     with Timer() as t:
         img = wo.render(ROOT / "scenes" / file, width=w, height=h, device=args.device, **over)
