@@ -104,22 +104,14 @@ from ..device import get_device, launch_tiled, load_module
 from ..errors import InputError
 from ..geometry.query import SceneGeometry, scene_closest_hit
 from ..materials.dispersion import MaterialTable
-from ..optics.birefringence import generalized_fresnel
-from ..optics.fresnel import fresnel_amplitudes
 from ..optics.jones import (
-    frame_change,
-    jones,
-    jones_diag,
     jones_identity,
-    jones_mul,
-    jones_real,
     jones_scale,
     perpendicular,
-    s_vector,
 )
-from ..optics.thinfilm import CoatingStack, coating_amplitudes, make_coating_stack
+from ..optics.thinfilm import CoatingStack, make_coating_stack
 from ..spectra import SpectralTables, rgb_spectrum_value, sample_wavelength, strategy_id
-from .branches import _B, _D, _DEPTH, _IN, _MODE, _O, _W, _WN, STACK_SIZE
+from .branches import _B, _D, _DEPTH, _IN, _MODE, _O, _W, _WN
 from .branches import Stack as _Stack
 from .branches import row_jones as _row_jones
 from .branches import row_vec as _row_vec
@@ -127,14 +119,10 @@ from .camera import CameraParams
 from .forward import (
     ForwardConfig,
     ForwardParams,
-    _copy_row,
-    _crystal,
-    _is_uniaxial,
-    _medium_index,
+    _keep_children,
     _push,
-    _push_wave,
     _segment_alpha,
-    _wave_ctx,
+    forward_interface,
     forward_params,
     ray_power,
 )
@@ -457,120 +445,14 @@ def _caustic_kernel(
             continue
         if e <= 0.0:
             continue
-        # ---- one interface event: the block of stages.forward.forward_trace_kernel ----
-        x = o + d * hit.t
-        n_out = hit.normal
-        entering = wp.dot(d, n_out) < 0.0
-        nrm = n_out
-        obj_b = hit.object
-        if not entering:
-            nrm = -n_out
-            obj_b = -1
-        obj_a = inside
-        c = int(0)
-        e_sum = float(0.0)
-        ea = wp.vec4f(0.0)
-        if _is_uniaxial(fp, mats, obj_a) == 0 and _is_uniaxial(fp, mats, obj_b) == 0:
-            n_a, n_a_e = _medium_index(fp, mats, obj_a, wl)
-            n_b, n_b_e = _medium_index(fp, mats, obj_b, wl)
-            n_a = wp.vec2f(n_a[0], 0.0)
-            cos_a = wp.clamp(-wp.dot(d, nrm), 0.0, 1.0)
-            s = s_vector(d, n_out)
-            f = fresnel_amplitudes(cos_a, n_a, n_b)
-            rs = f.rs
-            rp = f.rp
-            ts = f.ts
-            tp = f.tp
-            coat = fp.object_coating[hit.object]
-            if coat >= 0:
-                if entering:
-                    rs, rp, ts, tp = coating_amplitudes(coatings, coat, wl, cos_a, n_a, n_b, 0)
-                else:
-                    rs, rp, ts, tp = coating_amplitudes(coatings, coat, wl, cos_a, n_b, n_a, 1)
-            m_sp = jones_mul(jones_real(frame_change(d, bx, s)), m)
-            d_r = wp.normalize(d + nrm * (2.0 * cos_a))
-            m_r = jones_mul(jones_diag(rs, rp), m_sp)
-            e_r = ray_power(m_r, w, csrc)
-            if e_r > 0.0:
-                st = _push(st, n + c, x + d_r * fp.epsilon, d_r, d_r, s, m_r, w, obj_a, depth + 1, -1)
-                ea[c] = e_r
-                e_sum += e_r
-                c += 1
-            eta = n_a[0] / n_b[0]
-            sin2_b = eta * eta * (1.0 - cos_a * cos_a)
-            if sin2_b < 1.0:
-                cos_b = wp.sqrt(1.0 - sin2_b)
-                d_t = wp.normalize(d * eta + nrm * (eta * cos_a - cos_b))
-                ratio = float(0.0)
-                if f.n1_cos_i[0] > 0.0:
-                    ratio = wp.max(f.n2_cos_t[0], 0.0) / f.n1_cos_i[0]
-                m_t = jones_scale(jones_mul(jones_diag(ts, tp), m_sp), wp.sqrt(ratio))
-                e_t = ray_power(m_t, w, csrc)
-                if e_t > 0.0:
-                    st = _push(st, n + c, x + d_t * fp.epsilon, d_t, d_t, s, m_t, w, obj_b, depth + 1, -1)
-                    ea[c] = e_t
-                    e_sum += e_t
-                    c += 1
-        else:
-            ma = _crystal(fp, mats, obj_a, wl)
-            mb = _crystal(fp, mats, obj_b, wl)
-            zero = wp.vec2f(0.0, 0.0)
-            if mode < 0:
-                so = generalized_fresnel(s_in, 0, nrm, ma, mb)
-                se = generalized_fresnel(s_in, 1, nrm, ma, mb)
-                m_in = jones_mul(jones_real(frame_change(s_in, bx, so.incident.e_re)), m)
-                ctx = _wave_ctx(x, fp.epsilon, w, csrc, depth + 1, so.incident.flux)
-                st, ea, e_sum, c = _push_wave(
-                    st, n, c, ea, e_sum, ctx, so.ro, jones(so.r_o, se.r_o, so.r_e, se.r_e), m_in, obj_a, -1
-                )
-                st, ea, e_sum, c = _push_wave(
-                    st, n, c, ea, e_sum, ctx, so.to, jones(so.t_o, se.t_o, zero, zero), m_in, obj_b, 0
-                )
-                st, ea, e_sum, c = _push_wave(
-                    st, n, c, ea, e_sum, ctx, so.te, jones(so.t_e, se.t_e, zero, zero), m_in, obj_b, 1
-                )
-            else:
-                sol = generalized_fresnel(s_in, mode, nrm, ma, mb)
-                ctx = _wave_ctx(x, fp.epsilon, w, csrc, depth + 1, sol.incident.flux)
-                st, ea, e_sum, c = _push_wave(
-                    st, n, c, ea, e_sum, ctx, sol.ro, jones_diag(sol.r_o, zero), m, obj_a, 0
-                )
-                st, ea, e_sum, c = _push_wave(
-                    st, n, c, ea, e_sum, ctx, sol.re, jones_diag(sol.r_e, zero), m, obj_a, 1
-                )
-                if _is_uniaxial(fp, mats, obj_b) == 0:
-                    st, ea, e_sum, c = _push_wave(
-                        st, n, c, ea, e_sum, ctx, sol.to, jones(sol.t_o, zero, sol.t_e, zero), m, obj_b, -1
-                    )
-                else:
-                    st, ea, e_sum, c = _push_wave(
-                        st, n, c, ea, e_sum, ctx, sol.to, jones_diag(sol.t_o, zero), m, obj_b, 0
-                    )
-                    st, ea, e_sum, c = _push_wave(
-                        st, n, c, ea, e_sum, ctx, sol.te, jones_diag(sol.t_e, zero), m, obj_b, 1
-                    )
-        if e_sum > e:
-            g = e / e_sum
-            for j in range(c):
-                st[n + j, _W] = st[n + j, _W] * g
-                ea[j] = ea[j] * g
-            e_sum = e
+        # one interface event: the optical bench's own (stages.forward.forward_interface)
+        cand, ea, e_sum, c = forward_interface(
+            fp, mats, coatings, hit, o, d, s_in, bx, m, w, e, mode, inside, depth, wl, csrc
+        )
         e_iface += e - e_sum
         if c == 0:
             continue
-        if e_sum >= fp.split_threshold and n + c <= STACK_SIZE - 3:
-            n += c
-        else:
-            u = wp.randf(rng) * e_sum
-            j = int(0)
-            acc = ea[0]
-            while j < c - 1 and u >= acc:
-                j += 1
-                acc += ea[j]
-            if j != 0:
-                st = _copy_row(st, n + j, n)
-            st[n, _W] = st[n, _W] * (e_sum / ea[j])
-            n += 1
+        st, n, rng = _keep_children(st, n, cand, ea, e_sum, c, fp.split_threshold, rng)
     if flux <= 0.0:
         e_esc = 1.0  # an emission sample that carries nothing (outside a spot's cone, behind a box)
     ledger[li, _C_SURF] = wp.float64(e_surf)

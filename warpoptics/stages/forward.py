@@ -59,11 +59,12 @@ References:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import warp as wp
 
-from ..geometry.query import SceneGeometry, scene_closest_hit
+from ..geometry.query import RayHit, SceneGeometry, scene_closest_hit
 from ..materials.dispersion import MaterialTable, material_alpha, material_eval
 from ..optics.birefringence import PlaneWave, generalized_fresnel, kappa_extraordinary, uniaxial_medium
 from ..optics.fresnel import fresnel_amplitudes
@@ -93,6 +94,7 @@ from .branches import (
     _W,
     _WN,
     STACK_SIZE,
+    Cand,
     copy_row,
     write_row,
 )
@@ -107,7 +109,8 @@ from .branches import (
 )
 from .screen import ScreenSet, screen_hit
 
-__all__ = ["ForwardParams", "ForwardConfig", "forward_params", "forward_trace_kernel", "LEDGER", "STACK_SIZE"]
+__all__ = ["ForwardParams", "ForwardConfig", "forward_params", "forward_trace_kernel", "forward_interface", "LEDGER",
+           "STACK_SIZE"]
 
 #: names of the ledger columns (see the module docstring)
 LEDGER = ("screen", "absorbed", "escaped", "truncated", "lost", "overflow", "interface")
@@ -141,7 +144,7 @@ class ForwardConfig:
 
 @wp.func
 def _push(
-    st: _Stack,
+    st: Any,
     n: int,
     o: wp.vec3f,
     d: wp.vec3f,
@@ -239,7 +242,7 @@ def _wave_ctx(x: wp.vec3f, eps: float, w: float, source: Jones, depth: int, flux
 
 @wp.func
 def _push_wave(
-    st: _Stack,
+    st: Any,
     n: int,
     c: int,
     ea: wp.vec4f,
@@ -275,6 +278,165 @@ def _push_wave(
             e_sum += ek
             c += 1
     return st, ea, e_sum, c
+
+
+@wp.func
+def forward_interface(
+    fp: ForwardParams,
+    mats: MaterialTable,
+    coatings: CoatingStack,
+    hit: RayHit,
+    o: wp.vec3f,
+    d: wp.vec3f,
+    s_in: wp.vec3f,
+    bx: wp.vec3f,
+    m: Jones,
+    w: float,
+    e: float,
+    mode: int,
+    inside: int,
+    depth: int,
+    wl: float,
+    csrc: Jones,
+):
+    """One interface event of a forward ray of power ``e`` hitting ``hit``: the reflected and
+    refracted children (o and e waves at a crystal) in rows 0..c-1 of a candidate matrix, with
+    Fresnel / coating / generalized-Fresnel amplitudes.  Returns (cand, powers, e_sum, c); the
+    tracers (``forward_trace_kernel``, ``caustics``) keep them all or choose one.  The stack is
+    not an argument: a @wp.func argument is a by-value copy."""
+    cand = Cand()
+    x = o + d * hit.t
+    n_out = hit.normal
+    entering = wp.dot(d, n_out) < 0.0
+    nrm = n_out  # unit normal on the incident side
+    obj_b = hit.object
+    if not entering:
+        nrm = -n_out
+        obj_b = -1
+    obj_a = inside
+    # candidates are written to rows n .. n + c - 1, then kept (split) or one is chosen
+    c = int(0)
+    e_sum = float(0.0)
+    ea = wp.vec4f(0.0)
+    if _is_uniaxial(fp, mats, obj_a) == 0 and _is_uniaxial(fp, mats, obj_b) == 0:
+        # isotropic interface: Fresnel (or the coating's stack) in the s/p frame
+        n_a, n_a_e = _medium_index(fp, mats, obj_a, wl)
+        n_b, n_b_e = _medium_index(fp, mats, obj_b, wl)
+        # Light arriving from an absorbing medium: Fresnel with the real part of its index
+        # (the weak-absorption approximation; its absorption is Bouguer-Lambert along the
+        # path).  ``c_normal_component`` takes the Im >= 0 root of N2 cos t, which for an
+        # absorbing *incident* medium is the backward-travelling one (|r| >> 1).
+        n_a = wp.vec2f(n_a[0], 0.0)
+        cos_a = wp.clamp(-wp.dot(d, nrm), 0.0, 1.0)
+        s = s_vector(d, n_out)
+        f = fresnel_amplitudes(cos_a, n_a, n_b)
+        rs = f.rs
+        rp = f.rp
+        ts = f.ts
+        tp = f.tp
+        coat = fp.object_coating[hit.object]
+        if coat >= 0:
+            if entering:
+                rs, rp, ts, tp = coating_amplitudes(coatings, coat, wl, cos_a, n_a, n_b, 0)
+            else:
+                rs, rp, ts, tp = coating_amplitudes(coatings, coat, wl, cos_a, n_b, n_a, 1)
+        m_sp = jones_mul(jones_real(frame_change(d, bx, s)), m)
+        d_r = wp.normalize(d + nrm * (2.0 * cos_a))
+        m_r = jones_mul(jones_diag(rs, rp), m_sp)
+        e_r = ray_power(m_r, w, csrc)
+        if e_r > 0.0:
+            cand = _push(cand, c, x + d_r * fp.epsilon, d_r, d_r, s, m_r, w, obj_a, depth + 1, -1)
+            ea[c] = e_r
+            e_sum += e_r
+            c += 1
+        eta = n_a[0] / n_b[0]
+        sin2_b = eta * eta * (1.0 - cos_a * cos_a)
+        if sin2_b < 1.0:
+            cos_b = wp.sqrt(1.0 - sin2_b)
+            d_t = wp.normalize(d * eta + nrm * (eta * cos_a - cos_b))
+            ratio = float(0.0)
+            if f.n1_cos_i[0] > 0.0:
+                ratio = wp.max(f.n2_cos_t[0], 0.0) / f.n1_cos_i[0]
+            m_t = jones_scale(jones_mul(jones_diag(ts, tp), m_sp), wp.sqrt(ratio))
+            e_t = ray_power(m_t, w, csrc)
+            if e_t > 0.0:
+                cand = _push(cand, c, x + d_t * fp.epsilon, d_t, d_t, s, m_t, w, obj_b, depth + 1, -1)
+                ea[c] = e_t
+                e_sum += e_t
+                c += 1
+    else:
+        # a uniaxial side: generalized Fresnel amplitudes (eq. 5) per incident mode
+        ma = _crystal(fp, mats, obj_a, wl)
+        mb = _crystal(fp, mats, obj_b, wl)
+        zero = wp.vec2f(0.0, 0.0)
+        if mode < 0:
+            # isotropic incident ray: its s/p (= o/e) components both excite every wave
+            so = generalized_fresnel(s_in, 0, nrm, ma, mb)
+            se = generalized_fresnel(s_in, 1, nrm, ma, mb)
+            m_in = jones_mul(jones_real(frame_change(s_in, bx, so.incident.e_re)), m)
+            f_in = so.incident.flux
+            ctx = _wave_ctx(x, fp.epsilon, w, csrc, depth + 1, f_in)
+            cand, ea, e_sum, c = _push_wave(
+                cand, 0, c, ea, e_sum, ctx, so.ro, jones(so.r_o, se.r_o, so.r_e, se.r_e), m_in, obj_a, -1
+            )
+            cand, ea, e_sum, c = _push_wave(
+                cand, 0, c, ea, e_sum, ctx, so.to, jones(so.t_o, se.t_o, zero, zero), m_in, obj_b, 0
+            )
+            cand, ea, e_sum, c = _push_wave(
+                cand, 0, c, ea, e_sum, ctx, so.te, jones(so.t_e, se.t_e, zero, zero), m_in, obj_b, 1
+            )
+        else:
+            # one eigenmode inside a crystal: row 0 of M is its amplitude
+            sol = generalized_fresnel(s_in, mode, nrm, ma, mb)
+            ctx = _wave_ctx(x, fp.epsilon, w, csrc, depth + 1, sol.incident.flux)
+            cand, ea, e_sum, c = _push_wave(
+                cand, 0, c, ea, e_sum, ctx, sol.ro, jones_diag(sol.r_o, zero), m, obj_a, 0
+            )
+            cand, ea, e_sum, c = _push_wave(
+                cand, 0, c, ea, e_sum, ctx, sol.re, jones_diag(sol.r_e, zero), m, obj_a, 1
+            )
+            if _is_uniaxial(fp, mats, obj_b) == 0:
+                # into an isotropic medium: the o/e amplitudes are its s/p components
+                cand, ea, e_sum, c = _push_wave(
+                    cand, 0, c, ea, e_sum, ctx, sol.to, jones(sol.t_o, zero, sol.t_e, zero), m, obj_b, -1
+                )
+            else:
+                cand, ea, e_sum, c = _push_wave(
+                    cand, 0, c, ea, e_sum, ctx, sol.to, jones_diag(sol.t_o, zero), m, obj_b, 0
+                )
+                cand, ea, e_sum, c = _push_wave(
+                    cand, 0, c, ea, e_sum, ctx, sol.te, jones_diag(sol.t_e, zero), m, obj_b, 1
+                )
+    if e_sum > e:
+        # a passive interface creates no power: with an absorbing incident medium the
+        # plane-wave flux split is not unique and |r|^2 can exceed 1 near total reflection
+        g = e / e_sum
+        for j in range(c):
+            cand[j, _W] = cand[j, _W] * g
+            ea[j] = ea[j] * g
+        e_sum = e
+    return cand, ea, e_sum, c
+
+
+@wp.func
+def _keep_children(st: Any, n: int, cand: Cand, ea: wp.vec4f, e_sum: float, c: int, split_threshold: float,
+                   rng: wp.uint32):
+    """Continue the tree with the children of an interface: all of them while they carry at
+    least ``split_threshold`` (and the stack has room), else one chosen by power with uniform
+    from ``rng``, weighted by 1/probability (carries ``e_sum`` exactly).  Returns (st, n, rng)."""
+    if e_sum >= split_threshold and n + c <= STACK_SIZE:
+        for j in range(c):
+            st = copy_row(st, n + j, cand, j)
+        return st, n + c, rng
+    x = wp.randf(rng) * e_sum
+    j = int(0)
+    acc = ea[0]
+    while j < c - 1 and x >= acc:
+        j += 1
+        acc += ea[j]
+    st = copy_row(st, n, cand, j)
+    st[n, _W] = st[n, _W] * (e_sum / ea[j])
+    return st, n + 1, rng
 
 
 @wp.kernel
@@ -368,133 +530,13 @@ def forward_trace_kernel(
             continue
         if e <= 0.0:
             continue
-        x = o + d * hit.t
-        n_out = hit.normal
-        entering = wp.dot(d, n_out) < 0.0
-        nrm = n_out  # unit normal on the incident side
-        obj_b = hit.object
-        if not entering:
-            nrm = -n_out
-            obj_b = -1
-        obj_a = inside
-        # candidates are written to rows n .. n + c - 1, then kept (split) or one is chosen
-        c = int(0)
-        e_sum = float(0.0)
-        ea = wp.vec4f(0.0)
-        if _is_uniaxial(fp, mats, obj_a) == 0 and _is_uniaxial(fp, mats, obj_b) == 0:
-            # isotropic interface: Fresnel (or the coating's stack) in the s/p frame
-            n_a, n_a_e = _medium_index(fp, mats, obj_a, wl)
-            n_b, n_b_e = _medium_index(fp, mats, obj_b, wl)
-            # Light arriving from an absorbing medium: Fresnel with the real part of its index
-            # (the weak-absorption approximation; its absorption is Bouguer-Lambert along the
-            # path).  ``c_normal_component`` takes the Im >= 0 root of N2 cos t, which for an
-            # absorbing *incident* medium is the backward-travelling one (|r| >> 1).
-            n_a = wp.vec2f(n_a[0], 0.0)
-            cos_a = wp.clamp(-wp.dot(d, nrm), 0.0, 1.0)
-            s = s_vector(d, n_out)
-            f = fresnel_amplitudes(cos_a, n_a, n_b)
-            rs = f.rs
-            rp = f.rp
-            ts = f.ts
-            tp = f.tp
-            coat = fp.object_coating[hit.object]
-            if coat >= 0:
-                if entering:
-                    rs, rp, ts, tp = coating_amplitudes(coatings, coat, wl, cos_a, n_a, n_b, 0)
-                else:
-                    rs, rp, ts, tp = coating_amplitudes(coatings, coat, wl, cos_a, n_b, n_a, 1)
-            m_sp = jones_mul(jones_real(frame_change(d, bx, s)), m)
-            d_r = wp.normalize(d + nrm * (2.0 * cos_a))
-            m_r = jones_mul(jones_diag(rs, rp), m_sp)
-            e_r = ray_power(m_r, w, csrc)
-            if e_r > 0.0:
-                st = _push(st, n + c, x + d_r * fp.epsilon, d_r, d_r, s, m_r, w, obj_a, depth + 1, -1)
-                ea[c] = e_r
-                e_sum += e_r
-                c += 1
-            eta = n_a[0] / n_b[0]
-            sin2_b = eta * eta * (1.0 - cos_a * cos_a)
-            if sin2_b < 1.0:
-                cos_b = wp.sqrt(1.0 - sin2_b)
-                d_t = wp.normalize(d * eta + nrm * (eta * cos_a - cos_b))
-                ratio = float(0.0)
-                if f.n1_cos_i[0] > 0.0:
-                    ratio = wp.max(f.n2_cos_t[0], 0.0) / f.n1_cos_i[0]
-                m_t = jones_scale(jones_mul(jones_diag(ts, tp), m_sp), wp.sqrt(ratio))
-                e_t = ray_power(m_t, w, csrc)
-                if e_t > 0.0:
-                    st = _push(st, n + c, x + d_t * fp.epsilon, d_t, d_t, s, m_t, w, obj_b, depth + 1, -1)
-                    ea[c] = e_t
-                    e_sum += e_t
-                    c += 1
-        else:
-            # a uniaxial side: generalized Fresnel amplitudes (eq. 5) per incident mode
-            ma = _crystal(fp, mats, obj_a, wl)
-            mb = _crystal(fp, mats, obj_b, wl)
-            zero = wp.vec2f(0.0, 0.0)
-            if mode < 0:
-                # isotropic incident ray: its s/p (= o/e) components both excite every wave
-                so = generalized_fresnel(s_in, 0, nrm, ma, mb)
-                se = generalized_fresnel(s_in, 1, nrm, ma, mb)
-                m_in = jones_mul(jones_real(frame_change(s_in, bx, so.incident.e_re)), m)
-                f_in = so.incident.flux
-                ctx = _wave_ctx(x, fp.epsilon, w, csrc, depth + 1, f_in)
-                st, ea, e_sum, c = _push_wave(
-                    st, n, c, ea, e_sum, ctx, so.ro, jones(so.r_o, se.r_o, so.r_e, se.r_e), m_in, obj_a, -1
-                )
-                st, ea, e_sum, c = _push_wave(
-                    st, n, c, ea, e_sum, ctx, so.to, jones(so.t_o, se.t_o, zero, zero), m_in, obj_b, 0
-                )
-                st, ea, e_sum, c = _push_wave(
-                    st, n, c, ea, e_sum, ctx, so.te, jones(so.t_e, se.t_e, zero, zero), m_in, obj_b, 1
-                )
-            else:
-                # one eigenmode inside a crystal: row 0 of M is its amplitude
-                sol = generalized_fresnel(s_in, mode, nrm, ma, mb)
-                ctx = _wave_ctx(x, fp.epsilon, w, csrc, depth + 1, sol.incident.flux)
-                st, ea, e_sum, c = _push_wave(
-                    st, n, c, ea, e_sum, ctx, sol.ro, jones_diag(sol.r_o, zero), m, obj_a, 0
-                )
-                st, ea, e_sum, c = _push_wave(
-                    st, n, c, ea, e_sum, ctx, sol.re, jones_diag(sol.r_e, zero), m, obj_a, 1
-                )
-                if _is_uniaxial(fp, mats, obj_b) == 0:
-                    # into an isotropic medium: the o/e amplitudes are its s/p components
-                    st, ea, e_sum, c = _push_wave(
-                        st, n, c, ea, e_sum, ctx, sol.to, jones(sol.t_o, zero, sol.t_e, zero), m, obj_b, -1
-                    )
-                else:
-                    st, ea, e_sum, c = _push_wave(
-                        st, n, c, ea, e_sum, ctx, sol.to, jones_diag(sol.t_o, zero), m, obj_b, 0
-                    )
-                    st, ea, e_sum, c = _push_wave(
-                        st, n, c, ea, e_sum, ctx, sol.te, jones_diag(sol.t_e, zero), m, obj_b, 1
-                    )
-        if e_sum > e:
-            # a passive interface creates no power: with an absorbing incident medium the
-            # plane-wave flux split is not unique and |r|^2 can exceed 1 near total reflection
-            g = e / e_sum
-            for j in range(c):
-                st[n + j, _W] = st[n + j, _W] * g
-                ea[j] = ea[j] * g
-            e_sum = e
+        cand, ea, e_sum, c = forward_interface(
+            fp, mats, coatings, hit, o, d, s_in, bx, m, w, e, mode, inside, depth, wl, csrc
+        )
         e_iface += e - e_sum
         if c == 0:
             continue
-        if e_sum >= fp.split_threshold and n + c <= STACK_SIZE - 3:
-            n += c
-        else:
-            # one child by power, weighted by 1/probability: carries e_sum exactly
-            u = wp.randf(rng) * e_sum
-            j = int(0)
-            acc = ea[0]
-            while j < c - 1 and u >= acc:
-                j += 1
-                acc += ea[j]
-            if j != 0:
-                st = _copy_row(st, n + j, n)
-            st[n, _W] = st[n, _W] * (e_sum / ea[j])
-            n += 1
+        st, n, rng = _keep_children(st, n, cand, ea, e_sum, c, fp.split_threshold, rng)
     ledger[li, _L_SCREEN] = wp.float64(e_screen)
     ledger[li, _L_ABS] = wp.float64(e_abs)
     ledger[li, _L_ESC] = wp.float64(e_esc)
