@@ -92,3 +92,11 @@ def test_seed003_sampling_readout(tmp_path, device):
     assert ro["noise_ratio_xyz_surround"] > 1.3
     # both estimators are unbiased: their stone-mean XYZ agree within a few standard errors
     assert max(ro["mean_xyz_difference_in_standard_errors"]) < 4.0
+
+
+def test_gallery_scenes_renders_a_showcase_scene(tmp_path, device):
+    out = tmp_path / "bubble.png"
+    r = _run("gallery_scenes.py", out, "soap_bubble", device=device)
+    ro = json.loads(r.stdout.strip().splitlines()[-1])
+    assert ro["scene"] == "scenes/soap_bubble.toml" and ro["rays"] > 0
+    assert 0.0 < ro["mean_Y"] < 10.0  # a lit bubble under the sky: finite, not black
