@@ -94,6 +94,7 @@ def test_slab_caustic_matches_closed_form(device, kind):
     expected = E_SUN * (1 - rr) / (1 + rr) / math.pi
     # Monte Carlo: ~1200 paths land in each pixel (2.5 % per pixel), >= 40 pixels averaged (0.4 %),
     # 8 spectral strata per 8 paths (D65 x ybar: < 0.5 %); 2 % covers it with margin
+    print(f"slab caustic ({kind}): {caustic[..., 1][inside].mean() / expected:.4f} of E(1-R)/(1+R)/pi")
     assert caustic[..., 1][inside].mean() == pytest.approx(expected, rel=0.02)
     assert np.abs(caustic[..., 1][inside] / expected - 1).max() < 0.15
     # unpolarized splats: X and Z of a D65 white sun on a white plane are those of D65 (x = 0.3127)
@@ -227,6 +228,7 @@ def test_glass_sphere_focuses_and_conserves_power(device):
     # position sampling over the disc: ~0.1 % Monte Carlo; the 20480-facet icosphere is not a
     # sphere: its facets trap a little light (TIR), cut at max_depth (measured 0.16 %), and its
     # incidence angles differ slightly (measured: power 0.3 % below the ideal sphere's); 1 %
+    print(f"ball lens: power on the table {power_plane / reference:.4f} of the Fresnel-series reference")
     assert power_plane == pytest.approx(reference, rel=0.01)
     assert led[3] < 0.005  # truncated
     assert led[6] == 0.0  # no deposit overflow

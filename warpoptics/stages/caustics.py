@@ -119,14 +119,21 @@ from .camera import CameraParams
 from .forward import (
     ForwardConfig,
     ForwardParams,
-    _keep_children,
     _push,
-    _segment_alpha,
-    forward_interface,
     forward_params,
+    forward_step,
     ray_power,
 )
-from .surfaces import Surfaces, _albedo_rgb, bsdf_eval, reflectance_value, surfaces_closest_hit
+from .surfaces import (
+    Surfaces,
+    _albedo_rgb,
+    bsdf_eval,
+    cdf_find,
+    orthonormal_basis,
+    reflectance_value,
+    sample_cone,
+    surfaces_closest_hit,
+)
 
 __all__ = ["CausticParams", "CausticStage", "CAUSTIC_LEDGER", "caustic_importance"]
 
@@ -159,37 +166,6 @@ class CausticParams:
     splat_scale: float  # count / number of paths
     seed: int
     max_deposits: int
-
-
-@wp.func
-def _pick(cdf: wp.array(dtype=wp.float32), n: int, u: float):
-    j = int(0)
-    while j < n - 1 and u >= cdf[j + 1]:
-        j += 1
-    return j
-
-
-@wp.func
-def _onb(n: wp.vec3f):
-    # Duff et al. 2017 branchless orthonormal basis (as stages.surfaces)
-    sign = float(1.0)
-    if n[2] < 0.0:
-        sign = -1.0
-    a = -1.0 / (sign + n[2])
-    b = n[0] * n[1] * a
-    t = wp.vec3f(1.0 + sign * n[0] * n[0] * a, sign * b, -sign * n[0])
-    bb = wp.vec3f(b, sign + n[1] * n[1] * a, -n[1])
-    return t, bb
-
-
-@wp.func
-def _cone_dir(axis: wp.vec3f, cos_max: float, u1: float, u2: float):
-    # uniform direction in the cone of half-angle acos(cos_max) about the unit axis
-    ct = 1.0 - u1 * (1.0 - cos_max)
-    st = wp.sqrt(wp.max(1.0 - ct * ct, 0.0))
-    ph = 2.0 * wp.pi * u2
-    ta, tb = _onb(axis)
-    return wp.normalize(ta * (st * wp.cos(ph)) + tb * (st * wp.sin(ph)) + axis * ct)
 
 
 @wp.func
@@ -235,8 +211,8 @@ def _disc_pdf(cp: CausticParams, axis: wp.vec3f, cos_max: float, o: wp.vec3f, d:
 def _emit(cp: CausticParams, s: Surfaces, tables: SpectralTables, wl: float, rng: wp.uint32):
     """A lamp ray aimed at the targets: (origin, unit direction, spectral flux weight (already
     divided by the lamp's and the direction's / position's probabilities), rng)."""
-    lamp = _pick(cp.lamp_cdf, cp.num_lamps, wp.randf(rng))
-    k = _pick(cp.t_cdf, cp.num_targets, wp.randf(rng))
+    lamp = cdf_find(cp.lamp_cdf, 0, cp.num_lamps, wp.randf(rng))
+    k = cdf_find(cp.t_cdf, 0, cp.num_targets, wp.randf(rng))
     p_lamp = cp.lamp_prob[lamp]
     o = wp.vec3f(0.0)
     d = wp.vec3f(0.0, 0.0, -1.0)
@@ -248,11 +224,11 @@ def _emit(cp: CausticParams, s: Surfaces, tables: SpectralTables, wl: float, rng
         d = axis
         scale = float(1.0)
         if cmax < 1.0:
-            d = _cone_dir(axis, cmax, wp.randf(rng), wp.randf(rng))
+            d = sample_cone(axis, cmax, wp.randf(rng), wp.randf(rng))
             scale = 2.0 * (1.0 - cmax) / (1.0 - cmax * cmax)
         # a point uniform on target k's disc (perpendicular to the axis), moved upstream along d
         # to a plane beyond every target
-        ta, tb = _onb(axis)
+        ta, tb = orthonormal_basis(axis)
         rr = cp.t_radius[k] / cmax
         rad = rr * wp.sqrt(wp.randf(rng))
         ph = 2.0 * wp.pi * wp.randf(rng)
@@ -271,7 +247,7 @@ def _emit(cp: CausticParams, s: Surfaces, tables: SpectralTables, wl: float, rng
             + s.a_v[j] * ((2.0 * wp.randf(rng) - 1.0) * h2[1])
         )
         ax, cmax = _target_cone(cp, k, o)
-        d = _cone_dir(ax, cmax, wp.randf(rng), wp.randf(rng))
+        d = sample_cone(ax, cmax, wp.randf(rng), wp.randf(rng))
         cos_l = wp.dot(d, s.a_normal[j])
         if s.a_two_sided[j] != 0:
             cos_l = wp.abs(cos_l)
@@ -284,7 +260,7 @@ def _emit(cp: CausticParams, s: Surfaces, tables: SpectralTables, wl: float, rng
         j = lamp - s.num_sun - s.num_area
         o = s.p_pos[j]
         ax, cmax = _target_cone(cp, k, o)
-        d = _cone_dir(ax, cmax, wp.randf(rng), wp.randf(rng))
+        d = sample_cone(ax, cmax, wp.randf(rng), wp.randf(rng))
         c_ax = wp.dot(d, s.p_dir[j])
         co = s.p_cos_outer[j]
         cin = s.p_cos_inner[j]
@@ -435,24 +411,13 @@ def _caustic_kernel(
         elif hit.object < 0:
             e_lost += e  # a ray inside a solid found no exit
             continue
-        if inside >= 0:
-            att = wp.exp(-_segment_alpha(fp, mats, inside, mode, s_in, wl) * hit.t)
-            e_abs += e * (1.0 - att)
-            w = w * att
-            e = e * att
-        if depth >= fp.max_depth:
-            e_trunc += e
-            continue
-        if e <= 0.0:
-            continue
-        # one interface event: the optical bench's own (stages.forward.forward_interface)
-        cand, ea, e_sum, c = forward_interface(
-            fp, mats, coatings, hit, o, d, s_in, bx, m, w, e, mode, inside, depth, wl, csrc
+        # the segment's absorption, then the interface: the optical bench's own step (stages.forward)
+        st, n, rng, ledger_step = forward_step(
+            st, n, rng, fp, mats, coatings, hit, o, d, s_in, bx, m, w, e, mode, inside, depth, wl, csrc
         )
-        e_iface += e - e_sum
-        if c == 0:
-            continue
-        st, n, rng = _keep_children(st, n, cand, ea, e_sum, c, fp.split_threshold, rng)
+        e_abs += ledger_step[0]
+        e_trunc += ledger_step[1]
+        e_iface += ledger_step[2]
     if flux <= 0.0:
         e_esc = 1.0  # an emission sample that carries nothing (outside a spot's cone, behind a box)
     ledger[li, _C_SURF] = wp.float64(e_surf)

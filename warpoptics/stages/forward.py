@@ -109,7 +109,7 @@ from .branches import (
 )
 from .screen import ScreenSet, screen_hit
 
-__all__ = ["ForwardParams", "ForwardConfig", "forward_params", "forward_trace_kernel", "forward_interface", "LEDGER",
+__all__ = ["ForwardParams", "ForwardConfig", "forward_params", "forward_trace_kernel", "forward_interface", "forward_step", "LEDGER",
            "STACK_SIZE"]
 
 #: names of the ledger columns (see the module docstring)
@@ -439,6 +439,49 @@ def _keep_children(st: Any, n: int, cand: Cand, ea: wp.vec4f, e_sum: float, c: i
     return st, n + 1, rng
 
 
+@wp.func
+def forward_step(
+    st: Any,
+    n: int,
+    rng: wp.uint32,
+    fp: ForwardParams,
+    mats: MaterialTable,
+    coatings: CoatingStack,
+    hit: RayHit,
+    o: wp.vec3f,
+    d: wp.vec3f,
+    s_in: wp.vec3f,
+    bx: wp.vec3f,
+    m: Jones,
+    w: float,
+    e: float,
+    mode: int,
+    inside: int,
+    depth: int,
+    wl: float,
+    csrc: Jones,
+):
+    """A forward ray of power ``e`` that reached ``hit``: Bouguer–Lambert along its segment
+    inside a solid, the cut at ``max_depth``, then the interface event (:func:`forward_interface`)
+    and the split (:func:`_keep_children`).  Returns (st, n, rng, (absorbed, truncated,
+    interface loss)) for the ledger."""
+    e_abs = float(0.0)
+    if inside >= 0:
+        att = wp.exp(-_segment_alpha(fp, mats, inside, mode, s_in, wl) * hit.t)
+        e_abs = e * (1.0 - att)
+        w = w * att
+        e = e * att
+    if depth >= fp.max_depth:
+        return st, n, rng, wp.vec3f(e_abs, e, 0.0)
+    if e <= 0.0:
+        return st, n, rng, wp.vec3f(e_abs, 0.0, 0.0)
+    cand, ea, e_sum, c = forward_interface(fp, mats, coatings, hit, o, d, s_in, bx, m, w, e, mode, inside, depth, wl,
+                                           csrc)
+    if c > 0:
+        st, n, rng = _keep_children(st, n, cand, ea, e_sum, c, fp.split_threshold, rng)
+    return st, n, rng, wp.vec3f(e_abs, 0.0, e - e_sum)
+
+
 @wp.kernel
 def forward_trace_kernel(
     offset: int,
@@ -520,23 +563,13 @@ def forward_trace_kernel(
         elif hit.object < 0:
             e_lost += e  # a ray inside a solid found no exit
             continue
-        if inside >= 0:
-            att = wp.exp(-_segment_alpha(fp, mats, inside, mode, s_in, wl) * hit.t)
-            e_abs += e * (1.0 - att)
-            w = w * att
-            e = e * att
-        if depth >= fp.max_depth:
-            e_trunc += e
-            continue
-        if e <= 0.0:
-            continue
-        cand, ea, e_sum, c = forward_interface(
-            fp, mats, coatings, hit, o, d, s_in, bx, m, w, e, mode, inside, depth, wl, csrc
+        # the segment's absorption, then the interface: the one step both forward tracers share
+        st, n, rng, ledger_step = forward_step(
+            st, n, rng, fp, mats, coatings, hit, o, d, s_in, bx, m, w, e, mode, inside, depth, wl, csrc
         )
-        e_iface += e - e_sum
-        if c == 0:
-            continue
-        st, n, rng = _keep_children(st, n, cand, ea, e_sum, c, fp.split_threshold, rng)
+        e_abs += ledger_step[0]
+        e_trunc += ledger_step[1]
+        e_iface += ledger_step[2]
     ledger[li, _L_SCREEN] = wp.float64(e_screen)
     ledger[li, _L_ABS] = wp.float64(e_abs)
     ledger[li, _L_ESC] = wp.float64(e_esc)

@@ -247,8 +247,9 @@ def surfaces_closest_hit(s: Surfaces, o: wp.vec3f, d: wp.vec3f, t_max: float):
 
 
 @wp.func
-def _onb(n: wp.vec3f):
-    # Duff et al. 2017 branchless orthonormal basis
+def orthonormal_basis(n: wp.vec3f):
+    """Two unit vectors completing unit ``n`` to an orthonormal frame (Duff et al. 2017,
+    branchless)."""
     sign = float(1.0)
     if n[2] < 0.0:
         sign = -1.0
@@ -257,6 +258,17 @@ def _onb(n: wp.vec3f):
     t = wp.vec3f(1.0 + sign * n[0] * n[0] * a, sign * b, -sign * n[0])
     bb = wp.vec3f(b, sign + n[1] * n[1] * a, -n[1])
     return t, bb
+
+
+@wp.func
+def sample_cone(axis: wp.vec3f, cos_max: float, u1: float, u2: float):
+    """A direction uniform in solid angle in the cone of half-angle acos(cos_max) about the unit
+    ``axis`` (pdf 1 / (2 pi (1 - cos_max))), from uniform ``u1``, ``u2``."""
+    ct = 1.0 - u1 * (1.0 - cos_max)
+    st = wp.sqrt(wp.max(1.0 - ct * ct, 0.0))
+    ph = 2.0 * wp.pi * u2
+    ta, tb = orthonormal_basis(axis)
+    return wp.normalize(ta * (st * wp.cos(ph)) + tb * (st * wp.sin(ph)) + axis * ct)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -343,7 +355,7 @@ def bsdf_pdf(kind: int, roughness: float, n: wp.vec3f, wo: wp.vec3f, wi: wp.vec3
 
 @wp.func
 def _cosine_dir(n: wp.vec3f, u1: float, u2: float):
-    t, b = _onb(n)
+    t, b = orthonormal_basis(n)
     r = wp.sqrt(u1)
     phi = 2.0 * wp.pi * u2
     return wp.normalize(t * (r * wp.cos(phi)) + b * (r * wp.sin(phi)) + n * wp.sqrt(wp.max(1.0 - u1, 0.0)))
@@ -360,13 +372,13 @@ def bsdf_sample(kind: int, roughness: float, n: wp.vec3f, wo: wp.vec3f, u0: floa
     cos_t = 1.0 / wp.sqrt(1.0 + tan2)
     sin_t = wp.sqrt(wp.max(1.0 - cos_t * cos_t, 0.0))
     phi = 2.0 * wp.pi * u2
-    t, b = _onb(n)
+    t, b = orthonormal_basis(n)
     h = wp.normalize(t * (sin_t * wp.cos(phi)) + b * (sin_t * wp.sin(phi)) + n * cos_t)
     return wp.normalize(h * (2.0 * wp.dot(wo, h)) - wo)
 
 
 @wp.func
-def _cdf_find(cdf: wp.array(dtype=wp.float32), start: int, count: int, u: float):
+def cdf_find(cdf: wp.array(dtype=wp.float32), start: int, count: int, u: float):
     # index j in [0, count) with cdf[start + j] <= u < cdf[start + j + 1] (binary search)
     lo = int(0)
     hi = count
@@ -384,8 +396,8 @@ def env_sample(s: Surfaces, u1: float, u2: float, u3: float, u4: float):
     """A direction drawn from the environment table: a cell by its probability (marginal row,
     then column), then uniform in (polar angle, azimuth) within the cell.  The table is over
     world directions, z up: theta = acos(z) in rows, phi = atan2(y, x) in columns."""
-    row = _cdf_find(s.env_marginal, 0, s.env_rows, u1)
-    col = _cdf_find(s.env_conditional, row * (s.env_cols + 1), s.env_cols, u2)
+    row = cdf_find(s.env_marginal, 0, s.env_rows, u1)
+    col = cdf_find(s.env_conditional, row * (s.env_cols + 1), s.env_cols, u2)
     theta = (float(row) + u3) * wp.pi / float(s.env_rows)
     phi = (float(col) + u4) * 2.0 * wp.pi / float(s.env_cols) - wp.pi
     st = wp.sin(theta)
@@ -676,11 +688,8 @@ def surface_radiance(
             scale = float(1.0)  # E cos / (radiance integral): 1 for a delta sun
             if cmax < 1.0:
                 # uniform direction in the cone; radiance E / (pi sin^2 r), pdf 1 / (2 pi (1 - cos r))
-                ct = 1.0 - wp.randf(rng) * (1.0 - cmax)
-                st = wp.sqrt(wp.max(1.0 - ct * ct, 0.0))
-                ph = 2.0 * wp.pi * wp.randf(rng)
-                ta, tb = _onb(wi)
-                wi = wp.normalize(ta * (st * wp.cos(ph)) + tb * (st * wp.sin(ph)) + wi * ct)
+                u1 = wp.randf(rng)
+                wi = sample_cone(wi, cmax, u1, wp.randf(rng))
                 scale = 2.0 * (1.0 - cmax) / (1.0 - cmax * cmax)
             cos_i = wp.dot(n, wi)
             if cos_i <= 0.0:
