@@ -9,6 +9,14 @@ just a launch of a sub-range, and the result is identical to one launch of the w
 Environment variables:
 ``WARPOPTICS_DEVICE``   default device ("cpu" unless set; "cuda:0" for a GPU)
 ``WARPOPTICS_THREADS``  number of CPU worker threads (default: all cores)
+
+No adjoint code: warpoptics never differentiates through its kernels, so every module that
+defines Warp kernels, functions or structs sets ``wp.set_module_options({"enable_backward":
+False})`` right after its imports.  It must be the module option: Warp copies
+``wp.config.enable_backward`` into a module's options when the module is created (at import),
+so setting the config later has no effect on our modules and would change the user's own.
+Backward code doubled the CPU compile time and made the renderer's CUDA compile run for more
+than ten minutes.
 """
 
 from __future__ import annotations
@@ -45,9 +53,6 @@ def init() -> None:
             return
         wp.config.log_level = wp.LOG_WARNING
         wp.config.quiet = True
-        # warpoptics never differentiates through its kernels: skipping adjoint code halves
-        # the cold compile time of every module.
-        wp.config.enable_backward = False
         wp.init()
         _initialized = True
 

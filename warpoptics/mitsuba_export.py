@@ -66,6 +66,8 @@ from .scene import Scene
 from .spectra import SpectralTables, cmf_xyz, spectral_tables
 from .stages.environment import Environment, EnvironmentLight, environment_radiance
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = [
     "ENVMAP_TO_WORLD",
     "STOKES_SIGNS",

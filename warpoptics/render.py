@@ -32,6 +32,8 @@ from .stages.environment import Environment, EnvironmentLight
 from .stages.surfaces import Surfaces, SurfaceStage
 from .stages.trace import TraceConfig, TraceParams, default_params, trace_radiance
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = ["Image", "render", "Renderer", "FilmParams", "estimate_render_bytes", "available_memory_bytes",
            "check_render_memory"]
 

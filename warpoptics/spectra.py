@@ -37,6 +37,8 @@ import warp as wp
 
 from .device import elementwise, get_device
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = [
     "LAMBDA_MIN",
     "LAMBDA_MAX",

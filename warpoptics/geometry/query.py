@@ -57,6 +57,8 @@ import warp as wp
 from .. import device as _device
 from .mesh import facet_planes
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = [
     "MODE_AUTO",
     "MODE_BVH",

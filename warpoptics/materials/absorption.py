@@ -44,6 +44,8 @@ from .. import device as _device
 from ..errors import InputError
 from .dispersion import Material, Uniaxial, alpha_from_k_func, k_from_alpha_func, with_absorption_k
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = [
     "alpha_from_k_func",
     "k_from_alpha_func",

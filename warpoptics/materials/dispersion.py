@@ -65,6 +65,8 @@ import warp as wp
 from .. import device as _device
 from ..errors import InputError
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = [
     "MaterialTable",
     "material_eval",

@@ -48,6 +48,8 @@ from ..errors import InputError
 from .absorption import AbsorptionSpectrum, Band, k_from_alpha
 from .dispersion import Isotropic, Material, Uniaxial, with_absorption_k
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = [
     "maclaurin_term",
     "kramers_kronig",

@@ -77,6 +77,8 @@ from ..errors import InputError
 from .fresnel import fresnel_amplitudes, reflect_direction, refract_direction
 from .jones import Jones, frame_change, jones, jones_diag, jones_mul, jones_real, perpendicular
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = [
     "UniaxialMedium",
     "PlaneWave",

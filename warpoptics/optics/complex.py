@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import warp as wp
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 complex_t = wp.vec2f
 
 __all__ = [

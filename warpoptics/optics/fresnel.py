@@ -49,6 +49,8 @@ from ..device import elementwise
 from ..errors import InputError
 from .complex import c_abs2, c_conj, c_div, c_mul, c_normal_component
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = [
     "FresnelAmplitudes",
     "fresnel_amplitudes",

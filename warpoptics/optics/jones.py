@@ -34,6 +34,8 @@ import warp as wp
 
 from ..device import elementwise
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = [
     "Jones",
     "jones",

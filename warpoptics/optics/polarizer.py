@@ -37,6 +37,8 @@ import warp as wp
 from ..device import elementwise
 from .jones import Jones, coherency_from_stokes_vec, coherency_unpolarized
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = [
     "mueller_linear_polarizer",
     "polarizer_stokes",

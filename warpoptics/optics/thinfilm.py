@@ -67,6 +67,8 @@ from ..errors import InputError
 from ..spectra import ILLUMINANTS, SpectralTables, cmf_xyz, illuminant_value, spectral_tables
 from .complex import c_abs2, c_div, c_exp, c_mul, c_normal_component
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = [
     "CoatingStack",
     "stack_layer_index",

@@ -32,6 +32,8 @@ import warp as wp
 from ..errors import InputError
 from ..optics.jones import Jones, perpendicular
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = ["BeamParams", "Beam", "beam_ray", "BEAM_COLLIMATED", "BEAM_SPOT", "BEAM_TYPES", "POLARIZATIONS"]
 
 BEAM_COLLIMATED = 0

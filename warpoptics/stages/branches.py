@@ -13,6 +13,8 @@ import warp as wp
 
 from ..optics.jones import Jones, frame_change, jones_diag, jones_mul, jones_real, jones_scale
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = ["STACK_SIZE", "COLS", "Stack", "Cand", "write_row", "write_jones", "copy_row", "row_vec", "row_jones",
            "branch_energy", "child_jones"]
 

@@ -17,6 +17,8 @@ import warp as wp
 
 from ..errors import InputError
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = ["CameraParams", "CameraConfig", "Camera", "camera_ray", "CAMERA_KINDS"]
 
 CAMERA_KINDS = {"perspective": 0, "orthographic": 1, "thin_lens": 2}

@@ -135,6 +135,8 @@ from .surfaces import (
     surfaces_closest_hit,
 )
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = ["CausticParams", "CausticStage", "CAUSTIC_LEDGER", "caustic_importance"]
 
 #: names of the ledger columns (module docstring)

@@ -67,6 +67,8 @@ from ..optics.thinfilm import (
 )
 from .branches import Cand, branch_energy, child_jones, write_row
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = [
     "FilmSurfaces",
     "FilmConfig",
@@ -248,7 +250,7 @@ def _child(
     return m, w * 0.5 * power_scale * (c_abs2(a_s) + c_abs2(a_p))
 
 
-@wp.func
+@wp.func(inline=False)  # out of line: compile time (see trace_radiance)
 def film_children(
     cand: Cand,
     fs: FilmSurfaces,

@@ -27,6 +27,8 @@ from ..device import get_device
 from ..errors import InputError
 from ..spectra import SpectralTables, illuminant_value, rgb_spectrum_value
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = ["Environment", "EnvironmentConfig", "EnvironmentLight", "environment_radiance",
            "environment_coefficients", "environment_basis", "ENV_KINDS"]
 

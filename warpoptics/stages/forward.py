@@ -109,6 +109,8 @@ from .branches import (
 )
 from .screen import ScreenSet, screen_hit
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = ["ForwardParams", "ForwardConfig", "forward_params", "forward_trace_kernel", "forward_interface", "forward_step", "LEDGER",
            "STACK_SIZE"]
 

@@ -28,6 +28,8 @@ import warp as wp
 
 from ..errors import InputError
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = ["ScreenSet", "Screen", "ScreenImage", "screen_hit", "screen_set"]
 
 

@@ -74,6 +74,8 @@ from ..optics.fresnel import fresnel_amplitudes
 from ..spectra import SpectralTables, illuminant_value, rgb_spectrum_value, spectral_tables
 from .environment import Environment, environment_radiance
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = [
     "Surfaces",
     "SurfaceHit",
@@ -570,7 +572,7 @@ def _visibility(
     )
 
 
-@wp.func
+@wp.func(inline=False)  # out of line: compile time (see trace_radiance)
 def surface_radiance(
     s: Surfaces,
     geom: SceneGeometry,

@@ -99,6 +99,8 @@ from .coated import FilmSurfaces, empty_film_surfaces, film_children  # films: c
 from .environment import Environment, environment_basis, environment_coefficients
 from .surfaces import Surfaces, surface_radiance, surfaces_closest_hit
 
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
 __all__ = ["TraceParams", "TraceConfig", "trace_radiance", "default_params", "STACK_SIZE", "BIREFRINGENCE"]
 
 BIREFRINGENCE = {"exact": 0, "approx": 1}
@@ -189,7 +191,7 @@ def _scaled(c: wp.vec2f, s: float):
     return wp.vec2f(c[0] * s, c[1] * s)
 
 
-@wp.func
+@wp.func(inline=False)  # out of line: compile time (see trace_radiance)
 def _exact_children(
     cand: _Cand,
     m: Jones,
@@ -309,7 +311,7 @@ def _exact_children(
     return cand, energies, count
 
 
-@wp.func
+@wp.func(inline=False)  # out of line: compile time (see trace_radiance)
 def _approx_children(
     cand: _Cand,
     m: Jones,
@@ -489,7 +491,11 @@ def _add_light(acc_x: Jones, acc_y: Jones, acc_z: Jones, k_unit: Jones, xyz: wp.
             jones_add(acc_z, jones_scale(k_unit, xyz[2])))
 
 
-@wp.func
+# Out of line, like the rarely taken branches (_exact_children, _approx_children, film_children,
+# surface_radiance): with every function inlined into the pixel kernel, NVRTC needed 515 s to
+# build the render module for sm_90 (and > 9 min with the adjoint code Warp generated until the
+# modules set enable_backward=False); out of line, 244 s.  CPU speed: no measurable change.
+@wp.func(inline=False)
 def trace_radiance(
     p: TraceParams,
     geom: SceneGeometry,
