@@ -15,8 +15,8 @@ defines Warp kernels, functions or structs sets ``wp.set_module_options({"enable
 False})`` right after its imports.  It must be the module option: Warp copies
 ``wp.config.enable_backward`` into a module's options when the module is created (at import),
 so setting the config later has no effect on our modules and would change the user's own.
-Backward code doubled the CPU compile time and made the renderer's CUDA compile run for more
-than ten minutes.
+With the backward code a cold CPU start (64x64 ``diamond.toml``) took 64 s (24 s without), and
+NVRTC had not finished the render module after 9.5 minutes on an H100 host.
 """
 
 from __future__ import annotations
