@@ -15,7 +15,7 @@ from ..optics.jones import Jones, frame_change, jones_diag, jones_mul, jones_rea
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
-__all__ = ["STACK_SIZE", "COLS", "Stack", "Cand", "write_row", "write_jones", "copy_row", "row_vec", "row_jones",
+__all__ = ["STACK_SIZE", "COLS", "Stack", "Cand", "write_row", "write_jones", "copy_row", "Ray", "read_row",
            "branch_energy", "child_jones"]
 
 #: rows of the per-thread branch stack (a depth-first tree needs about one row per level)
@@ -74,17 +74,39 @@ def copy_row(dst: Any, i: int, src: Any, k: int):
     return dst
 
 
-@wp.func
-def row_vec(st: Any, n: int, c0: int):
-    return wp.vec3f(st[n, c0], st[n, c0 + 1], st[n, c0 + 2])
+@wp.struct
+class Ray:
+    """One stack row, unpacked: a pending ray of a path tree (see the row layout above)."""
+
+    o: wp.vec3f
+    d: wp.vec3f
+    b: wp.vec3f
+    wn: wp.vec3f
+    m: Jones
+    w: float
+    inside: int
+    depth: int
+    mode: int
 
 
 @wp.func
-def row_jones(st: Any, n: int):
+def read_row(st: Any, n: int):
+    """Row ``n`` of ``st`` as a :class:`Ray` (one call per pop: an argument is a by-value copy of
+    the whole stack, which the camera tracer, the hottest loop, avoids by reading inline)."""
+    r = Ray()
+    r.o = wp.vec3f(st[n, _O], st[n, _O + 1], st[n, _O + 2])
+    r.d = wp.vec3f(st[n, _D], st[n, _D + 1], st[n, _D + 2])
+    r.b = wp.vec3f(st[n, _B], st[n, _B + 1], st[n, _B + 2])
+    r.wn = wp.vec3f(st[n, _WN], st[n, _WN + 1], st[n, _WN + 2])
     m = Jones()
     m.re = wp.mat22(st[n, _MR], st[n, _MR + 1], st[n, _MR + 2], st[n, _MR + 3])
     m.im = wp.mat22(st[n, _MI], st[n, _MI + 1], st[n, _MI + 2], st[n, _MI + 3])
-    return m
+    r.m = m
+    r.w = st[n, _W]
+    r.inside = int(st[n, _IN])
+    r.depth = int(st[n, _DEPTH])
+    r.mode = int(st[n, _MODE])
+    return r
 
 
 @wp.func

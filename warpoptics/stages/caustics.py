@@ -111,10 +111,8 @@ from ..optics.jones import (
 )
 from ..optics.thinfilm import CoatingStack, make_coating_stack
 from ..spectra import SpectralTables, rgb_spectrum_value, sample_wavelength, strategy_id
-from .branches import _B, _D, _DEPTH, _IN, _MODE, _O, _W, _WN
 from .branches import Stack as _Stack
-from .branches import row_jones as _row_jones
-from .branches import row_vec as _row_vec
+from .branches import read_row as _read_row
 from .camera import CameraParams
 from .forward import (
     ForwardConfig,
@@ -360,23 +358,17 @@ def _caustic_kernel(
     e_refl = float(0.0)
     while n > 0:
         n -= 1
-        o = _row_vec(st, n, _O)
-        d = _row_vec(st, n, _D)
-        s_in = _row_vec(st, n, _WN)
-        bx = _row_vec(st, n, _B)
-        m = _row_jones(st, n)
-        w = st[n, _W]
-        inside = int(st[n, _IN])
-        depth = int(st[n, _DEPTH])
-        mode = int(st[n, _MODE])
-        e = ray_power(m, w, csrc)
+        r = _read_row(st, n)
+        e = ray_power(r.m, r.w, csrc)
+        o = r.o
+        d = r.d
         hit = scene_closest_hit(geom, o, d, fp.t_max)
-        if inside < 0:
+        if r.inside < 0:
             sh = surfaces_closest_hit(surf, o, d, hit.t)
-            if sh.kind == _HIT_SURFACE and depth >= 1:
+            if sh.kind == _HIT_SURFACE and r.depth >= 1:
                 # L S+ D: this tracer's path; connect the diffuse point to the eye (D E)
                 e_surf += e
-                if depth == 1:
+                if r.depth == 1:
                     e_refl += e  # an external reflection off a facet (reflective caustic)
                 k = sh.index
                 x = o + d * sh.t
@@ -414,9 +406,7 @@ def _caustic_kernel(
             e_lost += e  # a ray inside a solid found no exit
             continue
         # the segment's absorption, then the interface: the optical bench's own step (stages.forward)
-        st, n, rng, ledger_step = forward_step(
-            st, n, rng, fp, mats, coatings, hit, o, d, s_in, bx, m, w, e, mode, inside, depth, wl, csrc
-        )
+        st, n, rng, ledger_step = forward_step(st, n, rng, fp, mats, coatings, hit, r, e, wl, csrc)
         e_abs += ledger_step[0]
         e_trunc += ledger_step[1]
         e_iface += ledger_step[2]

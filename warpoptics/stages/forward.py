@@ -85,16 +85,10 @@ from ..optics.jones import (
 from ..optics.thinfilm import CoatingStack, coating_amplitudes
 from .beam import BeamParams, beam_ray
 from .branches import (
-    _B,
-    _D,
-    _DEPTH,
-    _IN,
-    _MODE,
-    _O,
     _W,
-    _WN,
     STACK_SIZE,
     Cand,
+    Ray,
     copy_row,
     write_row,
 )
@@ -102,10 +96,7 @@ from .branches import (
     Stack as _Stack,
 )
 from .branches import (
-    row_jones as _row_jones,
-)
-from .branches import (
-    row_vec as _row_vec,
+    read_row as _read_row,
 )
 from .screen import ScreenSet, screen_hit
 
@@ -160,11 +151,6 @@ def _push(
 ):
     # the shared row layout keeps the wave normal s in the _WN columns
     return write_row(st, n, o, d, b, m, w, inside, depth, mode, s)
-
-
-@wp.func
-def _copy_row(st: _Stack, src: int, dst: int):
-    return copy_row(st, dst, st, src)
 
 
 @wp.func
@@ -288,24 +274,26 @@ def forward_interface(
     mats: MaterialTable,
     coatings: CoatingStack,
     hit: RayHit,
-    o: wp.vec3f,
-    d: wp.vec3f,
-    s_in: wp.vec3f,
-    bx: wp.vec3f,
-    m: Jones,
+    r: Ray,
     w: float,
     e: float,
-    mode: int,
-    inside: int,
-    depth: int,
     wl: float,
     csrc: Jones,
 ):
-    """One interface event of a forward ray of power ``e`` hitting ``hit``: the reflected and
+    """One interface event of the forward ray ``r`` (weight ``w`` after its segment's
+    absorption, power ``e``) hitting ``hit``: the reflected and
     refracted children (o and e waves at a crystal) in rows 0..c-1 of a candidate matrix, with
     Fresnel / coating / generalized-Fresnel amplitudes.  Returns (cand, powers, e_sum, c); the
     tracers (``forward_trace_kernel``, ``caustics``) keep them all or choose one.  The stack is
     not an argument: a @wp.func argument is a by-value copy."""
+    o = r.o
+    d = r.d
+    s_in = r.wn
+    bx = r.b
+    m = r.m
+    mode = r.mode
+    inside = r.inside
+    depth = r.depth
     cand = Cand()
     x = o + d * hit.t
     n_out = hit.normal
@@ -450,35 +438,27 @@ def forward_step(
     mats: MaterialTable,
     coatings: CoatingStack,
     hit: RayHit,
-    o: wp.vec3f,
-    d: wp.vec3f,
-    s_in: wp.vec3f,
-    bx: wp.vec3f,
-    m: Jones,
-    w: float,
+    r: Ray,
     e: float,
-    mode: int,
-    inside: int,
-    depth: int,
     wl: float,
     csrc: Jones,
 ):
-    """A forward ray of power ``e`` that reached ``hit``: Bouguer–Lambert along its segment
+    """The forward ray ``r`` of power ``e`` that reached ``hit``: Bouguer–Lambert along its segment
     inside a solid, the cut at ``max_depth``, then the interface event (:func:`forward_interface`)
     and the split (:func:`_keep_children`).  Returns (st, n, rng, (absorbed, truncated,
     interface loss)) for the ledger."""
     e_abs = float(0.0)
-    if inside >= 0:
-        att = wp.exp(-_segment_alpha(fp, mats, inside, mode, s_in, wl) * hit.t)
+    w = r.w
+    if r.inside >= 0:
+        att = wp.exp(-_segment_alpha(fp, mats, r.inside, r.mode, r.wn, wl) * hit.t)
         e_abs = e * (1.0 - att)
         w = w * att
         e = e * att
-    if depth >= fp.max_depth:
+    if r.depth >= fp.max_depth:
         return st, n, rng, wp.vec3f(e_abs, e, 0.0)
     if e <= 0.0:
         return st, n, rng, wp.vec3f(e_abs, 0.0, 0.0)
-    cand, ea, e_sum, c = forward_interface(fp, mats, coatings, hit, o, d, s_in, bx, m, w, e, mode, inside, depth, wl,
-                                           csrc)
+    cand, ea, e_sum, c = forward_interface(fp, mats, coatings, hit, r, w, e, wl, csrc)
     if c > 0:
         st, n, rng = _keep_children(st, n, cand, ea, e_sum, c, fp.split_threshold, rng)
     return st, n, rng, wp.vec3f(e_abs, 0.0, e - e_sum)
@@ -526,34 +506,26 @@ def forward_trace_kernel(
         dep_screen[base + k] = -1
     while n > 0:
         n -= 1
-        o = _row_vec(st, n, _O)
-        d = _row_vec(st, n, _D)
-        s_in = _row_vec(st, n, _WN)
-        bx = _row_vec(st, n, _B)
-        m = _row_jones(st, n)
-        w = st[n, _W]
-        inside = int(st[n, _IN])
-        depth = int(st[n, _DEPTH])
-        mode = int(st[n, _MODE])
-        e = ray_power(m, w, csrc)
-        hit = scene_closest_hit(geom, o, d, fp.t_max)
-        if inside < 0:
-            t_s, k_s, su, sv = screen_hit(screens, o, d, hit.t)
+        r = _read_row(st, n)
+        e = ray_power(r.m, r.w, csrc)
+        hit = scene_closest_hit(geom, r.o, r.d, fp.t_max)
+        if r.inside < 0:
+            t_s, k_s, su, sv = screen_hit(screens, r.o, r.d, hit.t)
             if k_s >= 0:
                 # deposit: coherency in the screen frame (x = screen right projected perpendicular to d)
-                xs = screens.right[k_s] - d * wp.dot(d, screens.right[k_s])
+                xs = screens.right[k_s] - r.d * wp.dot(r.d, screens.right[k_s])
                 if wp.dot(xs, xs) < 1.0e-12:
-                    xs = perpendicular(d)
+                    xs = perpendicular(r.d)
                 xs = wp.normalize(xs)
-                rot = jones_real(frame_change(d, bx, xs))
-                coh = coherency_transform(jones_mul(rot, m), csrc)
-                sv4 = stokes_from_coherency(coh) * w
+                rot = jones_real(frame_change(r.d, r.b, xs))
+                coh = coherency_transform(jones_mul(rot, r.m), csrc)
+                sv4 = stokes_from_coherency(coh) * r.w
                 if ndep < fp.max_deposits:
                     slot = base + ndep
                     dep_screen[slot] = k_s
                     dep_uv[slot] = wp.vec2f(su, sv)
                     dep_stokes[slot] = sv4
-                    dep_depth[slot] = depth
+                    dep_depth[slot] = r.depth
                     ndep += 1
                     e_screen += sv4[0]
                 else:
@@ -566,9 +538,7 @@ def forward_trace_kernel(
             e_lost += e  # a ray inside a solid found no exit
             continue
         # the segment's absorption, then the interface: the one step both forward tracers share
-        st, n, rng, ledger_step = forward_step(
-            st, n, rng, fp, mats, coatings, hit, o, d, s_in, bx, m, w, e, mode, inside, depth, wl, csrc
-        )
+        st, n, rng, ledger_step = forward_step(st, n, rng, fp, mats, coatings, hit, r, e, wl, csrc)
         e_abs += ledger_step[0]
         e_trunc += ledger_step[1]
         e_iface += ledger_step[2]
