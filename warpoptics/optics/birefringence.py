@@ -386,11 +386,6 @@ def _incident_wave(d: wp.vec3, extraordinary: int, med: UniaxialMedium, normal: 
 
 
 @wp.func
-def _cdot(v: wp.vec3, er: wp.vec3, ei: wp.vec3):
-    return wp.vec2f(wp.dot(v, er), wp.dot(v, ei))
-
-
-@wp.func
 def _h(w: PlaneWave):
     # H = k x E (complex)
     hr = wp.cross(w.k_re, w.e_re) - wp.cross(w.k_im, w.e_im)
