@@ -214,6 +214,8 @@ def test_bench_script_smoke(tmp_path):
             "4",
             "--env-step",
             "20",
+            "--uniform-seconds",
+            "1",
             "--json",
             str(out),
         ],
@@ -226,7 +228,8 @@ def test_bench_script_smoke(tmp_path):
     assert "seconds to target" in proc.stdout
     res = json.loads(out.read_text())
     assert res["width"] == 16 and res["mitsuba_variant"] == "scalar_spectral"
-    for who in ("ours", "mitsuba"):
+    assert res["ours_adaptive"]  # bench_diamond.toml samples adaptively; the uniform run beside it
+    for who in ("ours", "ours_uniform", "mitsuba"):
         assert res[who]["passes"] == 4 and res[who]["seconds_to_target"] > 0
     # the two renderers see the same stone: mean luminance within 15 % at this tiny budget
     assert abs(res["agreement"]["mean_rel_diff"]) < 0.15

@@ -20,6 +20,7 @@ import numpy as np
 import warp as wp
 
 from . import color
+from .adaptive import allocate, pilot_spp
 from .device import get_device, launch_tiled, load_module
 from .errors import InputError
 from .geometry.query import GeometryScene, SceneGeometry
@@ -28,7 +29,7 @@ from .optics.jones import stokes_from_coherency
 from .scene import Scene
 from .spectra import SpectralTables, sample_wavelength, spectral_tables, strategy_id
 from .stages.camera import Camera, CameraParams, camera_ray
-from .stages.environment import Environment, EnvironmentLight
+from .stages.environment import Environment, EnvironmentLight, spectral_response
 from .stages.surfaces import Surfaces, SurfaceStage
 from .stages.trace import TraceConfig, TraceParams, default_params, trace_radiance
 
@@ -42,12 +43,21 @@ __all__ = ["Image", "render", "Renderer", "FilmParams", "estimate_render_bytes",
 class FilmParams:
     width: int
     height: int
-    spp: int
-    count: int  # wavelength samples per spp (strata, or 3 for rgb3)
+    spp: int  # end of the pixel sample range (all pixels alike unless ``adaptive``)
+    spp_begin: int  # start of the range: a round continues a pixel's sequence where the last one ended
+    adaptive: int  # 1: each pixel's range ends at its own ``spp_end`` (adaptive sampling round)
+    count: int  # wavelength samples (traces) per spp: strata, random draws, or 3 for rgb3
     strategy: int
     seed: int
     pass_index: int
-    strata: int  # > 0: non-dispersive scene, each trace evaluates this many wavelengths at its leaves
+    round: int  # sampling round within the pass (its own stream of trace decisions)
+    shared: int  # 1: non-dispersive scene, every trace carries the whole spectrum (``response``)
+    response: wp.mat33f  # the exact spectral integral (EnvironmentLight.exact_response) when shared
+
+
+# Values drawn from the camera stream per trace (wavelength, lens u, lens v): a round that starts
+# at sample k skips 3 k of them, so a pixel's sequence is the same however it is split in rounds.
+_DRAWS_PER_TRACE = wp.constant(3)
 
 
 @wp.kernel
@@ -63,33 +73,50 @@ def _render_pixels(
     surf: Surfaces,
     tables: SpectralTables,
     polarized: int,
+    spp_end: wp.array(dtype=wp.int32),  # per pixel, when film.adaptive
     xyz_out: wp.array(dtype=wp.vec3d),
+    sq_out: wp.array(dtype=wp.vec3d),  # sums of squares of the per-spp XYZ (noise estimate)
     stokes_out: wp.array(dtype=wp.vec4d),
     alpha_out: wp.array(dtype=wp.float64),
     rays_out: wp.array(dtype=wp.int64),
     stokes_xyz_out: wp.array2d(dtype=wp.vec4d),  # per-channel Stokes (pixel, X|Y|Z) for polarization views
 ):
+    """Adds to each pixel's sums over its samples ``[spp_begin, spp_end)`` (each spp is ``count``
+    traces): the per-spp XYZ, its squares, the Stokes vectors, hits and rays; the Renderer
+    divides by the pixel's spp."""
     pix = base + wp.tid() + offset
     px = pix % film.width
     py = pix / film.width
+    end = film.spp
+    if film.adaptive != 0:
+        end = spp_end[pix]
+    if end <= film.spp_begin:
+        return
     # two streams per pixel: camera samples (wavelength, jitter, lens) and trace decisions, so the
     # samples a pixel draws do not depend on what its paths met (an empty scene sees the same ones)
     n_pix = film.width * film.height
     rng = wp.rand_init(film.seed * 1000003 + film.pass_index, pix)
-    rng_trace = wp.rand_init(film.seed * 1000003 + film.pass_index, pix + n_pix)
+    rng_trace = wp.rand_init(film.seed * 1000003 + film.pass_index, pix + n_pix * (1 + film.round))
     xyz = wp.vec3d(0.0, 0.0, 0.0)
+    sq = wp.vec3d(0.0, 0.0, 0.0)
+    group = wp.vec3d(0.0, 0.0, 0.0)
     stokes = wp.vec4d(0.0, 0.0, 0.0, 0.0)
     stokes_x = wp.vec4d(0.0, 0.0, 0.0, 0.0)  # X- and Z-weighted Stokes (the Y one is `stokes`)
     stokes_z = wp.vec4d(0.0, 0.0, 0.0, 0.0)
     hits = float(0.0)
     rays = int(0)
-    total = film.spp * film.count
+    # a trace at one wavelength estimates XYZ / count (its weight has 1/count); a shared one the whole
+    scale = wp.float64(1.0)
+    if film.shared != 0:
+        scale = wp.float64(1.0) / wp.float64(film.count)
     # pixel positions: the R2 low-discrepancy sequence (Roberts 2018) with a random per-pixel
     # rotation (Cranley–Patterson): every sample is uniform over the pixel (unbiased), and the
     # samples of a pixel cover it evenly, which is where a gem's noise comes from (facet edges)
     rot_x = wp.randf(rng)
     rot_y = wp.randf(rng)
-    for k in range(total):
+    for _skip in range(film.spp_begin * film.count * _DRAWS_PER_TRACE):
+        wp.randf(rng)
+    for k in range(film.spp_begin * film.count, end * film.count):
         stratum = k % film.count
         u = wp.randf(rng)
         wl, w = sample_wavelength(tables, film.strategy, u, stratum, film.count)
@@ -100,30 +127,34 @@ def _render_pixels(
         lu = wp.randf(rng)
         lv = wp.randf(rng)
         o, d, b = camera_ray(cam, float(px) + jx, float(py) + jy, lu, lv)
+        response = film.response
+        if film.shared == 0:
+            response = spectral_response(env, tables, wl, w)
         coh_x, coh, coh_z, hit, nr, rng_trace = trace_radiance(
-            tp, geom, mats, env, surf, tables, polarized, o, d, b, wl, w, film.strata,
-            film.strategy, u, stratum, rng_trace
+            tp, geom, mats, env, surf, tables, polarized, o, d, b, wl, w, response, stratum, rng_trace
         )
         s = stokes_from_coherency(coh)
         sx = stokes_from_coherency(coh_x)
         sz = stokes_from_coherency(coh_z)
-        xyz += wp.vec3d(wp.float64(sx[0]), wp.float64(s[0]), wp.float64(sz[0]))
-        stokes += wp.vec4d(wp.float64(s[0]), wp.float64(s[1]), wp.float64(s[2]), wp.float64(s[3]))
-        stokes_x += wp.vec4d(wp.float64(sx[0]), wp.float64(sx[1]), wp.float64(sx[2]), wp.float64(sx[3]))
-        stokes_z += wp.vec4d(wp.float64(sz[0]), wp.float64(sz[1]), wp.float64(sz[2]), wp.float64(sz[3]))
+        g = wp.vec3d(wp.float64(sx[0]), wp.float64(s[0]), wp.float64(sz[0])) * scale
+        group += g
+        if stratum == film.count - 1:
+            xyz += group
+            sq += wp.cw_mul(group, group)
+            group = wp.vec3d(0.0, 0.0, 0.0)
+        stokes += wp.vec4d(wp.float64(s[0]), wp.float64(s[1]), wp.float64(s[2]), wp.float64(s[3])) * scale
+        stokes_x += wp.vec4d(wp.float64(sx[0]), wp.float64(sx[1]), wp.float64(sx[2]), wp.float64(sx[3])) * scale
+        stokes_z += wp.vec4d(wp.float64(sz[0]), wp.float64(sz[1]), wp.float64(sz[2]), wp.float64(sz[3])) * scale
         hits += float(hit)
         rays += nr
-    # a trace at one wavelength estimates XYZ / count (its weight has 1/count); one with strata the whole
-    inv = wp.float64(1.0) / wp.float64(film.spp)
-    if film.strata > 0:
-        inv = wp.float64(1.0) / wp.float64(total)
-    xyz_out[pix] = xyz_out[pix] + xyz * inv
-    stokes_out[pix] = stokes_out[pix] + stokes * inv
-    alpha_out[pix] = alpha_out[pix] + wp.float64(hits / float(total))
+    xyz_out[pix] = xyz_out[pix] + xyz
+    sq_out[pix] = sq_out[pix] + sq
+    stokes_out[pix] = stokes_out[pix] + stokes
+    alpha_out[pix] = alpha_out[pix] + wp.float64(hits / float(film.count))
     rays_out[pix] = rays_out[pix] + wp.int64(rays)
-    stokes_xyz_out[pix, 0] = stokes_xyz_out[pix, 0] + stokes_x * inv
-    stokes_xyz_out[pix, 1] = stokes_xyz_out[pix, 1] + stokes * inv
-    stokes_xyz_out[pix, 2] = stokes_xyz_out[pix, 2] + stokes_z * inv
+    stokes_xyz_out[pix, 0] = stokes_xyz_out[pix, 0] + stokes_x
+    stokes_xyz_out[pix, 1] = stokes_xyz_out[pix, 1] + stokes
+    stokes_xyz_out[pix, 2] = stokes_xyz_out[pix, 2] + stokes_z
 
 
 @dataclass
@@ -370,13 +401,12 @@ class Renderer:
         film = FilmParams()
         film.width, film.height = self.camera.width, self.camera.height
         film.spp = r.spp
-        film.count = 3 if r.spectral == "rgb3" else (r.wavelengths if r.spectral == "stratified" else 1)
+        # `wavelengths` samples per spp: strata of the spectrum (stratified) or independent draws
+        # (uniform, importance), each weighted 1/count (spectra.sample_wavelength)
+        film.count = 3 if r.spectral == "rgb3" else r.wavelengths
         film.strategy = strategy_id(r.spectral)
         film.seed = r.seed
         film.pass_index = 0
-        if r.spectral in ("uniform", "importance"):
-            # `wavelengths` random wavelengths per pixel sample: fold them into spp
-            film.spp = r.spp * r.wavelengths
         # a scene whose every material has one index and no absorption at all wavelengths traces
         # one path tree per sample for the whole spectrum (exact: the tree does not depend on
         # the wavelength); rgb3 keeps its three indices by definition
@@ -386,9 +416,20 @@ class Renderer:
                                 and not any(getattr(ob, "film", None) for ob in scene.objects)
                                 # surfaces and lamps: spectral albedos, one random path per wavelength
                                 and not scene.surfaces and not scene.lamps)
-        film.strata = r.wavelengths if self.shared_spectrum else 0
+        film.shared = 1 if self.shared_spectrum else 0
+        # the whole spectrum at every leaf, integrated exactly (no spectral noise); a shared
+        # scene's `wavelengths` then only multiplies the pixel samples per spp
+        film.response = wp.mat33f(
+            self.environment.exact_response(self.tables, r.spectral).astype(np.float32).ravel().tolist()
+            if self.shared_spectrum else np.zeros(9).tolist())
         self.film = film
+        film.spp_begin = 0
+        film.adaptive = 0
+        film.round = 0
+        self.pilot = pilot_spp(r.spp, r.pilot_spp) if r.adaptive else 0
         n = film.width * film.height
+        self.spp_end = wp.zeros(n if r.adaptive else 1, dtype=wp.int32, device=self.device)
+        self.sq = wp.zeros(n, dtype=wp.vec3d, device=self.device)
         self.xyz = wp.zeros(n, dtype=wp.vec3d, device=self.device)
         self.stokes = wp.zeros(n, dtype=wp.vec4d, device=self.device)
         self.alpha = wp.zeros(n, dtype=wp.float64, device=self.device)
@@ -401,39 +442,54 @@ class Renderer:
     def run(self, *, progress: bool = False, threads: int | None = None, tile_size: int | None = None,
             rows_per_chunk: int | None = None) -> Image:
         f = self.film
+        r = self.scene.render
         load_module(_render_pixels, self.device)  # compile (first run) outside the timed region
-        for arr in (self.xyz, self.stokes, self.alpha, self.rays, self.stokes_xyz):
+        for arr in (self.xyz, self.sq, self.stokes, self.alpha, self.rays, self.stokes_xyz):
             arr.zero_()
+        h, w = f.height, f.width
         if rows_per_chunk is None:
             rows_per_chunk = max(1, min(f.height, 16384 // max(f.width, 1)))
         chunks = list(range(0, f.height, rows_per_chunk))
+        rounds = 2 if r.adaptive else 1
         bar = None
         if progress:
             from tqdm import tqdm
 
-            bar = tqdm(total=f.height, unit="row", desc="render", leave=False, dynamic_ncols=True)
+            bar = tqdm(total=f.height * rounds, unit="row", desc="render", leave=False, dynamic_ncols=True)
         t0 = time.perf_counter()
         polarized = 1 if self.trace_config.polarized else 0
-        inputs_static = [self.camera.params, f, self.trace_params, self.geometry.geometry, self.materials,
-                         self.environment.struct, self.surfaces.struct, self.tables, polarized,
-                         self.xyz, self.stokes, self.alpha, self.rays, self.stokes_xyz]
+        spp = np.full((h, w), r.spp, dtype=np.int32)
         try:
-            for row0 in chunks:
-                rows = min(rows_per_chunk, f.height - row0)
-                launch_tiled(_render_pixels, rows * f.width, [row0 * f.width, *inputs_static], device=self.device,
-                             threads=threads, tile_size=tile_size)
-                if bar is not None:
-                    bar.update(rows)
+            for rnd in range(rounds):
+                f.round, f.adaptive, f.spp_begin, f.spp = rnd, 0, 0, r.spp
+                if r.adaptive and rnd == 0:
+                    f.spp = self.pilot  # the pilot: the same samples everywhere
+                elif r.adaptive:
+                    # every pixel's count from its neighbours' pilot (adaptive.py)
+                    spp = allocate(self.xyz.numpy().reshape(h, w, 3), self.sq.numpy().reshape(h, w, 3),
+                                   self.rays.numpy().reshape(h, w), pilot=self.pilot, spp=r.spp,
+                                   traces=f.count, seed=r.seed)
+                    self.spp_end.assign(spp.ravel())
+                    f.round, f.adaptive, f.spp_begin = 1, 1, self.pilot
+                inputs = [self.camera.params, f, self.trace_params, self.geometry.geometry, self.materials,
+                          self.environment.struct, self.surfaces.struct, self.tables, polarized, self.spp_end,
+                          self.xyz, self.sq, self.stokes, self.alpha, self.rays, self.stokes_xyz]
+                for row0 in chunks:
+                    rows = min(rows_per_chunk, f.height - row0)
+                    launch_tiled(_render_pixels, rows * f.width, [row0 * f.width, *inputs], device=self.device,
+                                 threads=threads, tile_size=tile_size)
+                    if bar is not None:
+                        bar.update(rows)
         finally:
             if bar is not None:
                 bar.close()
         elapsed = time.perf_counter() - t0
-        h, w = f.height, f.width
-        xyz = self.xyz.numpy().reshape(h, w, 3)
-        stokes = self.stokes.numpy().reshape(h, w, 4)
-        alpha = self.alpha.numpy().reshape(h, w)
+        inv = 1.0 / spp.astype(np.float64)
+        xyz = self.xyz.numpy().reshape(h, w, 3) * inv[..., None]
+        stokes = self.stokes.numpy().reshape(h, w, 4) * inv[..., None]
+        alpha = self.alpha.numpy().reshape(h, w) * inv
         rays = int(self.rays.numpy().sum())
-        stokes_xyz = self.stokes_xyz.numpy().reshape(h, w, 3, 4)
+        stokes_xyz = self.stokes_xyz.numpy().reshape(h, w, 3, 4) * inv[..., None, None]
         caustic_stats = {}
         if self.caustics is not None:
             # caustics hook: add the light tracer's film (unpolarized: S0 only) to the camera's
@@ -446,8 +502,9 @@ class Renderer:
             bad = int((~np.isfinite(xyz)).any(axis=-1).sum())
             raise FloatingPointError(f"{bad} pixels are not finite: this is a bug, please report the scene")
         stats = {"seconds": elapsed, "rays": rays, "rays_per_second": rays / elapsed if elapsed > 0 else math.inf,
-                 "width": w, "height": h, **caustic_stats}
-        r = self.scene.render
+                 "width": w, "height": h, "spp_mean": float(spp.mean()), "spp_max": int(spp.max()),
+                 **caustic_stats}
+        self.spp_per_pixel = spp
         return Image(xyz=xyz, stokes=stokes, alpha=alpha, exposure=r.exposure, tone=r.tone, stats=stats,
                      stokes_xyz=stokes_xyz, source_polarizer=self.source_polarizer)
 

@@ -101,6 +101,10 @@ class RenderConfig:
     # path per pixel sample (width x height x spp)
     caustics: bool = False
     caustic_paths: int = 0
+    # adaptive sampling (adaptive.py): a pilot of pilot_spp samples (0: spp / 4, at least 2) in
+    # every pixel decides where the rest go; the pass costs about what spp everywhere would
+    adaptive: bool = False
+    pilot_spp: int = 0
 
 
 _RENDER_FIELDS = {f for f in RenderConfig.__dataclass_fields__}
@@ -125,6 +129,10 @@ def _render_config(table: dict, file) -> RenderConfig:
         raise InputError("must be true or false", file=file, field=f("caustics"), value=t["caustics"])
     if "caustic_paths" in t:
         _number(t["caustic_paths"], file=file, field_name=f("caustic_paths"), lo=0, hi=1 << 34, integer=True)
+    if "adaptive" in t and not isinstance(t["adaptive"], bool):
+        raise InputError("must be true or false", file=file, field=f("adaptive"), value=t["adaptive"])
+    if "pilot_spp" in t:
+        _number(t["pilot_spp"], file=file, field_name=f("pilot_spp"), lo=0, hi=1 << 20, integer=True)
     if "polarization" in t and not isinstance(t["polarization"], bool):
         raise InputError("must be true or false", file=file, field=f("polarization"), value=t["polarization"])
     for k, lo, hi in (("wavelengths", 1, 4096), ("max_depth", 0, 256), ("max_splits", 0, 4096), ("spp", 1, 1 << 20), ("seed", 0, 2**31 - 1),
@@ -136,6 +144,15 @@ def _render_config(table: dict, file) -> RenderConfig:
         if k in t:
             _number(t[k], file=file, field_name=f(k), lo=lo, hi=hi)
     cfg = RenderConfig(**t)
+    if cfg.adaptive:
+        from .adaptive import pilot_spp
+
+        pilot = pilot_spp(cfg.spp, cfg.pilot_spp)
+        if not 2 <= pilot < cfg.spp:
+            raise InputError(f"adaptive sampling needs a pilot of 2 or more samples and fewer than spp = {cfg.spp}"
+                             " (spp >= 3; pilot_spp 0 takes spp / 4)",
+                             file=file, field=f("pilot_spp") if cfg.pilot_spp else f("spp"),
+                             value=cfg.pilot_spp if cfg.pilot_spp else cfg.spp)
     if cfg.spectral == "rgb3" and "wavelengths" in t and t["wavelengths"] != 3:
         raise InputError("rgb3 uses exactly 3 wavelengths", file=file, field=f("wavelengths"), value=t["wavelengths"])
     return cfg

@@ -5,20 +5,23 @@ lat-long EXR read by both renderers, 256x256, 16 scattering events: our max_dept
 max_depth 17), unpolarized.  Mitsuba gets the scene through ``warpoptics.mitsuba_export``.
 
 Method.  Each renderer renders independent passes (different seeds; ours ``spp`` x
-``wavelengths`` stratified samples per pixel, Mitsuba ``--mitsuba-spp`` paths per pixel) for
-a time budget, after one untimed warm-up pass (kernel compilation); the passes of the two
-renderers alternate, so that both see the same load on a shared machine.  Image quantity: luminance Y.
-For unbiased, independent passes the relative RMSE of the mean of k passes against the
-renderer's own converged image is sigma_1 / sqrt(k), sigma_1 = sqrt(mean over pixels of the
+``wavelengths`` pixel samples per pixel on average, Mitsuba ``--mitsuba-spp`` paths per pixel)
+for a time budget, after one untimed warm-up pass (kernel compilation); the passes of the
+renderers alternate, so that all see the same load on a shared machine.  Image quantity:
+luminance Y.  For unbiased, independent passes the relative RMSE of the mean of k passes against
+the renderer's own converged image is sigma_1 / sqrt(k), sigma_1 = sqrt(mean over pixels of the
 per-pixel variance of one pass) / mean Y, so the time to reach ``--target`` (1 %) is
-``t_pass * (sigma_1 / target)**2`` (reported, with the spp that takes).  Pass sizes matter for
-low-discrepancy samplers (our R2 pixel positions; Mitsuba's ``ldsampler``): a pass of N
-samples has sigma_1 falling faster than 1/sqrt(N), so each renderer should get the pass size
-that minimises its time (ours: about 1 % noise per pass, ``--spp 48`` x 8 wavelengths; Mitsuba
-``ldsampler``: 32-64 spp, larger passes measured slower to target).  The 1/sqrt(k) law is
-checked on the measured passes: the RMSE between the means of two disjoint halves of the passes
-must be sqrt(2) sigma_1 / sqrt(k/2).  When a renderer's passes reach the target themselves the
-time is also read off directly.
+``t_pass * (sigma_1 / target)**2`` when that is one pass or more; when one pass is already below
+the target, it is the time of one pass (never extrapolated below a pass).  Pass sizes matter for
+low-discrepancy and adaptive samplers (our R2 pixel positions and adaptive sampling; Mitsuba's
+``ldsampler``): a pass of N samples has sigma_1 falling faster than 1/sqrt(N), so each renderer
+gets the pass size that minimises its time — ours one pass at about the target (``--spp``, the
+scene's ``adaptive = true``: a pilot, then the samples where the noise is, warpoptics/adaptive.py),
+Mitsuba ``ldsampler`` 32-64 spp (larger passes measured slower to target).  ``--uniform-seconds``
+also runs ours with the same spp in every pixel, to show what the adaptive sampling adds.  The
+1/sqrt(k) law is checked on the measured passes: the RMSE between the means of two disjoint
+halves of the passes must be sqrt(2) sigma_1 / sqrt(k/2).  When a renderer's passes reach the
+target themselves the time is also read off directly.
 
 Agreement of the converged images: with the passes split into two independent halves (a1, a2
 ours; b1, b2 Mitsuba), mean((a1 - b1) (a2 - b2)) is an unbiased estimate of the mean squared
@@ -87,6 +90,10 @@ def converged_difference(ours: np.ndarray, theirs: np.ndarray) -> dict:
 
 
 def time_to_target(passes: np.ndarray, times: list[float], samples_per_pass: int, target: float) -> dict:
+    """Time to ``target`` from independent passes: k = (sigma_1 / target)^2 passes.  When one pass
+    is already below the target (k < 1) the time is that of one pass: a smaller pass would not
+    reach it in k pass-times (low-discrepancy and adaptive samplers gain faster than 1/sqrt(N)
+    within a pass), so fewer-than-one-pass extrapolations are never reported."""
     s1 = rel_noise(passes)
     t_pass = float(np.median(times))
     k = (s1 / target) ** 2
@@ -96,8 +103,9 @@ def time_to_target(passes: np.ndarray, times: list[float], samples_per_pass: int
         "samples_per_pass": samples_per_pass,
         "rel_noise_one_pass": s1,
         "passes_to_target": k,
-        "seconds_to_target": k * t_pass,
-        "samples_to_target": k * samples_per_pass,
+        "seconds_to_target": max(k, 1.0) * t_pass,
+        "samples_to_target": max(k, 1.0) * samples_per_pass,
+        "one_pass_reaches_target": bool(k <= 1.0),
     }
     # direct reading when the run itself got there
     if len(passes) >= 2 and s1 / np.sqrt(len(passes)) <= target:
@@ -109,13 +117,13 @@ def time_to_target(passes: np.ndarray, times: list[float], samples_per_pass: int
 
 
 class OursRunner:
-    def __init__(self, scene, log):
+    def __init__(self, scene, log, name="ours"):
         import warpoptics as wo
 
-        self.wo, self.scene, self.ims, self.times = wo, scene, [], []
+        self.wo, self.scene, self.ims, self.times, self.name = wo, scene, [], [], name
         t0 = time.perf_counter()
         wo.render(scene, seed=10_000)  # warm-up: kernel compilation / loading
-        log(f"ours: warm-up pass {time.perf_counter() - t0:.1f} s")
+        log(f"{name}: warm-up pass {time.perf_counter() - t0:.1f} s")
 
     def step(self):
         t = time.perf_counter()
@@ -134,6 +142,7 @@ class MitsubaRunner:
 
         mi.set_variant(variant)
         self.mx, self.scene, self.spp, self.ims, self.times = mx, scene, spp, [], []
+        self.name = "mitsuba"
         t0 = time.perf_counter()
         self.loaded = mx.load_mitsuba_scene(scene, env_step=env_step, sampler=sampler)
         log(f"mitsuba: scene export (envmap bake) + load {time.perf_counter() - t0:.1f} s")
@@ -147,36 +156,22 @@ class MitsubaRunner:
         self.ims.append(r["y"])
 
 
-def run_interleaved(
-    ours: OursRunner,
-    theirs: MitsubaRunner,
-    ours_budget: float,
-    theirs_budget: float,
-    min_passes: int,
-    max_passes: int,
-    log,
-) -> None:
-    """Alternate the two renderers so that both see the same (shared-machine) load: each round
-    runs one pass of ours and Mitsuba passes until Mitsuba's time catches up with ours (scaled by
-    the ratio of the budgets)."""
-    ratio = theirs_budget / max(ours_budget, 1e-9)
+def run_interleaved(runners: list, budgets: list[float], min_passes: int, max_passes: int, log) -> None:
+    """Alternate the renderers so that all see the same (shared-machine) load: the next pass is
+    always the one of the renderer furthest behind its budget (time spent / budget)."""
     last = time.perf_counter()
     while True:
-        t_o, t_m = sum(ours.times), sum(theirs.times)
-        more_o = len(ours.ims) < max_passes and (len(ours.ims) < min_passes or t_o < ours_budget)
-        more_m = len(theirs.ims) < max_passes and (len(theirs.ims) < min_passes or t_m < theirs_budget)
-        if not (more_o or more_m):
+        todo = [
+            (sum(r.times) / max(b, 1e-9), i)
+            for i, (r, b) in enumerate(zip(runners, budgets))
+            if len(r.ims) < max_passes and (len(r.ims) < min_passes or sum(r.times) < b)
+        ]
+        if not todo:
             break
-        if more_o and (not more_m or t_o * ratio <= t_m):
-            ours.step()
-        else:
-            theirs.step()
+        runners[min(todo)[1]].step()
         if time.perf_counter() - last > 60:
             last = time.perf_counter()
-            log(
-                f"ours {len(ours.ims)} passes {sum(ours.times):.0f} s; mitsuba {len(theirs.ims)} passes "
-                f"{sum(theirs.times):.0f} s"
-            )
+            log("; ".join(f"{r.name} {len(r.ims)} passes {sum(r.times):.0f} s" for r in runners))
 
 
 def pick_variant(requested: str | None, log) -> str:
@@ -205,9 +200,11 @@ def main(argv=None) -> int:
     ap.add_argument(
         "--wavelengths", type=int, help="our stratified wavelengths per spp (default: the scene's)"
     )
-    ap.add_argument("--spp", type=int, default=48,
-                    help="our spp per pass (x the scene's 8 wavelengths: about 1 %% noise per pass)")
+    ap.add_argument("--spp", type=int, default=32,
+                    help="our spp per pass (x the scene's 8 wavelengths, adaptive: about 0.9 %% noise per pass)")
     ap.add_argument("--ours-seconds", type=float, default=900.0, help="time budget of our passes")
+    ap.add_argument("--uniform-seconds", type=float, default=0.0,
+                    help="also run ours without adaptive sampling for this budget (0: not)")
     ap.add_argument("--mitsuba-seconds", type=float, default=900.0, help="time budget of Mitsuba's passes")
     ap.add_argument("--mitsuba-spp", type=int, default=64, help="Mitsuba spp per pass")
     ap.add_argument(
@@ -244,7 +241,7 @@ def main(argv=None) -> int:
         args.ours_seconds = min(args.ours_seconds, 5.0)
         args.mitsuba_seconds = min(args.mitsuba_seconds, 5.0)
         args.mitsuba_spp = min(args.mitsuba_spp, 16)
-        args.spp = min(args.spp, 2)
+        args.spp = min(args.spp, 4)  # adaptive: a pilot of 2, then 2 more on average
         args.env_step = max(args.env_step, 10.0)
     for key, val in (
         ("camera.width", args.width),
@@ -273,8 +270,15 @@ def main(argv=None) -> int:
     mr = MitsubaRunner(
         scene, variant, args.mitsuba_spp, log, env_step=args.env_step, sampler=args.mitsuba_sampler
     )
-    orun = OursRunner(scene, log)
-    run_interleaved(orun, mr, args.ours_seconds, args.mitsuba_seconds, args.min_passes, args.max_passes, log)
+    orun = OursRunner(scene, log, name="ours" + (" adaptive" if r.adaptive else ""))
+    runners, budgets = [orun, mr], [args.ours_seconds, args.mitsuba_seconds]
+    urun = None
+    if args.uniform_seconds > 0 and r.adaptive:
+        # the same renderer with every pixel at the same spp: what the adaptive sampling adds
+        urun = OursRunner(scene.with_overrides({"render.adaptive": False}), log, name="ours uniform")
+        runners.append(urun)
+        budgets.append(args.uniform_seconds)
+    run_interleaved(runners, budgets, args.min_passes, args.max_passes, log)
     ours, t_ours = np.array(orun.ims), orun.times
     theirs, t_theirs = np.array(mr.ims), mr.times
 
@@ -285,40 +289,50 @@ def main(argv=None) -> int:
         "target": args.target,
         "mitsuba_variant": variant,
         "mitsuba_sampler": args.mitsuba_sampler,
+        "ours_adaptive": bool(r.adaptive),
         "ours": time_to_target(ours, t_ours, per_pass, args.target),
         "mitsuba": time_to_target(theirs, t_theirs, args.mitsuba_spp, args.target),
         "agreement": converged_difference(ours, theirs),
     }
     res["speedup_at_target"] = res["mitsuba"]["seconds_to_target"] / res["ours"]["seconds_to_target"]
-    o, t, a = res["ours"], res["mitsuba"], res["agreement"]
+    cols = [(orun.name, res["ours"])]
+    if urun is not None:
+        res["ours_uniform"] = time_to_target(np.array(urun.ims), urun.times, per_pass, args.target)
+        res["ours_uniform"]["speedup_at_target"] = (
+            res["mitsuba"]["seconds_to_target"] / res["ours_uniform"]["seconds_to_target"]
+        )
+        res["agreement_uniform"] = converged_difference(np.array(urun.ims), theirs)
+        cols.append((urun.name, res["ours_uniform"]))
+    cols.append((f"Mitsuba {variant}", res["mitsuba"]))
+    a = res["agreement"]
+    print()
+
+    def row(label, fmt):
+        print(f"| {label} | " + " | ".join(fmt(c) for _, c in cols) + " |")
+
+    print(f"| {w}x{h}, to {100 * args.target:g} % rel. RMSE of Y | " + " | ".join(n for n, _ in cols) + " |")
+    print("|---" * (len(cols) + 1) + "|")
+    row("samples per pixel per pass (mean)", lambda c: f"{c['samples_per_pass']}")
+    row("passes", lambda c: f"{c['passes']}")
+    row("seconds per pass (median)", lambda c: f"{c['seconds_per_pass']:.3f}")
+    row("rel. RMSE of one pass", lambda c: f"{c['rel_noise_one_pass']:.4f}")
+    row("half-split check measured / predicted",
+        lambda c: f"{c['half_split_rel_rmse_measured']:.4f} / {c['half_split_rel_rmse_predicted']:.4f}")
+    row("samples per pixel to target", lambda c: f"{c['samples_to_target']:.0f}")
+    row("**seconds to target**", lambda c: f"**{c['seconds_to_target']:.1f}**"
+        + (" (one pass)" if c["one_pass_reaches_target"] else ""))
+    row("speed-up (Mitsuba time / this)", lambda c: f"{res['mitsuba']['seconds_to_target'] / c['seconds_to_target']:.2f}")
     print()
     print(
-        f"| {w}x{h}, to {100 * args.target:g} % rel. RMSE of Y | warpoptics ({r.spectral}, unpolarized) "
-        f"| Mitsuba {variant} |"
+        f"converged images (ours: {orun.name}): relative RMSE {100 * a['converged_rel_rmse']:.2f} % (2-sigma upper "
+        f"bound {100 * a['converged_rel_rmse_upper_2sigma']:.2f} %, target < 2 %); raw RMSE of the two means "
+        f"{100 * a['raw_rel_rmse_of_means']:.2f} % (noise included); mean Y {a['mean_y_ours']:.5f} vs "
+        f"{a['mean_y_mitsuba']:.5f} ({100 * a['mean_rel_diff']:+.3f} %)"
     )
-    print("|---|---|---|")
-    print(f"| samples per pixel per pass | {o['samples_per_pass']} | {t['samples_per_pass']} |")
-    print(
-        f"| seconds per pass (median of {o['passes']} / {t['passes']}) | {o['seconds_per_pass']:.3f} "
-        f"| {t['seconds_per_pass']:.3f} |"
-    )
-    print(f"| rel. RMSE of one pass | {o['rel_noise_one_pass']:.4f} | {t['rel_noise_one_pass']:.4f} |")
-    print(
-        f"| half-split check measured / predicted | {o['half_split_rel_rmse_measured']:.4f} / "
-        f"{o['half_split_rel_rmse_predicted']:.4f} | {t['half_split_rel_rmse_measured']:.4f} / "
-        f"{t['half_split_rel_rmse_predicted']:.4f} |"
-    )
-    print(f"| samples per pixel to target | {o['samples_to_target']:.0f} | {t['samples_to_target']:.0f} |")
-    print(f"| **seconds to target** | **{o['seconds_to_target']:.0f}** | **{t['seconds_to_target']:.0f}** |")
-    print(f"| speed-up (Mitsuba time / ours) | {res['speedup_at_target']:.3f} | 1 |")
-    print(f"| mean Y | {a['mean_y_ours']:.5f} | {a['mean_y_mitsuba']:.5f} |")
-    print()
-    print(
-        f"converged images: relative RMSE {100 * a['converged_rel_rmse']:.2f} % (2-sigma upper bound "
-        f"{100 * a['converged_rel_rmse_upper_2sigma']:.2f} %, target < 2 %); raw RMSE of the two means "
-        f"{100 * a['raw_rel_rmse_of_means']:.2f} % (noise included); mean Y differs by "
-        f"{100 * a['mean_rel_diff']:+.3f} %"
-    )
+    if urun is not None:
+        u = res["agreement_uniform"]
+        print(f"ours uniform vs Mitsuba: converged relative RMSE {100 * u['converged_rel_rmse']:.2f} % "
+              f"(2-sigma upper {100 * u['converged_rel_rmse_upper_2sigma']:.2f} %)")
     if args.json:
         from warpoptics.image import atomic_path
 

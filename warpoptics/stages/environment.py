@@ -25,12 +25,12 @@ import warp as wp
 
 from ..device import get_device
 from ..errors import InputError
-from ..spectra import SpectralTables, illuminant_value, rgb_spectrum_value
+from ..spectra import SpectralTables, illuminant_value, rgb_spectrum_value, sample_wavelength, strategy_id
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
 __all__ = ["Environment", "EnvironmentConfig", "EnvironmentLight", "environment_radiance",
-           "environment_coefficients", "environment_basis", "ENV_KINDS"]
+           "environment_coefficients", "environment_basis", "spectral_response", "ENV_KINDS"]
 
 ENV_KINDS = {"constant": 0, "dome": 1, "studio": 2, "sky": 3, "latlong": 4}
 _CONSTANT = wp.constant(0)
@@ -152,6 +152,24 @@ def environment_basis(env: Environment, t: SpectralTables, wavelength: float):
 
 
 @wp.func
+def spectral_response(env: Environment, t: SpectralTables, wavelength: float, weight: wp.vec3f):
+    """3x3 matrix R with XYZ = R c for light of unit weight from environment coefficients c
+    (environment_coefficients), estimated by one wavelength sample (spectra.sample_wavelength:
+    ``wavelength`` and its XYZ ``weight``): the outer product of the weight and the basis
+    spectra at that wavelength."""
+    return wp.outer(weight, environment_basis(env, t, wavelength))
+
+
+@wp.kernel
+def _response_kernel(env: Environment, t: SpectralTables, strategy: int, n: int, out: wp.array(dtype=wp.mat33d)):
+    # one row of the quadrature: the midpoints u = (j + 1/2) / n of one stratum-free draw
+    j = wp.tid()
+    wl, w = sample_wavelength(t, strategy, (float(j) + 0.5) / float(n), 0, 1)
+    r = spectral_response(env, t, wl, w)
+    out[j] = wp.mat33d(r)
+
+
+@wp.func
 def environment_radiance(env: Environment, t: SpectralTables, direction: wp.vec3f, wavelength: float):
     """Spectral radiance arriving from ``direction`` (unit, world frame, pointing away from the
     scene toward the environment) at ``wavelength`` (nm).  Unpolarized."""
@@ -211,6 +229,18 @@ class EnvironmentLight:
         env.polarizer = wp.vec3f(0.0, 0.0, 0.0)  # unpolarized (the Renderer sets a polarizer)
         self.struct = env
         self.texture = tex
+
+    def exact_response(self, tables: SpectralTables, strategy: str, n: int = 4096) -> np.ndarray:
+        """The expectation over the wavelength draw of :func:`spectral_response` (float64 3x3):
+        XYZ = R c integrates the whole spectrum of environment light with coefficients c, the
+        noise-free estimate for path trees that do not depend on the wavelength (non-dispersive,
+        non-absorbing scenes).  Midpoint quadrature in the sampling variable u with ``n`` nodes
+        (4096: 0.11 nm steps over 360-830 nm, far below the 1 nm CMF tables; the same sampling
+        density as the estimator, so importance sampling integrates the same integrand)."""
+        out = wp.empty(n, dtype=wp.mat33d, device=self.device)
+        wp.launch(_response_kernel, dim=n, inputs=[self.struct, tables, strategy_id(strategy), n, out],
+                  device=self.device)
+        return out.numpy().mean(axis=0)
 
     def _load_map(self, path: str) -> np.ndarray:
         from ..image import read_image

@@ -66,7 +66,7 @@ from ..optics.jones import (
     s_vector,
 )
 from ..optics.polarizer import sheet_polarizer_coherency
-from ..spectra import STRATEGY_STRATIFIED, SpectralTables, sample_wavelength
+from ..spectra import SpectralTables
 from .branches import (
     _B,
     _D,
@@ -96,7 +96,7 @@ from .branches import (
     write_row as _write_row,
 )
 from .coated import FilmSurfaces, empty_film_surfaces, film_children  # films: coated interfaces, shells
-from .environment import Environment, environment_basis, environment_coefficients
+from .environment import Environment, environment_coefficients
 from .surfaces import Surfaces, surface_radiance, surfaces_closest_hit
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -464,27 +464,6 @@ def _isotropic_children(
 
 
 @wp.func
-def _spectral_response(env: Environment, tables: SpectralTables, wavelength: float, weight: wp.vec3f,
-                       strata: int, strategy: int, u: float):
-    """3x3 matrix R with XYZ = R c for an escaping branch of unit energy whose environment
-    coefficients are c (environment_coefficients).  ``strata == 0``: one wavelength with its XYZ
-    sample ``weight``.  ``strata > 0`` (a non-dispersive, non-absorbing scene, where every
-    wavelength follows the same path tree): the sum over ``strata`` wavelengths drawn with one
-    random offset ``u`` (a shifted grid in ``u``, so each is distributed as the strategy
-    prescribes), so one trace carries the whole spectrum."""
-    if strata == 0:
-        return wp.outer(weight, environment_basis(env, tables, wavelength))
-    r = wp.mat33f(0.0)
-    for k in range(strata):
-        uk = (float(k) + u) / float(strata)
-        if strategy == STRATEGY_STRATIFIED:
-            uk = u
-        wl, wk = sample_wavelength(tables, strategy, uk, k, strata)
-        r += wp.outer(wk, environment_basis(env, tables, wl))
-    return r
-
-
-@wp.func
 def _add_light(acc_x: Jones, acc_y: Jones, acc_z: Jones, k_unit: Jones, xyz: wp.vec3f):
     """Add light of colour ``xyz`` arriving with coherency ``k_unit`` per unit radiance."""
     return (jones_add(acc_x, jones_scale(k_unit, xyz[0])), jones_add(acc_y, jones_scale(k_unit, xyz[1])),
@@ -509,9 +488,7 @@ def trace_radiance(
     basis_x: wp.vec3f,
     wavelength: float,
     weight: wp.vec3f,
-    strata: int,
-    strategy: int,
-    u_strata: float,
+    response: wp.mat33f,
     channel: int,
     rng: wp.uint32,
 ):
@@ -519,8 +496,11 @@ def trace_radiance(
     frame — the X-, Y- and Z-weighted light, so tr(J_Y) = Y and the Stokes vector of J_Y is the
     Y-weighted one — hit_any, rays_traced, rng).
 
-    One wavelength (nm) with XYZ sample ``weight`` (``strata == 0``), or ``strata`` wavelengths
-    weighted at every leaf (non-dispersive scenes, see :func:`_spectral_response`)."""
+    ``response`` turns the coefficients of the environment light that reaches a leaf into XYZ
+    (environment.spectral_response): the one-wavelength estimate at ``wavelength`` with XYZ sample
+    ``weight``, or for a path tree that does not depend on the wavelength (non-dispersive,
+    non-absorbing scenes) the exact integral over the spectrum (EnvironmentLight.exact_response).
+    ``wavelength`` and ``weight`` are still the sample's for the materials and the surfaces hook."""
     st = _Stack()
     st = _write_row(st, 0, origin, direction, basis_x, jones_identity(), 1.0, -1, 0, -1, -direction)
     n = int(1)
@@ -529,7 +509,6 @@ def trace_radiance(
     acc_y = jones_zero()
     acc_z = jones_zero()
     scalar_xyz = wp.vec3f(0.0, 0.0, 0.0)
-    response = _spectral_response(env, tables, wavelength, weight, strata, strategy, u_strata)
     hit_any = int(0)
     rays = int(0)
     splits = int(0)
