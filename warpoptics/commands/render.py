@@ -73,6 +73,8 @@ def run(args) -> int:
     print(
         f"{out}: {s['width']}x{s['height']}, {s['seconds']:.2f} s, {s['rays'] / 1e6:.2f} M rays, "
         f"{s['rays_per_second'] / 1e6:.2f} M rays/s"
+        + (f", adaptive: {s['spp_mean']:.1f} spp per pixel on average, {s['spp_max']} at most"
+           if scene.render.adaptive else "")
     )
     return 0
 

@@ -72,6 +72,7 @@ __all__ = [
     "material_eval",
     "material_eval_channel",
     "material_alpha",
+    "material_optics",
     "alpha_from_k_func",
     "k_from_alpha_func",
     "rii_formula",
@@ -282,12 +283,19 @@ def _alpha_of(nk: wp.vec2f, wavelength_nm: float):
 
 
 @wp.func
+def material_optics(table: MaterialTable, mat_id: int, wavelength_nm: float):
+    """(N_o, N_e, (alpha_o, alpha_e)): :func:`material_eval` and :func:`material_alpha` from one
+    evaluation of the channels (a tracer needs both at every interface of a stone)."""
+    lam = wp.max(wavelength_nm, 1.0e-3)
+    no, ne = material_eval(table, mat_id, lam)
+    return no, ne, wp.vec2f(_alpha_of(no, lam), _alpha_of(ne, lam))
+
+
+@wp.func
 def material_alpha(table: MaterialTable, mat_id: int, wavelength_nm: float):
     """(alpha_o, alpha_e) in 1/mm (base e) = 4 pi k / λ of material ``mat_id`` at λ (nm)."""
-    lam = wp.max(wavelength_nm, 1.0e-3)
-    no = material_eval_channel(table, mat_id, 0, lam)
-    ne = material_eval_channel(table, mat_id, 1, lam)
-    return _alpha_of(no, lam), _alpha_of(ne, lam)
+    no, ne, a = material_optics(table, mat_id, wavelength_nm)
+    return a[0], a[1]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -308,12 +316,10 @@ def _material_eval_kernel(
     i = wp.tid() + offset
     lam = wavelength_nm[i]
     m = mat_id[i]
-    no, ne = material_eval(table, m, lam)
-    # material_alpha(table, m, lam) without evaluating the channels twice
-    lam_a = wp.max(lam, 1.0e-3)
+    no, ne, a = material_optics(table, m, lam)
     out_o[i] = no
     out_e[i] = ne
-    out_alpha[i] = wp.vec2f(_alpha_of(no, lam_a), _alpha_of(ne, lam_a))
+    out_alpha[i] = a
 
 
 # ----------------------------------------------------------------------------------------------

@@ -35,8 +35,8 @@ from dataclasses import dataclass
 import numpy as np
 import warp as wp
 
-from ..geometry.query import RayHit, SceneGeometry, object_exit_hit, scene_closest_hit
-from ..materials.dispersion import MaterialTable, material_alpha, material_eval
+from ..geometry.query import RayHit, SceneGeometry, object_exit_hit, scene_closest_hit_leaving
+from ..materials.dispersion import MaterialTable, material_optics
 from ..optics.birefringence import (
     UniaxialMedium,
     extraordinary_wave,
@@ -105,6 +105,8 @@ __all__ = ["TraceParams", "TraceConfig", "trace_radiance", "default_params", "ST
 
 BIREFRINGENCE = {"exact": 0, "approx": 1}
 _APPROX = wp.constant(1)
+# stack rows in the ambient medium that leave the surface of solid k store inside = _LEFT - k
+_LEFT = wp.constant(-2)
 
 
 @wp.struct
@@ -145,18 +147,19 @@ def _apply(m: Jones, vx: wp.vec2f, vy: wp.vec2f):
 
 
 @wp.func
-def _medium(p: TraceParams, mats: MaterialTable, obj: int, wavelength: float):
-    """(UniaxialMedium with real indices and world optic axis (zero: isotropic), index n_o).
+def _object_medium(p: TraceParams, mats: MaterialTable, obj: int, wavelength: float):
+    """(UniaxialMedium with real indices and world optic axis (zero: isotropic), index n_o, and
+    (alpha_o, alpha_e)) of object ``obj`` at ``wavelength``.  The tracer keeps the last one it
+    evaluated: a path tree at one wavelength meets the same stone at every interface, and the
+    material formulas (Sellmeier terms, tabulated n and k) were a sizeable part of a ray's work.
 
     Interfaces use the real part of the index: a dielectric's k (< 1e-3 for any stone or dye
     solution one can see through) changes Fresnel coefficients by O(k^2), while with an
     absorbing *incident* medium the plane-wave reflectance is no longer bounded by 1 (the wave is
     inhomogeneous) and would break energy conservation near the critical angle.  k acts where it
     matters, as Bouguer–Lambert attenuation exp(-4 pi k l / lambda) along each segment."""
-    if obj < 0:
-        return uniaxial_medium(p.ambient[0], p.ambient[0], wp.vec3f(0.0, 0.0, 0.0)), wp.vec2f(p.ambient[0], 0.0)
-    no, ne = material_eval(mats, p.object_material[obj], wavelength)
-    return uniaxial_medium(no[0], ne[0], p.object_axis[obj]), wp.vec2f(no[0], 0.0)
+    no, ne, alpha = material_optics(mats, p.object_material[obj], wavelength)
+    return uniaxial_medium(no[0], ne[0], p.object_axis[obj]), wp.vec2f(no[0], 0.0), alpha
 
 
 @wp.func
@@ -166,20 +169,19 @@ def _is_uniaxial(med: UniaxialMedium):
 
 @wp.func
 def _segment_kappa(
-    p: TraceParams, mats: MaterialTable, obj: int, med: UniaxialMedium, wavelength: float, channel: int,
+    p: TraceParams, mats: MaterialTable, obj: int, med: UniaxialMedium, alpha: wp.vec2f, channel: int,
     mode: int, wn: wp.vec3f,
 ):
     """Intensity absorption coefficient (1/mm, base e) along a segment inside ``obj``: alpha of
-    the material, the o-wave's K^o, or the e-wave's kappa^e(theta) (Guy & Soler 2004 eq. 7)."""
+    the material (``alpha`` = (alpha_o, alpha_e) at the wavelength), the o-wave's K^o, or the
+    e-wave's kappa^e(theta) (Guy & Soler 2004 eq. 7)."""
     mid = p.object_material[obj]
-    a_o = float(0.0)
-    a_e = float(0.0)
+    a_o = alpha[0]
+    a_e = alpha[1]
     if p.rgb3 != 0:
         c = wp.clamp(channel, 0, 2)
         a_o = mats.rgb3_alpha_o[mid][c]
         a_e = mats.rgb3_alpha_e[mid][c]
-    else:
-        a_o, a_e = material_alpha(mats, mid, wavelength)
     kappa = a_o
     if mode == 1:
         kappa = kappa_extraordinary(wp.dot(wn, med.axis), a_o, a_e, med.no, med.ne)
@@ -512,6 +514,13 @@ def trace_radiance(
     hit_any = int(0)
     rays = int(0)
     splits = int(0)
+    # the medium around the objects, and the last object medium evaluated (see _object_medium)
+    ambient_med = uniaxial_medium(p.ambient[0], p.ambient[0], wp.vec3f(0.0, 0.0, 0.0))
+    ambient_n = wp.vec2f(p.ambient[0], 0.0)
+    c_obj = int(-1)
+    c_med = ambient_med
+    c_n = ambient_n
+    c_alpha = wp.vec2f(0.0, 0.0)
     while n > 0:
         n -= 1
         # read the row inline (a wp.func argument is a by-value copy of the whole stack)
@@ -524,6 +533,11 @@ def trace_radiance(
         m.im = wp.mat22(st[n, _MI], st[n, _MI + 1], st[n, _MI + 2], st[n, _MI + 3])
         w = st[n, _W]
         inside = int(st[n, _IN])
+        left = int(-1)
+        if inside <= _LEFT:
+            # a ray in the ambient medium leaving the surface of solid `left` (see the children below)
+            left = _LEFT - inside
+            inside = -1
         depth = int(st[n, _DEPTH])
         mode = int(st[n, _MODE])
         rays += 1
@@ -531,7 +545,7 @@ def trace_radiance(
         if inside >= 0:
             hit = object_exit_hit(geom, inside, o, d, p.t_max)  # solids do not overlap
         else:
-            hit = scene_closest_hit(geom, o, d, p.t_max)
+            hit = scene_closest_hit_leaving(geom, o, d, p.t_max, left)
             # surfaces hook (stages/surfaces.py): an opaque surface or a lamp in front of every
             # solid ends the branch with its (unpolarized) radiance, like the environment below
             if surf.num_surfaces + surf.num_area > 0:
@@ -565,9 +579,15 @@ def trace_radiance(
             continue
         if depth == 0:
             hit_any = 1
-        med_a, n_a = _medium(p, mats, inside, wavelength)
+        if inside >= 0 and inside != c_obj:
+            c_med, c_n, c_alpha = _object_medium(p, mats, inside, wavelength)
+            c_obj = inside
+        med_a = ambient_med
+        n_a = ambient_n
         if inside >= 0:
-            kappa = _segment_kappa(p, mats, inside, med_a, wavelength, channel, mode, wn)
+            med_a = c_med
+            n_a = c_n
+            kappa = _segment_kappa(p, mats, inside, med_a, c_alpha, channel, mode, wn)
             w = w * wp.exp(-kappa * hit.t)
         if depth >= p.max_depth or w <= 0.0:
             continue
@@ -579,7 +599,14 @@ def trace_radiance(
         if not entering:
             nrm = -n_out
             obj_b = -1
-        med_b, n_b = _medium(p, mats, obj_b, wavelength)
+        med_b = ambient_med
+        n_b = ambient_n
+        if obj_b >= 0:
+            if obj_b != c_obj:
+                c_med, c_n, c_alpha = _object_medium(p, mats, obj_b, wavelength)
+                c_obj = obj_b
+            med_b = c_med
+            n_b = c_n
         count = int(0)
         energies = wp.vec4f(0.0, 0.0, 0.0, 0.0)
         if _is_uniaxial(med_a) or _is_uniaxial(med_b):
@@ -612,6 +639,13 @@ def trace_radiance(
             cand, energies, count = _isotropic_children(
                 cand, m, w, bx, d, n_out, nrm, n_a, n_b, x, p.epsilon, inside, obj_b, depth, polarized
             )
+        if p.films.kind[hit.object] == 0:
+            # the children in the ambient medium leave the solid's surface (reflected off it from
+            # outside, or transmitted out): remember which, so their query can skip it if convex
+            # (geometry/query.py scene_closest_hit_leaving).  Not for films: a shell has air inside.
+            for k in range(count):
+                if cand[k, _IN] == -1.0:
+                    cand[k, _IN] = float(_LEFT - hit.object)
         e_parent = float(0.0)
         for k in range(count):
             e_parent += energies[k]
