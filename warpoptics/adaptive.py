@@ -65,10 +65,11 @@ def allocate(sums: np.ndarray, squares: np.ndarray, rays: np.ndarray, *, pilot: 
     mean = sums / pilot
     var = np.maximum(squares / pilot - mean * mean, 0.0).sum(axis=-1) * (pilot / (pilot - 1))
     cost = rays / pilot + traces  # per spp: the rays, and one ray's worth of fixed work per trace
-    v_hat = _neighbours(var, np.nanmax)
-    c_hat = _neighbours(cost, np.nanmean)
     if h * w == 1:  # a single pixel has no neighbours: uniform
         v_hat, c_hat = np.ones((1, 1)), cost
+    else:
+        v_hat = _neighbours(var, np.nanmax)
+        c_hat = _neighbours(cost, np.nanmean)
     score = (v_hat / c_hat) ** _EXPONENT
     budget = spp * cost.sum()  # what spp samples everywhere would cost
     n_max = max(float(pilot), max_factor * spp)
