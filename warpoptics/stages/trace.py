@@ -150,8 +150,8 @@ def _apply(m: Jones, vx: wp.vec2f, vy: wp.vec2f):
 def _object_medium(p: TraceParams, mats: MaterialTable, obj: int, wavelength: float):
     """(UniaxialMedium with real indices and world optic axis (zero: isotropic), index n_o, and
     (alpha_o, alpha_e)) of object ``obj`` at ``wavelength``.  The tracer keeps the last one it
-    evaluated: a path tree at one wavelength meets the same stone at every interface, and the
-    material formulas (Sellmeier terms, tabulated n and k) were a sizeable part of a ray's work.
+    evaluated: a path tree at one wavelength meets the same stone at every interface, so the
+    material formulas (Sellmeier terms, tabulated n and k) run once per stone and tree.
 
     Interfaces use the real part of the index: a dielectric's k (< 1e-3 for any stone or dye
     solution one can see through) changes Fresnel coefficients by O(k^2), while with an
