@@ -81,24 +81,6 @@ def fresnel_amplitudes(cos_i: float, n1: wp.vec2f, n2: wp.vec2f):
     """Fresnel amplitudes rs, rp, ts, tp for complex indices n1 -> n2 (Born & Wolf convention,
     rp = -rs at normal incidence; see the module docstring).  ``cos_i`` in [0, 1]."""
     c = wp.clamp(cos_i, 0.0, 1.0)
-    if n1[1] == 0.0 and n2[1] == 0.0 and n1[0] != n2[0]:
-        # real indices and a propagating transmitted wave (every dielectric interface of a gem
-        # below the critical angle): the same formulas below in real arithmetic, 2-3x cheaper
-        # in the tracers' hottest function; total internal reflection keeps the complex path
-        q2 = n2[0] * n2[0] - n1[0] * n1[0] * wp.max(1.0 - c * c, 0.0)
-        if q2 > 0.0:
-            ar = n1[0] * c
-            br = wp.sqrt(q2)
-            par = n2[0] * n2[0] * c
-            pbr = n1[0] * br
-            fr = FresnelAmplitudes()
-            fr.n1_cos_i = wp.vec2f(ar, 0.0)
-            fr.n2_cos_t = wp.vec2f(br, 0.0)
-            fr.rs = wp.vec2f((ar - br) / (ar + br), 0.0)
-            fr.ts = wp.vec2f(2.0 * ar / (ar + br), 0.0)
-            fr.rp = wp.vec2f((par - pbr) / (par + pbr), 0.0)
-            fr.tp = wp.vec2f(2.0 * n1[0] * n2[0] * c / (par + pbr), 0.0)
-            return fr
     a = n1 * c  # N1 cos i
     b = c_normal_component(n1, n2, c)  # N2 cos t
     n1sq = c_mul(n1, n1)
