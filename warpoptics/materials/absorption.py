@@ -42,6 +42,7 @@ import warp as wp
 
 from .. import device as _device
 from ..errors import InputError
+from ..optics.absorption import pleochroic_kappa
 from .dispersion import Material, Uniaxial, alpha_from_k_func, k_from_alpha_func, with_absorption_k
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -50,7 +51,6 @@ __all__ = [
     "alpha_from_k_func",
     "k_from_alpha_func",
     "band_profile",
-    "pleochroic_alpha_func",
     "alpha_from_k",
     "k_from_alpha",
     "alpha_from_absorbance_per_cm",
@@ -83,21 +83,6 @@ def band_profile(shape: int, wavelength_nm: float, center_nm: float, width_nm: f
     if shape == 0:
         return wp.exp(-0.5 * x * x / (width_nm * width_nm))
     return width_nm * width_nm / (x * x + width_nm * width_nm)
-
-
-@wp.func
-def pleochroic_alpha_func(alpha_o: float, alpha_e: float, n_o: float, n_e: float, cos_theta: float):
-    """Absorption of the e-ray, Guy & Soler 2004 eq. 7 (Born & Wolf):
-    κ^e = K^o cos²θ + K^e (n^o/n^e)² sin²θ, with cos θ = s^e · a (wave normal · optic axis).
-    The o-ray absorbs with κ^o = K^o.  Units follow the inputs (1/mm)."""
-    c2 = wp.min(cos_theta * cos_theta, 1.0)
-    r = n_o / n_e
-    return alpha_o * c2 + alpha_e * r * r * (1.0 - c2)
-
-
-# ----------------------------------------------------------------------------------------------
-# Kernels
-# ----------------------------------------------------------------------------------------------
 
 
 @wp.kernel
@@ -149,7 +134,7 @@ def _pleochroic_kernel(
     out: wp.array(dtype=wp.float32),
 ):
     i = wp.tid() + offset
-    out[i] = pleochroic_alpha_func(alpha_o[i], alpha_e[i], n_o[i], n_e[i], cos_theta[i])
+    out[i] = pleochroic_kappa(cos_theta[i], alpha_o[i], alpha_e[i], n_o[i], n_e[i])
 
 
 # ----------------------------------------------------------------------------------------------
@@ -214,7 +199,7 @@ def absorbance_per_cm_from_alpha(alpha_per_mm, *, device=None) -> np.ndarray:
 
 
 def pleochroic_alpha(alpha_o, alpha_e, n_o, n_e, cos_theta, *, device=None) -> np.ndarray:
-    """e-ray absorption (Guy & Soler 2004 eq. 7); see :func:`pleochroic_alpha_func`."""
+    """e-ray absorption (Guy & Soler 2004 eq. 7); the law is ``optics.absorption.pleochroic_kappa``."""
     (out,) = _device.elementwise(
         _pleochroic_kernel,
         [

@@ -38,7 +38,7 @@ Those NumPy methods launch :func:`material_eval` itself through ``device.element
 renderer and the tests run the same code.  Absorption along a path is exp(-alpha * length_mm);
 for the e-ray of a uniaxial crystal, ``a_o``/``a_e`` are the K^o/K^e of Guy & Soler 2004 eq. 7
 and the direction-dependent absorption is the ``@wp.func``
-:func:`warpoptics.materials.absorption.pleochroic_alpha_func` (a_o, a_e, n_o, n_e, cos θ) with
+:func:`warpoptics.optics.absorption.pleochroic_kappa` (cos θ, a_o, a_e, n_o, n_e) with
 cos θ = wave normal · optic axis.  A per-object optic axis that differs from the material's is
 made with ``Uniaxial.with_optic_axis`` (a separate table entry).  ``build_material_table`` takes
 ``rgb3=False`` to skip the eq. 9 integrals when the rgb3 mode is not used.

@@ -74,6 +74,7 @@ import warp as wp
 
 from ..device import elementwise
 from ..errors import InputError
+from .absorption import attenuation_oe, pleochroic_kappa
 from .fresnel import fresnel_amplitudes, reflect_direction, refract_direction
 from .jones import Jones, frame_change, jones, jones_diag, jones_mul, jones_real, perpendicular
 
@@ -93,8 +94,6 @@ __all__ = [
     "generalized_fresnel",
     "interface_jones",
     "interface_jones_approx",
-    "kappa_extraordinary",
-    "attenuation_oe",
     # NumPy wrappers
     "extraordinary_index",
     "refract_extraordinary",
@@ -608,21 +607,6 @@ def interface_jones_approx(
 # pleochroic absorption (eq. 7 and 11)
 
 
-@wp.func
-def kappa_extraordinary(cos_theta: float, k_o: float, k_e: float, no: float, ne: float):
-    """kappa^e = K_o cos^2 + K_e (no/ne)^2 sin^2 (eq. 7), cos theta = s_e . a."""
-    c2 = wp.min(cos_theta * cos_theta, 1.0)
-    r = no / ne
-    return k_o * c2 + k_e * r * r * (1.0 - c2)
-
-
-@wp.func
-def attenuation_oe(kappa_o: float, kappa_e: float, length: float):
-    """Field attenuation A = diag(exp(-kappa_o l/2), exp(-kappa_e l/2)) in the o/e frame (eq. 11
-    with the 1/2 that makes A J A^dagger follow the intensity law exp(-kappa l) of eq. 6)."""
-    return jones_real(wp.mat22(wp.exp(-0.5 * kappa_o * length), 0.0, 0.0, wp.exp(-0.5 * kappa_e * length)))
-
-
 # ----------------------------------------------------------------------------------------------
 # private element-wise kernels
 
@@ -646,7 +630,7 @@ def _n_e_kernel(
 ):
     i = wp.tid() + offset
     out_n[i] = n_e_theta(cos_theta[i], no[i], ne[i])
-    ke = kappa_extraordinary(cos_theta[i], k_o[i], k_e[i], no[i], ne[i])
+    ke = pleochroic_kappa(cos_theta[i], k_o[i], k_e[i], no[i], ne[i])
     out_kappa[i] = ke
     a = attenuation_oe(k_o[i], ke, length[i])
     out_att[i] = wp.vec2f(a.re[0, 0], a.re[1, 1])

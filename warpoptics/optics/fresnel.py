@@ -57,6 +57,12 @@ __all__ = [
     "fresnel_power_coefficients",
     "reflect_direction",
     "refract_direction",
+    "refract_with_cos",
+    "refracted_cos",
+    "refract_from_fresnel",
+    "flux_ratio",
+    "transmitted_flux_ratio",
+    "unpolarized_power",
     "fresnel",
     "fresnel_power",
     "refract",
@@ -117,6 +123,33 @@ def fresnel_amplitudes(cos_i: float, n1: wp.vec2f, n2: wp.vec2f):
 
 
 @wp.func
+def flux_ratio(in_flux: float, out_flux: float):
+    """Normal energy flux of an outgoing wave per unit incident flux, for unit amplitudes:
+    out / in, 0 where either vanishes (grazing incidence, an evanescent wave).  Power-normalised
+    amplitudes (``|t|^2`` = transmitted power) multiply the field amplitude by its square root;
+    the uniaxial waves of ``birefringence.generalized_fresnel`` carry their own ``flux``."""
+    if in_flux <= 0.0 or out_flux <= 0.0:
+        return 0.0
+    return out_flux / in_flux
+
+
+@wp.func
+def transmitted_flux_ratio(f: FresnelAmplitudes):
+    """Re(N2 cos t) / Re(N1 cos i): the transmitted normal flux per unit incident flux and unit
+    |t|^2 (Born & Wolf §1.5.3), zero under total internal reflection (N2 cos t imaginary).  Exact
+    for s; for p also when N2 is real (the renderer's interfaces; ``fresnel_power_coefficients``
+    has the absorbing-medium p form)."""
+    return flux_ratio(f.n1_cos_i[0], f.n2_cos_t[0])
+
+
+@wp.func
+def unpolarized_power(a_s: wp.vec2f, a_p: wp.vec2f):
+    """(|a_s|^2 + |a_p|^2) / 2: the power coefficient of unpolarized light (an average over s
+    and p) of a pair of amplitude coefficients."""
+    return 0.5 * (c_abs2(a_s) + c_abs2(a_p))
+
+
+@wp.func
 def fresnel_power_coefficients(f: FresnelAmplitudes, n2: wp.vec2f):
     """(Rs, Rp, Ts, Tp): reflectances |r|^2 and the transmitted normal energy fluxes per unit
     incident flux, for a non-absorbing incident medium (module docstring).  Zero
@@ -124,10 +157,9 @@ def fresnel_power_coefficients(f: FresnelAmplitudes, n2: wp.vec2f):
     rs2 = c_abs2(f.rs)
     rp2 = c_abs2(f.rp)
     den = f.n1_cos_i[0]
-    ts = 0.0
+    ts = transmitted_flux_ratio(f) * c_abs2(f.ts)
     tp = 0.0
     if den > 0.0:
-        ts = f.n2_cos_t[0] * c_abs2(f.ts) / den
         # conj(N2) cos t = conj(N2) (N2 cos t) / N2
         q = c_div(c_mul(c_conj(n2), f.n2_cos_t), n2)
         tp = q[0] * c_abs2(f.tp) / den
@@ -141,19 +173,46 @@ def reflect_direction(d: wp.vec3, normal: wp.vec3):
 
 
 @wp.func
+def refract_with_cos(d: wp.vec3, normal: wp.vec3, eta: float, cos_i: float, cos_t: float):
+    """The refracted unit direction eta d + (eta cos i - cos t) n for eta = n1 / n2 and the two
+    cosines of Snell's law (``normal`` to the incident side): the tangential wave vector is
+    conserved.  Mitsuba 3's ``refract(wi, n, cos_theta_t, eta_ti)`` the same way reuses the cosine
+    its ``fresnel()`` computed."""
+    return wp.normalize(d * eta + normal * (eta * cos_i - cos_t))
+
+
+@wp.func
+def refracted_cos(f: FresnelAmplitudes, n2: wp.vec2f):
+    """cos(theta_t) of the refracted wave from the Fresnel solution: Re(N2 cos t) / Re(N2) (Snell's
+    law N1 sin i = N2 sin t as ``c_normal_component`` solved it); 0 under total internal
+    reflection, where N2 cos t is imaginary."""
+    return wp.max(f.n2_cos_t[0], 0.0) / n2[0]
+
+
+@wp.func
+def refract_from_fresnel(d: wp.vec3, normal: wp.vec3, f: FresnelAmplitudes, n1: wp.vec2f, n2: wp.vec2f):
+    """Refracted unit direction of ``d`` (``normal`` to the incident side) from the Fresnel
+    solution ``f = fresnel_amplitudes(cos_i, n1, n2)``; the zero vector under total internal
+    reflection."""
+    ct = refracted_cos(f, n2)
+    if ct <= 0.0:
+        return wp.vec3(0.0, 0.0, 0.0)
+    return refract_with_cos(d, normal, n1[0] / n2[0], f.n1_cos_i[0] / n1[0], ct)
+
+
+@wp.func
 def refract_direction(d: wp.vec3, normal: wp.vec3, n1: float, n2: float):
     """Snell refraction of unit ``d`` through a surface whose unit ``normal`` points to the
     incident side (d . normal <= 0), real indices.  Returns the zero vector under total
     internal reflection.  Also the o-ray of a uniaxial crystal (n2 = n_o), and the exact wave
     normal leaving a crystal into an isotropic medium when ``d`` is the incident wave normal and
     ``n1`` its effective index (n_o, or n_e(theta) of an e-wave): the tangential wave vector
-    n1 (d - (d.n) n) is conserved."""
-    eta = n1 / n2
-    c = -wp.dot(d, normal)
-    k = 1.0 - eta * eta * wp.max(1.0 - c * c, 0.0)
-    if k < 0.0:
+    n1 (d - (d.n) n) is conserved.  Snell's law itself is ``c_normal_component``'s."""
+    c = wp.clamp(-wp.dot(d, normal), 0.0, 1.0)
+    q = c_normal_component(wp.vec2f(n1, 0.0), wp.vec2f(n2, 0.0), c)
+    if q[0] <= 0.0:
         return wp.vec3(0.0, 0.0, 0.0)
-    return wp.normalize(d * eta + normal * (eta * c - wp.sqrt(k)))
+    return refract_with_cos(d, normal, n1 / n2, c, q[0] / n2)
 
 
 _vec8 = wp.types.vector(length=8, dtype=wp.float32)

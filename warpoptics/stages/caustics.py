@@ -48,11 +48,10 @@ importance, or stratified over ``count`` consecutive paths; rgb3 scenes use impo
 estimates XYZ with the CMF weight ``w_xyz``.  The path then follows the optical bench's transport
 (``stages.forward``): Fresnel / generalized Fresnel amplitudes, Jones matrices normalised to power,
 Bouguer-Lambert absorption, o/e splitting, deterministic splitting above ``split_threshold`` and
-one child by power (weighted 1/p) below it - the same ``@wp.func``s (``_push``, ``_push_wave``,
-``ray_power``, ``_medium_index``, ``_crystal``, ``_segment_alpha``) and the shared branch stack
-(``stages.branches``).  The interface block of the kernel mirrors ``forward_trace_kernel``'s (the
-two kernels differ only in their sinks and sources).  The lamps are unpolarized (source coherency
-I/2).  Coated objects and films are not supported (``InputError``).
+one child by power (weighted 1/p) below it - the same ``forward_step`` (segment absorption,
+the interface event ``optics.interface.forward_event``, the split) and the shared branch stack
+(``optics.branches``); the two kernels differ only in their sinks and sources.  The lamps are
+unpolarized (source coherency I/2).  Coated objects and films are not supported (``InputError``).
 
 Connection to the camera (importance of a pinhole, Veach 1997 §10.1-10.3 / pbrt-v3 §16.1.1
 ``PerspectiveCamera::We``).  A pixel's value is the mean radiance over the pixel's raster square
@@ -100,34 +99,28 @@ import time
 import numpy as np
 import warp as wp
 
+from ..color import SRGB_TO_XYZ
 from ..device import get_device, launch_tiled, load_module
 from ..errors import InputError
 from ..geometry.query import SceneGeometry, scene_closest_hit
 from ..materials.dispersion import MaterialTable
+from ..optics.branches import Stack, read_row, write_row
+from ..optics.interface import ray_power
 from ..optics.jones import (
     jones_identity,
     jones_scale,
     perpendicular,
 )
+from ..optics.microfacet import orthonormal_basis
 from ..optics.thinfilm import CoatingStack, make_coating_stack
 from ..spectra import SpectralTables, rgb_spectrum_value, sample_wavelength, strategy_id
-from .branches import Stack as _Stack
-from .branches import read_row as _read_row
 from .camera import CameraParams
-from .forward import (
-    ForwardConfig,
-    ForwardParams,
-    _push,
-    forward_params,
-    forward_step,
-    ray_power,
-)
+from .forward import ForwardConfig, ForwardParams, forward_params, forward_step
 from .surfaces import (
     Surfaces,
-    _albedo_rgb,
+    albedo_rgb,
     bsdf_eval,
     cdf_find,
-    orthonormal_basis,
     reflectance_value,
     sample_cone,
     surfaces_closest_hit,
@@ -342,10 +335,10 @@ def _caustic_kernel(
     base = li * cp.max_deposits
     for k in range(cp.max_deposits):
         dep_pix[base + k] = -1
-    st = _Stack()
+    st = Stack()
     n = int(0)
     if flux > 0.0:
-        st = _push(st, 0, o0, d0, d0, perpendicular(d0), jones_identity(), 1.0, -1, 0, -1)
+        st = write_row(st, 0, o0, d0, perpendicular(d0), jones_identity(), 1.0, -1, 0, -1, d0)
         n = 1
     ndep = int(0)
     e_surf = float(0.0)
@@ -358,7 +351,7 @@ def _caustic_kernel(
     e_refl = float(0.0)
     while n > 0:
         n -= 1
-        r = _read_row(st, n)
+        r = read_row(st, n)
         e = ray_power(r.m, r.w, csrc)
         o = r.o
         d = r.d
@@ -382,7 +375,7 @@ def _caustic_kernel(
                     if not blocked:
                         blocked = scene_closest_hit(geom, xs, w_cam, dist * 0.999).object >= 0
                     if not blocked:
-                        albedo = reflectance_value(tables, _albedo_rgb(surf, k, sh.a, sh.b), wl)
+                        albedo = reflectance_value(tables, albedo_rgb(surf, k, sh.a, sh.b), wl)
                         f_r = bsdf_eval(
                             surf.bsdf[k], albedo, surf.roughness[k], surf.ior[k], nrm_s, w_cam, -d
                         )
@@ -423,8 +416,8 @@ def _caustic_kernel(
 
 
 def _luminance(rgb) -> float:
-    r, g, b = (float(v) for v in rgb)
-    return max(0.2126 * r + 0.7152 * g + 0.0722 * b, 0.0)
+    # Y of a linear-sRGB colour (colour-science's sRGB matrix, ``color.SRGB_TO_XYZ``), >= 0
+    return max(float(SRGB_TO_XYZ[1] @ np.asarray(rgb, dtype=np.float64)), 0.0)
 
 
 def _solid_angles(centres, radii, point) -> float:

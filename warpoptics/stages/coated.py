@@ -22,9 +22,11 @@ is scaled per hit so that the stack's total thickness follows the profile — Sm
 §4.2 (a soap film thinning under gravity: proportional to the normalised height below the top
 plus Perlin turbulence) or eq. 12–13 (an oil drop: t_max exp(-k1 (x^2 + y^2 + k2 turb))).
 
-The backward event (:func:`film_children`) follows ``trace._isotropic_children``: the child's
-Jones matrix is ``M_parent . B . diag(a_s, a_p)`` with ``B`` the frame change from the s/p frame
-of the outgoing wave to the parent's frame, and transmitted amplitudes are scaled by
+A coated solid is the ordinary interface event with the coating's amplitudes
+(``optics.interface.backward_isotropic``); shells and film surfaces are
+:func:`film_surface_children`.  As at any interface the child's Jones matrix is
+``M_parent . B . diag(a_s, a_p)`` with ``B`` the frame change from the s/p frame of the outgoing
+wave to the parent's frame, and transmitted amplitudes are scaled by
 sqrt(Re(N_a cos a) / Re(N_b cos b)) so that |M|^2 is the transmitted power.
 
 References
@@ -51,12 +53,14 @@ import warp as wp
 from ..device import elementwise, get_device
 from ..errors import InputError
 from ..materials.dispersion import MaterialTable, material_eval
-from ..optics.complex import c_abs2
+from ..optics.branches import Cand, add_child
+from ..optics.interface import backward_isotropic, child_of
 from ..optics.jones import (
     Jones,
     jones_identity,
     s_vector,
 )
+from ..optics.microfacet import ggx_g1, ggx_sample_normal
 from ..optics.thinfilm import (
     CoatingStack,
     coating_amplitudes_scaled,
@@ -65,7 +69,6 @@ from ..optics.thinfilm import (
     soap_film_thickness_f,
     turbulence,
 )
-from .branches import Cand, branch_energy, child_jones, write_row
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -74,7 +77,8 @@ __all__ = [
     "FilmConfig",
     "SURFACE_KINDS",
     "THICKNESS_PROFILES",
-    "film_children",
+    "film_surface_children",
+    "coating_at",
     "film_thickness_nm",
     "turbulence_3d",
     "film_config",
@@ -207,51 +211,20 @@ def _shading_normal(fs: FilmSurfaces, obj: int, xl: wp.vec3f, w2o: wp.mat44f, fa
 
 
 @wp.func
-def _ggx_g1(cos_v: float, alpha: float):
-    """Smith G1 of the GGX distribution (Walter et al. 2007, eq. 34)."""
-    c2 = wp.max(cos_v * cos_v, 1.0e-12)
-    tan2 = wp.max(1.0 - c2, 0.0) / c2
-    return 2.0 / (1.0 + wp.sqrt(1.0 + alpha * alpha * tan2))
+def coating_at(fs: FilmSurfaces, obj: int, x: wp.vec3f, w2o: wp.mat44f):
+    """(coating index in ``fs.stack``, thickness scale) of a coated solid at the world point
+    ``x``: the layers are scaled so that the stack's total follows the object's thickness
+    profile (:func:`film_thickness_nm`).  The interface event with the coating is
+    ``optics.interface.backward_isotropic``."""
+    scale = float(1.0)
+    nominal = fs.nominal_nm[obj]
+    if nominal > 0.0:
+        scale = film_thickness_nm(fs, obj, wp.transform_point(w2o, x)) / nominal
+    return fs.coating[obj], scale
 
 
-@wp.func
-def _ggx_normal(n: wp.vec3f, alpha: float, u1: float, u2: float):
-    """A microfacet normal drawn from D(m) |m.n| of GGX about ``n`` (Walter et al. 2007,
-    eq. 35–36)."""
-    tan_t = alpha * wp.sqrt(u1 / wp.max(1.0 - u1, 1.0e-7))
-    cos_t = 1.0 / wp.sqrt(1.0 + tan_t * tan_t)
-    sin_t = tan_t * cos_t
-    phi = 2.0 * wp.pi * u2
-    t = wp.vec3f(1.0, 0.0, 0.0)
-    if wp.abs(n[0]) > 0.9:
-        t = wp.vec3f(0.0, 1.0, 0.0)
-    t = wp.normalize(wp.cross(n, t))
-    b = wp.cross(n, t)
-    return wp.normalize(n * cos_t + t * (sin_t * wp.cos(phi)) + b * (sin_t * wp.sin(phi)))
-
-
-@wp.func
-def _child(
-    m: Jones,
-    w: float,
-    k_out: wp.vec3f,
-    parent_x: wp.vec3f,
-    s: wp.vec3f,
-    a_s: wp.vec2f,
-    a_p: wp.vec2f,
-    power_scale: float,
-    polarized: int,
-):
-    """(M_child, w_child): M_parent . B . diag(a_s, a_p) sqrt(power_scale) (B: the s/p frame of
-    the outgoing wave -> the parent's frame, as branches.child_jones), or in scalar mode the
-    weight times the unpolarized power 0.5 (|a_s|^2 + |a_p|^2) power_scale."""
-    if polarized != 0:
-        return child_jones(m, k_out, parent_x, s, a_s, a_p, wp.sqrt(wp.max(power_scale, 0.0))), w
-    return m, w * 0.5 * power_scale * (c_abs2(a_s) + c_abs2(a_p))
-
-
-@wp.func(inline=False)  # out of line: compile time (see trace_radiance)
-def film_children(
+@wp.func(inline=False)  # out of line: compile time (see stages/trace.py trace_radiance)
+def film_surface_children(
     cand: Cand,
     fs: FilmSurfaces,
     mats: MaterialTable,
@@ -263,33 +236,26 @@ def film_children(
     d: wp.vec3f,
     n_out: wp.vec3f,
     n_a: wp.vec2f,
-    n_b: wp.vec2f,
     x: wp.vec3f,
     w2o: wp.mat44f,
     eps: float,
     in_a: int,
-    in_b: int,
     depth: int,
     polarized: int,
     wavelength: float,
     rng: wp.uint32,
 ):
-    """Backward interface event at a coated solid, a thin shell or an opaque film surface.
+    """Backward event at a thin shell or an opaque film surface (coated solids are an ordinary
+    interface event with the coating's amplitudes, ``optics.interface.backward_isotropic``).
 
     The backward ray ``d`` (from the camera) meets object ``obj`` at ``x`` with outward face
-    normal ``n_out``; medium A (index ``n_a``, real part, object ``in_a``) is the side it
-    arrives from, B (``n_b``, ``in_b``) the other.  Children (at most two) are written to
-    ``cand`` rows 0..count-1 like ``trace._isotropic_children``; returns
-    (cand, energies, count, rng).
-
-    The stack's front faces the ambient medium: light reflected on the ambient side sees it
-    from the front (``from_back = 0``), light from inside a coated solid from the back.
-    Transmitted light arrives from B with the Snell cosine cos_b of the bare interface (films
-    keep the tangential wave vector), amplitudes scaled by sqrt(Re(N_a cos_a) / Re(N_b cos_b)).
-    Shells: B = A, straight through, no scaling.  Film surfaces: reflection only, over the
-    complex substrate index of ``mat_id``; with roughness alpha > 0 the mirror normal is a GGX
-    microfacet normal m and the child's weight G2 |i.m| / (|i.n| |m.n|) (Walter et al. 2007,
-    eq. 41), none if the reflection leaves below the surface.
+    normal ``n_out``, arriving from medium A (index ``n_a``, object ``in_a``).  Children (at most
+    two) are written to ``cand`` rows 0..count-1; returns (cand, energies, count, rng).  Shells: the
+    film's r, and its t straight on (the same medium on both sides, no refraction).  Film
+    surfaces: reflection only, over the complex substrate index of ``mat_id``; with roughness
+    alpha > 0 the mirror normal is a GGX microfacet normal m and the child's weight
+    G2 |i.m| / (|i.n| |m.n|) (Walter et al. 2007, eq. 41), none if the reflection leaves below the
+    surface.
     """
     kind = fs.kind[obj]
     coat = fs.coating[obj]
@@ -307,44 +273,6 @@ def film_children(
     if nominal > 0.0:
         scale = film_thickness_nm(fs, obj, xl) / nominal
     k_out = -d
-    if kind == KIND_COATED:
-        # the stack's front medium is the ambient: A when the ray arrives from outside
-        n_front = n_a
-        n_back = n_b
-        if front == 0:
-            n_front = n_b
-            n_back = n_a
-        cos_a = wp.clamp(-wp.dot(d, nrm), 0.0, 1.0)
-        s = s_vector(d, n_out)
-        eta = n_a[0] / n_b[0]
-        sin2_b = eta * eta * (1.0 - cos_a * cos_a)
-        if sin2_b < 1.0:
-            cos_b = wp.sqrt(1.0 - sin2_b)
-            d_t = wp.normalize(d * eta + nrm * (eta * cos_a - cos_b))
-            # light from B: it meets the stack from its back when A is the ambient (front) side
-            rs, rp, ts, tp = coating_amplitudes_scaled(
-                fs.stack, coat, wavelength, cos_b, n_front, n_back, front, scale
-            )
-            ratio = float(0.0)
-            if n_b[0] * cos_b > 0.0:
-                ratio = n_a[0] * cos_a / (n_b[0] * cos_b)
-            m_t, w_t = _child(m, w, k_out, bx, s, ts, tp, ratio, polarized)
-            e_t = branch_energy(m_t, w_t)
-            if e_t > 0.0:
-                cand = write_row(cand, count, x + d_t * eps, d_t, s, m_t, w_t, in_b, depth + 1, -1, -d_t)
-                energies[count] = e_t
-                count += 1
-        d_r = wp.normalize(d + nrm * (2.0 * cos_a))
-        rs, rp, ts, tp = coating_amplitudes_scaled(
-            fs.stack, coat, wavelength, cos_a, n_front, n_back, 1 - front, scale
-        )
-        m_r, w_r = _child(m, w, k_out, bx, s, rs, rp, 1.0, polarized)
-        e_r = branch_energy(m_r, w_r)
-        if e_r > 0.0:
-            cand = write_row(cand, count, x + d_r * eps, d_r, s, m_r, w_r, in_a, depth + 1, -1, -d_r)
-            energies[count] = e_r
-            count += 1
-        return cand, energies, count, rng
     # shells and film surfaces: a smooth (analytic) normal, optionally a microfacet normal
     ns = _shading_normal(fs, obj, xl, w2o, nrm)
     if -wp.dot(d, ns) <= 1.0e-6:
@@ -354,7 +282,7 @@ def film_children(
     if kind == KIND_FILM and alpha > 0.0:
         u1 = wp.randf(rng)
         u2 = wp.randf(rng)
-        mf = _ggx_normal(ns, alpha, u1, u2)
+        mf = ggx_sample_normal(ns, alpha, u1, u2)
         cos_o = -wp.dot(d, ns)
         cos_om = -wp.dot(d, mf)
         if cos_om <= 0.0:
@@ -363,7 +291,7 @@ def film_children(
         cos_i = wp.dot(d_m, ns)
         if cos_i <= 0.0:
             return cand, energies, count, rng
-        weight = _ggx_g1(cos_o, alpha) * _ggx_g1(cos_i, alpha) * cos_om / (cos_o * wp.dot(mf, ns))
+        weight = ggx_g1(cos_o, alpha) * ggx_g1(cos_i, alpha) * cos_om / (cos_o * wp.dot(mf, ns))
         ns = mf
     cos_a = wp.clamp(-wp.dot(d, ns), 0.0, 1.0)
     s = s_vector(d, ns)
@@ -376,23 +304,15 @@ def film_children(
     if kind == KIND_SHELL:
         # light from the other side passes straight on (no refraction: the same medium)
         rs, rp, ts, tp = coating_amplitudes_scaled(fs.stack, coat, wavelength, cos_a, n_a, n_a, front, scale)
-        m_t, w_t = _child(m, w, k_out, bx, s, ts, tp, 1.0, polarized)
-        e_t = branch_energy(m_t, w_t)
-        if e_t > 0.0:
-            cand = write_row(cand, count, x + d * eps, d, s, m_t, w_t, in_a, depth + 1, -1, -d)
-            energies[count] = e_t
-            count += 1
+        m_t, w_t = child_of(m, w, k_out, bx, s, ts, tp, 1.0, polarized)
+        cand, energies, count = add_child(cand, energies, count, x + d * eps, d, s, m_t, w_t, in_a, depth + 1, -1, -d)
     if wp.dot(d_r, nrm) > 0.0:
         # light from A: the stack's front faces A, except on the back of a shell (A on both sides)
         rs, rp, ts, tp = coating_amplitudes_scaled(
             fs.stack, coat, wavelength, cos_a, n_a, n_sub, 1 - front, scale
         )
-        m_r, w_r = _child(m, w, k_out, bx, s, rs, rp, weight, polarized)
-        e_r = branch_energy(m_r, w_r)
-        if e_r > 0.0:
-            cand = write_row(cand, count, x + d_r * eps, d_r, s, m_r, w_r, in_a, depth + 1, -1, -d_r)
-            energies[count] = e_r
-            count += 1
+        m_r, w_r = child_of(m, w, k_out, bx, s, rs, rp, weight, polarized)
+        cand, energies, count = add_child(cand, energies, count, x + d_r * eps, d_r, s, m_r, w_r, in_a, depth + 1, -1, -d_r)
     return cand, energies, count, rng
 
 
@@ -445,29 +365,26 @@ def _film_event_kernel(
     bx = s_vector(d, n_out)
     cand = Cand()
     rng = wp.rand_init(seed, i)
-    cand, e, count, rng = film_children(
-        cand,
-        fs,
-        mats,
-        mat_id,
-        obj,
-        jones_identity(),
-        1.0,
-        bx,
-        d,
-        n_out,
-        n_a,
-        n_b,
-        position[i],
-        wp.identity(n=4, dtype=wp.float32),
-        1.0e-4,
-        in_a,
-        in_b,
-        0,
-        polarized,
-        wavelength[i],
-        rng,
-    )
+    e = wp.vec4f(0.0, 0.0, 0.0, 0.0)
+    count = int(0)
+    if fs.kind[obj] == KIND_COATED:
+        # a coated solid: the ordinary interface event with the coating's amplitudes
+        coat, scale = coating_at(fs, obj, position[i], wp.identity(n=4, dtype=wp.float32))
+        entering = wp.dot(d, n_out) < 0.0
+        nrm = n_out
+        a_is_front = int(1)
+        if not entering:
+            nrm = -n_out
+            a_is_front = 0
+        cand, e, count = backward_isotropic(
+            cand, jones_identity(), 1.0, bx, d, n_out, nrm, n_a, n_b, position[i], 1.0e-4, in_a, in_b, 0, polarized,
+            fs.stack, coat, wavelength[i], scale, a_is_front
+        )
+    else:
+        cand, e, count, rng = film_surface_children(
+            cand, fs, mats, mat_id, obj, jones_identity(), 1.0, bx, d, n_out, n_a, position[i],
+            wp.identity(n=4, dtype=wp.float32), 1.0e-4, in_a, 0, polarized, wavelength[i], rng
+        )
     dir0[i] = wp.vec3f(cand[0, 3], cand[0, 4], cand[0, 5])
     dir1[i] = wp.vec3f(cand[1, 3], cand[1, 4], cand[1, 5])
     jones0[i] = wp.vec4f(cand[0, 9], cand[0, 10], cand[0, 11], cand[0, 12])
@@ -776,7 +693,8 @@ def film_event(
     seed: int = 0,
     device=None,
 ) -> dict:
-    """The renderer's backward film event (:func:`film_children`) on NumPy rays.
+    """The renderer's backward film event on NumPy rays (``optics.interface.backward_isotropic`` with
+    the coating for coated solids, :func:`film_surface_children` for shells and film surfaces).
 
     ``direction`` (..., 3): backward ray direction (from the camera); ``normal`` (..., 3): the
     surface's outward normal; ``material``: the object's material (the solid of a coated

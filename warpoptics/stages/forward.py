@@ -25,7 +25,7 @@ an unpolarized ray splits into an o ray and an e ray.  An e ray travels along it
 direction, while its wave normal (kept on the ray) enters the next interface's eq. 5 - Beyerle &
 McDermid 1998.  Leaving the crystal, the o and e amplitudes of each transmitted wave become the
 s/p components of an isotropic ray.  Pleochroic absorption: kappa_o for o rays, kappa^e(theta)
-of eq. 7 (``kappa_extraordinary``) for e rays, Bouguer-Lambert along the ray path.
+of eq. 7 (``optics.absorption.pleochroic_kappa``) for e rays, Bouguer-Lambert along the ray path.
 
 Splitting: while a ray's tree node carries at least ``split_threshold`` of the ray's emitted
 power (and the stack has room), every child (reflected, refracted; o and e) is followed -
@@ -65,45 +65,39 @@ import numpy as np
 import warp as wp
 
 from ..geometry.query import RayHit, SceneGeometry, scene_closest_hit
-from ..materials.dispersion import MaterialTable, material_alpha, material_eval
-from ..optics.birefringence import PlaneWave, generalized_fresnel, kappa_extraordinary, uniaxial_medium
-from ..optics.fresnel import fresnel_amplitudes
+from ..materials.dispersion import MaterialTable
+from ..optics.absorption import bouguer_lambert
+from ..optics.birefringence import uniaxial_medium
+from ..optics.branches import (
+    ROW_W,
+    STACK_SIZE,
+    Cand,
+    Ray,
+    Stack,
+    copy_row,
+    pick_child,
+    read_row,
+    write_row,
+)
+from ..optics.interface import forward_event, ray_power
 from ..optics.jones import (
     Jones,
     coherency_transform,
     frame_change,
-    jones,
-    jones_diag,
     jones_identity,
     jones_mul,
     jones_real,
-    jones_scale,
     perpendicular,
-    s_vector,
     stokes_from_coherency,
 )
-from ..optics.thinfilm import CoatingStack, coating_amplitudes
+from ..optics.thinfilm import CoatingStack
 from .beam import BeamParams, beam_ray
-from .branches import (
-    _W,
-    STACK_SIZE,
-    Cand,
-    Ray,
-    copy_row,
-    write_row,
-)
-from .branches import (
-    Stack as _Stack,
-)
-from .branches import (
-    read_row as _read_row,
-)
+from .media import object_medium, segment_kappa
 from .screen import ScreenSet, screen_hit
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
-__all__ = ["ForwardParams", "ForwardConfig", "forward_params", "forward_trace_kernel", "forward_interface", "forward_step", "LEDGER",
-           "STACK_SIZE"]
+__all__ = ["ForwardParams", "ForwardConfig", "forward_params", "forward_trace_kernel", "forward_step", "LEDGER"]
 
 #: names of the ledger columns (see the module docstring)
 LEDGER = ("screen", "absorbed", "escaped", "truncated", "lost", "overflow", "interface")
@@ -136,296 +130,29 @@ class ForwardConfig:
 
 
 @wp.func
-def _push(
-    st: Any,
-    n: int,
-    o: wp.vec3f,
-    d: wp.vec3f,
-    s: wp.vec3f,
-    b: wp.vec3f,
-    m: Jones,
-    w: float,
-    inside: int,
-    depth: int,
-    mode: int,
-):
-    # the shared row layout keeps the wave normal s in the _WN columns
-    return write_row(st, n, o, d, b, m, w, inside, depth, mode, s)
-
-
-@wp.func
-def ray_power(m: Jones, w: float, source: Jones):
-    """Relative power w tr(M C M^dagger) of a ray (C: source coherency, trace 1)."""
-    j = coherency_transform(m, source)
-    return w * (j.re[0, 0] + j.re[1, 1])
-
-
-@wp.func
-def _medium_index(p: ForwardParams, mats: MaterialTable, obj: int, wavelength: float):
+def _medium(fp: ForwardParams, mats: MaterialTable, obj: int, wavelength: float):
+    """(UniaxialMedium, complex index N_o, (alpha_o, alpha_e)) of object ``obj`` or, for -1, of the
+    ambient medium (``stages.media.object_medium``)."""
     if obj < 0:
-        return p.ambient, p.ambient
-    return material_eval(mats, p.object_material[obj], wavelength)
-
-
-@wp.func
-def _is_uniaxial(p: ForwardParams, mats: MaterialTable, obj: int):
-    if obj < 0:
-        return 0
-    return mats.uniaxial[p.object_material[obj]]
-
-
-@wp.func
-def _crystal(p: ForwardParams, mats: MaterialTable, obj: int, wavelength: float):
-    # real indices and world optic axis (zero axis: isotropic) for generalized_fresnel
-    no, ne = _medium_index(p, mats, obj, wavelength)
-    if _is_uniaxial(p, mats, obj) == 0:
-        return uniaxial_medium(no[0], no[0], wp.vec3f(0.0))
-    return uniaxial_medium(no[0], ne[0], p.object_axis[obj])
-
-
-@wp.func
-def _segment_alpha(
-    p: ForwardParams, mats: MaterialTable, obj: int, mode: int, s: wp.vec3f, wavelength: float
-):
-    # Bouguer-Lambert coefficient (1/mm) of a ray segment inside object obj (Guy & Soler eq. 6, 7)
-    mid = p.object_material[obj]
-    ao, ae = material_alpha(mats, mid, wavelength)
-    a = ao
-    if mode == 1:
-        no, ne = material_eval(mats, mid, wavelength)
-        a = kappa_extraordinary(wp.dot(s, p.object_axis[obj]), ao, ae, no[0], ne[0])
-    return a * p.object_absorption_scale[obj]
-
-
-@wp.func
-def _flux_scale(out_flux: float, in_flux: float):
-    if in_flux <= 0.0 or out_flux <= 0.0:
-        return 0.0
-    return wp.sqrt(out_flux / in_flux)
-
-
-@wp.struct
-class _WaveCtx:
-    """What every outgoing wave of one interface event shares."""
-
-    x: wp.vec3f  # hit point
-    eps: float  # origin offset
-    w: float  # weight of the incident ray
-    source: Jones  # source coherency
-    depth: int  # depth of the children
-    flux_in: float  # normal Poynting flux of the incident wave per unit |amplitude|^2
-
-
-@wp.func
-def _wave_ctx(x: wp.vec3f, eps: float, w: float, source: Jones, depth: int, flux_in: float):
-    ctx = _WaveCtx()
-    ctx.x = x
-    ctx.eps = eps
-    ctx.w = w
-    ctx.source = source
-    ctx.depth = depth
-    ctx.flux_in = flux_in
-    return ctx
-
-
-@wp.func
-def _push_wave(
-    st: Any,
-    n: int,
-    c: int,
-    ea: wp.vec4f,
-    e_sum: float,
-    ctx: _WaveCtx,
-    wave: PlaneWave,
-    coef: Jones,
-    m: Jones,
-    inside: int,
-    mode: int,
-):
-    """Candidate row n + c for an outgoing wave of the generalized Fresnel solution: Jones
-    ``coef m`` power-normalised by the fluxes, travelling along the wave's ray; skipped when the
-    wave is evanescent or carries no power.  Returns (st, ea, e_sum, c)."""
-    if wave.propagating == 1:
-        mk = jones_scale(jones_mul(coef, m), _flux_scale(wave.flux, ctx.flux_in))
-        ek = ray_power(mk, ctx.w, ctx.source)
-        if ek > 0.0:
-            st = _push(
-                st,
-                n + c,
-                ctx.x + wave.ray * ctx.eps,
-                wave.ray,
-                wave.wave_normal,
-                wave.e_re,
-                mk,
-                ctx.w,
-                inside,
-                ctx.depth,
-                mode,
-            )
-            ea[c] = ek
-            e_sum += ek
-            c += 1
-    return st, ea, e_sum, c
-
-
-@wp.func
-def forward_interface(
-    fp: ForwardParams,
-    mats: MaterialTable,
-    coatings: CoatingStack,
-    hit: RayHit,
-    r: Ray,
-    w: float,
-    e: float,
-    wl: float,
-    csrc: Jones,
-):
-    """One interface event of the forward ray ``r`` (weight ``w`` after its segment's
-    absorption, power ``e``) hitting ``hit``: the reflected and
-    refracted children (o and e waves at a crystal) in rows 0..c-1 of a candidate matrix, with
-    Fresnel / coating / generalized-Fresnel amplitudes.  Returns (cand, powers, e_sum, c); the
-    tracers (``forward_trace_kernel``, ``caustics``) keep them all or choose one.  The stack is
-    not an argument: a @wp.func argument is a by-value copy."""
-    o = r.o
-    d = r.d
-    s_in = r.wn
-    bx = r.b
-    m = r.m
-    mode = r.mode
-    inside = r.inside
-    depth = r.depth
-    cand = Cand()
-    x = o + d * hit.t
-    n_out = hit.normal
-    entering = wp.dot(d, n_out) < 0.0
-    nrm = n_out  # unit normal on the incident side
-    obj_b = hit.object
-    if not entering:
-        nrm = -n_out
-        obj_b = -1
-    obj_a = inside
-    # candidates are written to rows n .. n + c - 1, then kept (split) or one is chosen
-    c = int(0)
-    e_sum = float(0.0)
-    ea = wp.vec4f(0.0)
-    if _is_uniaxial(fp, mats, obj_a) == 0 and _is_uniaxial(fp, mats, obj_b) == 0:
-        # isotropic interface: Fresnel (or the coating's stack) in the s/p frame
-        n_a, n_a_e = _medium_index(fp, mats, obj_a, wl)
-        n_b, n_b_e = _medium_index(fp, mats, obj_b, wl)
-        # Light arriving from an absorbing medium: Fresnel with the real part of its index
-        # (the weak-absorption approximation; its absorption is Bouguer-Lambert along the
-        # path).  ``c_normal_component`` takes the Im >= 0 root of N2 cos t, which for an
-        # absorbing *incident* medium is the backward-travelling one (|r| >> 1).
-        n_a = wp.vec2f(n_a[0], 0.0)
-        cos_a = wp.clamp(-wp.dot(d, nrm), 0.0, 1.0)
-        s = s_vector(d, n_out)
-        f = fresnel_amplitudes(cos_a, n_a, n_b)
-        rs = f.rs
-        rp = f.rp
-        ts = f.ts
-        tp = f.tp
-        coat = fp.object_coating[hit.object]
-        if coat >= 0:
-            if entering:
-                rs, rp, ts, tp = coating_amplitudes(coatings, coat, wl, cos_a, n_a, n_b, 0)
-            else:
-                rs, rp, ts, tp = coating_amplitudes(coatings, coat, wl, cos_a, n_b, n_a, 1)
-        m_sp = jones_mul(jones_real(frame_change(d, bx, s)), m)
-        d_r = wp.normalize(d + nrm * (2.0 * cos_a))
-        m_r = jones_mul(jones_diag(rs, rp), m_sp)
-        e_r = ray_power(m_r, w, csrc)
-        if e_r > 0.0:
-            cand = _push(cand, c, x + d_r * fp.epsilon, d_r, d_r, s, m_r, w, obj_a, depth + 1, -1)
-            ea[c] = e_r
-            e_sum += e_r
-            c += 1
-        eta = n_a[0] / n_b[0]
-        sin2_b = eta * eta * (1.0 - cos_a * cos_a)
-        if sin2_b < 1.0:
-            cos_b = wp.sqrt(1.0 - sin2_b)
-            d_t = wp.normalize(d * eta + nrm * (eta * cos_a - cos_b))
-            ratio = float(0.0)
-            if f.n1_cos_i[0] > 0.0:
-                ratio = wp.max(f.n2_cos_t[0], 0.0) / f.n1_cos_i[0]
-            m_t = jones_scale(jones_mul(jones_diag(ts, tp), m_sp), wp.sqrt(ratio))
-            e_t = ray_power(m_t, w, csrc)
-            if e_t > 0.0:
-                cand = _push(cand, c, x + d_t * fp.epsilon, d_t, d_t, s, m_t, w, obj_b, depth + 1, -1)
-                ea[c] = e_t
-                e_sum += e_t
-                c += 1
-    else:
-        # a uniaxial side: generalized Fresnel amplitudes (eq. 5) per incident mode
-        ma = _crystal(fp, mats, obj_a, wl)
-        mb = _crystal(fp, mats, obj_b, wl)
-        zero = wp.vec2f(0.0, 0.0)
-        if mode < 0:
-            # isotropic incident ray: its s/p (= o/e) components both excite every wave
-            so = generalized_fresnel(s_in, 0, nrm, ma, mb)
-            se = generalized_fresnel(s_in, 1, nrm, ma, mb)
-            m_in = jones_mul(jones_real(frame_change(s_in, bx, so.incident.e_re)), m)
-            f_in = so.incident.flux
-            ctx = _wave_ctx(x, fp.epsilon, w, csrc, depth + 1, f_in)
-            cand, ea, e_sum, c = _push_wave(
-                cand, 0, c, ea, e_sum, ctx, so.ro, jones(so.r_o, se.r_o, so.r_e, se.r_e), m_in, obj_a, -1
-            )
-            cand, ea, e_sum, c = _push_wave(
-                cand, 0, c, ea, e_sum, ctx, so.to, jones(so.t_o, se.t_o, zero, zero), m_in, obj_b, 0
-            )
-            cand, ea, e_sum, c = _push_wave(
-                cand, 0, c, ea, e_sum, ctx, so.te, jones(so.t_e, se.t_e, zero, zero), m_in, obj_b, 1
-            )
-        else:
-            # one eigenmode inside a crystal: row 0 of M is its amplitude
-            sol = generalized_fresnel(s_in, mode, nrm, ma, mb)
-            ctx = _wave_ctx(x, fp.epsilon, w, csrc, depth + 1, sol.incident.flux)
-            cand, ea, e_sum, c = _push_wave(
-                cand, 0, c, ea, e_sum, ctx, sol.ro, jones_diag(sol.r_o, zero), m, obj_a, 0
-            )
-            cand, ea, e_sum, c = _push_wave(
-                cand, 0, c, ea, e_sum, ctx, sol.re, jones_diag(sol.r_e, zero), m, obj_a, 1
-            )
-            if _is_uniaxial(fp, mats, obj_b) == 0:
-                # into an isotropic medium: the o/e amplitudes are its s/p components
-                cand, ea, e_sum, c = _push_wave(
-                    cand, 0, c, ea, e_sum, ctx, sol.to, jones(sol.t_o, zero, sol.t_e, zero), m, obj_b, -1
-                )
-            else:
-                cand, ea, e_sum, c = _push_wave(
-                    cand, 0, c, ea, e_sum, ctx, sol.to, jones_diag(sol.t_o, zero), m, obj_b, 0
-                )
-                cand, ea, e_sum, c = _push_wave(
-                    cand, 0, c, ea, e_sum, ctx, sol.te, jones_diag(sol.t_e, zero), m, obj_b, 1
-                )
-    if e_sum > e:
-        # a passive interface creates no power: with an absorbing incident medium the
-        # plane-wave flux split is not unique and |r|^2 can exceed 1 near total reflection
-        g = e / e_sum
-        for j in range(c):
-            cand[j, _W] = cand[j, _W] * g
-            ea[j] = ea[j] * g
-        e_sum = e
-    return cand, ea, e_sum, c
+        return uniaxial_medium(fp.ambient[0], fp.ambient[0], wp.vec3f(0.0)), fp.ambient, wp.vec2f(0.0, 0.0)
+    med, no, ne, alpha = object_medium(mats, fp.object_material[obj], fp.object_axis[obj], wavelength)
+    return med, no, alpha
 
 
 @wp.func
 def _keep_children(st: Any, n: int, cand: Cand, ea: wp.vec4f, e_sum: float, c: int, split_threshold: float,
                    rng: wp.uint32):
     """Continue the tree with the children of an interface: all of them while they carry at
-    least ``split_threshold`` (and the stack has room), else one chosen by power with uniform
-    from ``rng``, weighted by 1/probability (carries ``e_sum`` exactly).  Returns (st, n, rng)."""
+    least ``split_threshold`` (and the stack has room), else one chosen by power
+    (``branches.pick_child``), weighted by 1/probability (carries ``e_sum`` exactly).  Returns
+    (st, n, rng)."""
     if e_sum >= split_threshold and n + c <= STACK_SIZE:
         for j in range(c):
             st = copy_row(st, n + j, cand, j)
         return st, n + c, rng
-    x = wp.randf(rng) * e_sum
-    j = int(0)
-    acc = ea[0]
-    while j < c - 1 and x >= acc:
-        j += 1
-        acc += ea[j]
+    j = pick_child(ea, c, wp.randf(rng) * e_sum)
     st = copy_row(st, n, cand, j)
-    st[n, _W] = st[n, _W] * (e_sum / ea[j])
+    st[n, ROW_W] = st[n, ROW_W] * (e_sum / ea[j])
     return st, n + 1, rng
 
 
@@ -444,13 +171,16 @@ def forward_step(
     csrc: Jones,
 ):
     """The forward ray ``r`` of power ``e`` that reached ``hit``: Bouguer–Lambert along its segment
-    inside a solid, the cut at ``max_depth``, then the interface event (:func:`forward_interface`)
-    and the split (:func:`_keep_children`).  Returns (st, n, rng, (absorbed, truncated,
-    interface loss)) for the ledger."""
+    inside a solid, the cut at ``max_depth``, then the interface event
+    (``optics.interface.forward_event``) and the split (:func:`_keep_children`).  Returns (st, n,
+    rng, (absorbed, truncated, interface loss)) for the ledger."""
     e_abs = float(0.0)
     w = r.w
+    med_a, n_a, alpha_a = _medium(fp, mats, r.inside, wl)
     if r.inside >= 0:
-        att = wp.exp(-_segment_alpha(fp, mats, r.inside, r.mode, r.wn, wl) * hit.t)
+        kappa = segment_kappa(mats, fp.object_material[r.inside], alpha_a, -1, r.mode, r.wn, med_a,
+                              fp.object_absorption_scale[r.inside])
+        att = bouguer_lambert(kappa, hit.t)
         e_abs = e * (1.0 - att)
         w = w * att
         e = e * att
@@ -458,7 +188,15 @@ def forward_step(
         return st, n, rng, wp.vec3f(e_abs, e, 0.0)
     if e <= 0.0:
         return st, n, rng, wp.vec3f(e_abs, 0.0, 0.0)
-    cand, ea, e_sum, c = forward_interface(fp, mats, coatings, hit, r, w, e, wl, csrc)
+    obj_b = hit.object
+    if wp.dot(r.d, hit.normal) >= 0.0:
+        obj_b = -1  # leaving the solid
+    med_b, n_b, alpha_b = _medium(fp, mats, obj_b, wl)
+    x = r.o + r.d * hit.t
+    cand, ea, e_sum, c = forward_event(
+        r.d, r.wn, r.b, r.m, r.mode, r.depth, hit.normal, x, r.inside, obj_b, med_a, med_b, n_a, n_b, coatings,
+        fp.object_coating[hit.object], wl, fp.epsilon, w, e, csrc
+    )
     if c > 0:
         st, n, rng = _keep_children(st, n, cand, ea, e_sum, c, fp.split_threshold, rng)
     return st, n, rng, wp.vec3f(e_abs, 0.0, e - e_sum)
@@ -490,8 +228,8 @@ def forward_trace_kernel(
     o0, d0, bx0 = beam_ray(beam, i / n_wl)
     csrc = beam.source_coherency
     rng = wp.rand_init(fp.seed, i)
-    st = _Stack()
-    st = _push(st, 0, o0, d0, d0, bx0, jones_identity(), 1.0, -1, 0, -1)
+    st = Stack()
+    st = write_row(st, 0, o0, d0, bx0, jones_identity(), 1.0, -1, 0, -1, d0)
     n = int(1)
     ndep = int(0)
     e_screen = float(0.0)
@@ -506,7 +244,7 @@ def forward_trace_kernel(
         dep_screen[base + k] = -1
     while n > 0:
         n -= 1
-        r = _read_row(st, n)
+        r = read_row(st, n)
         e = ray_power(r.m, r.w, csrc)
         hit = scene_closest_hit(geom, r.o, r.d, fp.t_max)
         if r.inside < 0:

@@ -68,11 +68,12 @@ import warp as wp
 from ..device import elementwise, get_device
 from ..errors import InputError
 from ..geometry.query import SceneGeometry, object_exit_hit, scene_closest_hit
-from ..materials.dispersion import MaterialTable, material_alpha, material_eval
-from ..optics.complex import c_abs2
-from ..optics.fresnel import fresnel_amplitudes
+from ..materials.dispersion import MaterialTable
+from ..optics.fresnel import fresnel_amplitudes, unpolarized_power
+from ..optics.microfacet import ggx_d, ggx_g1, ggx_sample_normal, orthonormal_basis
 from ..spectra import SpectralTables, illuminant_value, rgb_spectrum_value, spectral_tables
 from .environment import Environment, environment_radiance
+from .media import medium_alpha, object_medium
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -89,8 +90,7 @@ __all__ = [
     "surfaces_closest_hit",
     "surface_radiance",
     "gem_transmittance",
-    "ggx_d",
-    "ggx_g1",
+    "albedo_rgb",
     "dielectric_reflectance",
     "bsdf_eval",
     "bsdf_pdf",
@@ -249,20 +249,6 @@ def surfaces_closest_hit(s: Surfaces, o: wp.vec3f, d: wp.vec3f, t_max: float):
 
 
 @wp.func
-def orthonormal_basis(n: wp.vec3f):
-    """Two unit vectors completing unit ``n`` to an orthonormal frame (Duff et al. 2017,
-    branchless)."""
-    sign = float(1.0)
-    if n[2] < 0.0:
-        sign = -1.0
-    a = -1.0 / (sign + n[2])
-    b = n[0] * n[1] * a
-    t = wp.vec3f(1.0 + sign * n[0] * n[0] * a, sign * b, -sign * n[0])
-    bb = wp.vec3f(b, sign + n[1] * n[1] * a, -n[1])
-    return t, bb
-
-
-@wp.func
 def sample_cone(axis: wp.vec3f, cos_max: float, u1: float, u2: float):
     """A direction uniform in solid angle in the cone of half-angle acos(cos_max) about the unit
     ``axis`` (pdf 1 / (2 pi (1 - cos_max))), from uniform ``u1``, ``u2``."""
@@ -290,32 +276,11 @@ def reflectance_value(t: SpectralTables, rgb: wp.vec3f, wavelength: float):
 
 
 @wp.func
-def ggx_d(cos_h: float, alpha: float):
-    """GGX normal distribution D(h) (Walter et al. 2007 eq. 33), 1/sr; ``cos_h`` = n.h."""
-    if cos_h <= 0.0:
-        return 0.0
-    a2 = alpha * alpha
-    c2 = cos_h * cos_h
-    den = c2 * (a2 - 1.0) + 1.0
-    return a2 / (wp.pi * den * den)
-
-
-@wp.func
-def ggx_g1(cos_v: float, alpha: float):
-    """Smith masking G1 of GGX (Walter et al. 2007 eq. 34) for a direction with n.v = cos_v."""
-    if cos_v <= 0.0:
-        return 0.0
-    a2 = alpha * alpha
-    c2 = cos_v * cos_v
-    return 2.0 * cos_v / (cos_v + wp.sqrt(a2 + (1.0 - a2) * c2))
-
-
-@wp.func
 def dielectric_reflectance(cos_i: float, ior: float):
     """Unpolarized Fresnel reflectance (|rs|^2 + |rp|^2) / 2 from air onto a coat of index ``ior``
     (``optics.fresnel.fresnel_amplitudes``)."""
     f = fresnel_amplitudes(cos_i, wp.vec2f(1.0, 0.0), wp.vec2f(ior, 0.0))
-    return 0.5 * (c_abs2(f.rs) + c_abs2(f.rp))
+    return unpolarized_power(f.rs, f.rp)
 
 
 @wp.func
@@ -369,13 +334,7 @@ def bsdf_sample(kind: int, roughness: float, n: wp.vec3f, wo: wp.vec3f, u0: floa
     probability 1/2 a GGX half vector, Walter et al. 2007 eq. 35-36, reflected about it)."""
     if kind != _GLOSSY or u0 >= _P_SPEC:
         return _cosine_dir(n, u1, u2)
-    alpha = wp.max(roughness * roughness, 1.0e-4)
-    tan2 = alpha * alpha * u1 / wp.max(1.0 - u1, 1.0e-7)
-    cos_t = 1.0 / wp.sqrt(1.0 + tan2)
-    sin_t = wp.sqrt(wp.max(1.0 - cos_t * cos_t, 0.0))
-    phi = 2.0 * wp.pi * u2
-    t, b = orthonormal_basis(n)
-    h = wp.normalize(t * (sin_t * wp.cos(phi)) + b * (sin_t * wp.sin(phi)) + n * cos_t)
+    h = ggx_sample_normal(n, wp.max(roughness * roughness, 1.0e-4), u1, u2)
     return wp.normalize(h * (2.0 * wp.dot(wo, h)) - wo)
 
 
@@ -433,7 +392,7 @@ def power_heuristic(pdf_a: float, pdf_b: float):
 
 
 @wp.func
-def _albedo_rgb(s: Surfaces, k: int, a: float, b: float):
+def albedo_rgb(s: Surfaces, k: int, a: float, b: float):
     kind = s.albedo_kind[k]
     if kind == _CHECKER:
         sq = s.square[k]
@@ -482,9 +441,9 @@ def _area_pdf(s: Surfaces, k: int, d: wp.vec3f, dist: float):
 
 @wp.func
 def _interface_t(cos_i: float, n1: wp.vec2f, n2: wp.vec2f):
-    # unpolarized power transmittance 1 - (|rs|^2 + |rp|^2) / 2 of a lossless interface
+    # unpolarized power transmittance 1 - R of a lossless interface
     f = fresnel_amplitudes(cos_i, n1, n2)
-    return 1.0 - 0.5 * (c_abs2(f.rs) + c_abs2(f.rp))
+    return 1.0 - unpolarized_power(f.rs, f.rp)
 
 
 @wp.func
@@ -522,11 +481,8 @@ def gem_transmittance(
             cos_out = wp.abs(wp.dot(d, ex.normal))
         cos_in = wp.abs(wp.dot(d, h.normal))
         mid = obj_material[k]
-        no, ne = material_eval(mats, mid, wavelength)
-        a_o, a_e = material_alpha(mats, mid, wavelength)
-        if rgb3_channel >= 0:
-            a_o = mats.rgb3_alpha_o[mid][rgb3_channel]
-            a_e = mats.rgb3_alpha_e[mid][rgb3_channel]
+        med, no, ne, alpha = object_medium(mats, mid, wp.vec3f(0.0), wavelength)
+        a_o, a_e = medium_alpha(mats, mid, alpha, rgb3_channel)
         sc = obj_absorption[k]
         amb = wp.vec2f(ambient, 0.0)
         n_o = wp.vec2f(no[0], 0.0)
@@ -611,7 +567,7 @@ def surface_radiance(
         kind = s.bsdf[k]
         rough = s.roughness[k]
         ior = s.ior[k]
-        albedo = reflectance_value(tables, _albedo_rgb(s, k, hit.a, hit.b), wavelength)
+        albedo = reflectance_value(tables, albedo_rgb(s, k, hit.a, hit.b), wavelength)
         xs = x + n * _EPS
         # --- next-event estimation: one sample of every lamp and of the environment
         if s.mis_mode != _BSDF_ONLY:

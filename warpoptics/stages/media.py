@@ -1,0 +1,65 @@
+"""The media of a scene's objects on the device: indices, optic axis and absorption per object.
+
+Every tracer (camera, bench, caustics, shadow rays) resolves the medium of an object here, from
+the device-side material table (``materials.dispersion.MaterialTable``) and the per-object arrays
+of its parameters (material id, world optic axis, absorption multiplier), so that what a stone is
+made of is decided in one place.  The laws themselves live in ``optics/`` (``absorption.py``:
+Bouguer–Lambert and kappa per wave; ``birefringence.py``: the uniaxial medium).
+
+Interfaces use the real part of the index in the camera tracer: a dielectric's k (< 1e-3 for any
+stone or dye solution one can see through) changes Fresnel coefficients by O(k^2), while with an
+absorbing *incident* medium the plane-wave reflectance is no longer bounded by 1.  k acts where it
+matters, as Bouguer–Lambert attenuation exp(-4 pi k l / lambda) along each segment.
+"""
+
+from __future__ import annotations
+
+import warp as wp
+
+from ..materials.dispersion import MaterialTable, material_optics
+from ..optics.absorption import wave_kappa
+from ..optics.birefringence import UniaxialMedium, uniaxial_medium
+
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
+__all__ = ["object_medium", "medium_alpha", "segment_kappa"]
+
+
+@wp.func
+def object_medium(mats: MaterialTable, mat_id: int, axis: wp.vec3f, wavelength: float):
+    """(UniaxialMedium with real indices and the world optic ``axis`` — the zero axis for an
+    isotropic material —, complex N_o, complex N_e, (alpha_o, alpha_e) in 1/mm) of material
+    ``mat_id`` at ``wavelength`` nm, from one evaluation of the material."""
+    no, ne, alpha = material_optics(mats, mat_id, wavelength)
+    ax = wp.vec3f(0.0, 0.0, 0.0)
+    if mats.uniaxial[mat_id] != 0:
+        ax = axis
+    return uniaxial_medium(no[0], ne[0], ax), no, ne, alpha
+
+
+@wp.func
+def medium_alpha(mats: MaterialTable, mat_id: int, alpha: wp.vec2f, rgb3_channel: int):
+    """(alpha_o, alpha_e), 1/mm: the material's spectral ``alpha`` at the sample's wavelength, or
+    in the rgb3 mode (``rgb3_channel`` 0..2; -1 otherwise) its Guy & Soler eq. 9 RGB absorbance
+    of that channel."""
+    if rgb3_channel >= 0:
+        return mats.rgb3_alpha_o[mat_id][rgb3_channel], mats.rgb3_alpha_e[mat_id][rgb3_channel]
+    return alpha[0], alpha[1]
+
+
+@wp.func
+def segment_kappa(
+    mats: MaterialTable,
+    mat_id: int,
+    alpha: wp.vec2f,
+    rgb3_channel: int,
+    mode: int,
+    wave_normal: wp.vec3f,
+    med: UniaxialMedium,
+    scale: float,
+):
+    """Intensity absorption coefficient (1/mm, base e) of a wave (mode -1 isotropic, 0 o, 1 e,
+    with unit ``wave_normal``) on a segment inside a medium: K^o, or kappa^e(theta) of Guy & Soler
+    2004 eq. 7 (``optics.absorption.wave_kappa``), times the object's absorption multiplier."""
+    a_o, a_e = medium_alpha(mats, mat_id, alpha, rgb3_channel)
+    return wave_kappa(mode, wp.dot(wave_normal, med.axis), a_o, a_e, med.no, med.ne) * scale
