@@ -335,7 +335,7 @@ def write_png(rep: Report, path: Path, layers=LAYERS) -> None:
     for y, row in enumerate(rows):
         for x, m in enumerate(row):
             pos[m] = ((x + 0.5) * width / len(row), y)
-    fig, ax = plt.subplots(figsize=(max(8.0, 1.6 * width), 1.2 * len(rows) + 1))
+    fig, ax = plt.subplots(figsize=(max(8.0, 1.25 * width), 0.9 * len(rows) + 1))
     upward = {(i.source, i.target) for i in rep.upward}
     for s, t in sorted({(i.source, i.target) for i in rep.imports}):
         (x0, y0), (x1, y1) = pos[s], pos[t]
@@ -363,7 +363,7 @@ def write_png(rep: Report, path: Path, layers=LAYERS) -> None:
     ax.set_title("warpoptics imports by layer (red: upward)")
     fig.tight_layout()
     tmp = path.with_name(path.stem + ".tmp" + path.suffix)
-    fig.savefig(tmp, dpi=120)
+    fig.savefig(tmp, dpi=80)
     plt.close(fig)
     tmp.replace(path)
 
