@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import tmm
 
 import warpoptics as wo
 from warpoptics.bench import Bench, BenchScene, bench
@@ -133,8 +134,10 @@ def test_calcite_two_orthogonally_polarized_spots(device):
     assert pred == pytest.approx(1.0921, abs=2e-3)  # the textbook ~6.2 deg walk-off of calcite
     s1, s2 = r.spots(0, count=2, radius=0.25)
     sep = math.hypot(s1["u"] - s2["u"], s1["v"] - s2["v"])
-    assert sep == pytest.approx(pred, rel=0.02)
-    assert sep == pytest.approx(pred, rel=2e-3)  # measured: 0.0 % with 1024 rays
+    # a monochromatic (589.3 nm) collimated beam at normal incidence splits deterministically and
+    # both spots have the beam's footprint, so the centroids differ by the walk-off alone: only
+    # float32 rounding of ~10 mm positions (~1e-6 mm) remains; measured -3e-7 relative with 64 rays
+    assert sep == pytest.approx(pred, rel=1e-4)
     for s in (s1, s2):
         assert s["dop"] > 0.999
         assert s["power"] == pytest.approx(0.45, abs=0.02)  # half of the (1 - R)^2 transmitted
@@ -185,7 +188,6 @@ def test_energy_ledger_diamond(device):
 
 
 def test_soap_film_spot_matches_tmm(device):
-    tmm = pytest.importorskip("tmm")
     thickness = 400.0
     scene = BenchScene.load(SCENES / "soap_film.toml").with_overrides(
         {"source.rays": 8, "render.wavelengths": 24, "object.0.coating.0.thickness_nm": thickness}

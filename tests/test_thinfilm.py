@@ -146,18 +146,16 @@ def test_zero_thickness_film_is_bare_interface(device, n1, n2):
         np.testing.assert_allclose(got1, want, atol=1e-12)
 
 
-def test_zero_layer_stack_equals_fresnel():
-    """Cross-check with the single-interface law of ``optics/fresnel.py`` once it is merged
-    (DESIGN.md: ``wo.optics.fresnel(cos_i, n1, n2) -> (rs, rp, ts, tp)``).  Both follow the
-    Born & Wolf / Hecht signs stated in ``thinfilm.py``; float32 there, hence 1e-5."""
-    fresnel_module = pytest.importorskip("warpoptics.optics.fresnel")
+def test_zero_layer_stack_equals_fresnel(device):
+    """Cross-check with the single-interface law ``wo.optics.fresnel(cos_i, n1, n2) -> (rs, rp, ts,
+    tp)`` (DESIGN.md).  Both follow the Born & Wolf / Hecht signs stated in ``thinfilm.py``;
+    float32 there, hence 1e-5."""
     ang = np.array([0.0, 20.0, 40.0, 60.0, 75.0, 89.0])
     for n1, n2 in ((1.0, 1.5), (1.5, 1.0), (1.0, 2.4 + 0.1j)):
-        want = tf.amplitudes(550.0, [], [], n1, n2, ang)
-        got = fresnel_module.fresnel(np.cos(np.radians(ang)), n1, n2)
+        want = tf.amplitudes(550.0, [], [], n1, n2, ang, device=device)
+        got = wo.optics.fresnel(np.cos(np.radians(ang)), n1, n2, device=device)
         for g, w in zip(got, want, strict=True):
-            g = np.asarray(g)
-            g = g[..., 0] + 1j * g[..., 1] if g.shape[-1:] == (2,) and not np.iscomplexobj(g) else g
+            assert np.iscomplexobj(g) and g.shape == ang.shape
             np.testing.assert_allclose(g, w, atol=1e-5)
 
 

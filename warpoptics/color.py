@@ -17,6 +17,7 @@ import numpy as np
 import warp as wp
 
 from .device import elementwise
+from .errors import InputError
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -102,10 +103,22 @@ def _gamut_clip_kernel(
     out[i] = gamut_clip_smits_meyer(xyz[i], max_value[i])
 
 
+def _finite(value, name: str) -> np.ndarray:
+    """``value`` as an array, or an InputError naming the argument and its first NaN/Inf."""
+    a = np.asarray(value)
+    bad = ~np.isfinite(a)
+    if np.any(bad):
+        raise InputError("must be finite", field=name, value=a[bad].flat[0], allowed="finite numbers")
+    return a
+
+
 def gamut_clip(xyz, max_value=1.0, *, device=None) -> np.ndarray:
     """Smits–Meyer gamut clip of XYZ colours ``(..., 3)`` -> linear sRGB in [0, max_value]."""
     (out,) = elementwise(
-        _gamut_clip_kernel, [(xyz, wp.vec3f), (max_value, wp.float32)], [wp.vec3f], device=device
+        _gamut_clip_kernel,
+        [(_finite(xyz, "xyz"), wp.vec3f), (_finite(max_value, "max_value"), wp.float32)],
+        [wp.vec3f],
+        device=device,
     )
     return out
 

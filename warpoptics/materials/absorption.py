@@ -183,7 +183,7 @@ def alpha_from_k(k, wavelength_nm, *, device=None) -> np.ndarray:
 
 def k_from_alpha(alpha_per_mm, wavelength_nm, *, device=None) -> np.ndarray:
     """Extinction coefficient k from alpha (1/mm, base e) at λ (nm): alpha λ / 4 pi."""
-    return _unit(_nonneg("alpha", alpha_per_mm), _wavelength(wavelength_nm), 1, device)
+    return _unit(_nonneg("alpha_per_mm", alpha_per_mm), _wavelength(wavelength_nm), 1, device)
 
 
 def alpha_from_absorbance_per_cm(absorbance_per_cm, *, device=None) -> np.ndarray:
@@ -194,7 +194,7 @@ def alpha_from_absorbance_per_cm(absorbance_per_cm, *, device=None) -> np.ndarra
 
 def absorbance_per_cm_from_alpha(alpha_per_mm, *, device=None) -> np.ndarray:
     """Decadic absorbance per cm from alpha (1/mm, base e): 10 alpha / ln(10)."""
-    a = _nonneg("alpha", alpha_per_mm)
+    a = _nonneg("alpha_per_mm", alpha_per_mm)
     return _unit(a, np.ones_like(a), 3, device)
 
 

@@ -819,6 +819,15 @@ def _index(v, name: str) -> np.ndarray:
     return a
 
 
+def _finite(value, name: str) -> np.ndarray:
+    """``value`` as an array, or an InputError naming the argument and its first NaN/Inf."""
+    a = np.asarray(value)
+    bad = ~np.isfinite(a)
+    if np.any(bad):
+        raise InputError("must be finite", field=name, value=a[bad].flat[0], allowed="finite numbers")
+    return a
+
+
 def _medium(m, name: str):
     """(no, ne, axis) from a scalar (isotropic) or a tuple (no, ne, axis)."""
     if isinstance(m, tuple):
@@ -840,12 +849,12 @@ def _pleo(cos_theta, no, ne, k_o, k_e, length, device):
     outs = elementwise(
         _n_e_kernel,
         [
-            (np.clip(np.asarray(cos_theta, dtype=np.float64), -1.0, 1.0), wp.float32),
+            (np.clip(_finite(cos_theta, "cos_theta").astype(np.float64), -1.0, 1.0), wp.float32),
             (_index(no, "no"), wp.float32),
             (_index(ne, "ne"), wp.float32),
-            (k_o, wp.float32),
-            (k_e, wp.float32),
-            (length, wp.float32),
+            (_finite(k_o, "k_o"), wp.float32),
+            (_finite(k_e, "k_e"), wp.float32),
+            (_finite(length, "length"), wp.float32),
         ],
         [wp.float32, wp.float32, wp.vec2f],
         device=device,

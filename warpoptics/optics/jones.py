@@ -33,6 +33,7 @@ import numpy as np
 import warp as wp
 
 from ..device import elementwise
+from ..errors import InputError
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -413,12 +414,21 @@ def _frame_kernel(
 # NumPy wrappers
 
 
-def _split(m) -> tuple[np.ndarray, np.ndarray]:
-    m = np.asarray(m)
+def _split(m, name: str) -> tuple[np.ndarray, np.ndarray]:
+    m = _finite(m, name)
     if m.shape[-2:] != (2, 2):
         raise ValueError(f"expected (..., 2, 2) matrices, got shape {m.shape}")
     flat = m.reshape(*m.shape[:-2], 4)
     return np.real(flat), np.imag(flat)
+
+
+def _finite(value, name: str) -> np.ndarray:
+    """``value`` as an array, or an InputError naming the argument and its first NaN/Inf."""
+    a = np.asarray(value)
+    bad = ~np.isfinite(a)
+    if np.any(bad):
+        raise InputError("must be finite", field=name, value=a[bad].flat[0], allowed="finite numbers")
+    return a
 
 
 def _join(re: np.ndarray, im: np.ndarray) -> np.ndarray:
@@ -428,8 +438,8 @@ def _join(re: np.ndarray, im: np.ndarray) -> np.ndarray:
 
 def jones_product(a, b, *, device=None) -> np.ndarray:
     """a @ b for (..., 2, 2) complex arrays, through ``jones_mul`` (float32)."""
-    ar, ai = _split(a)
-    br, bi = _split(b)
+    ar, ai = _split(a, "a")
+    br, bi = _split(b, "b")
     re, im = elementwise(
         _jones_mul_kernel,
         [(ar, wp.vec4), (ai, wp.vec4), (br, wp.vec4), (bi, wp.vec4)],
@@ -441,8 +451,8 @@ def jones_product(a, b, *, device=None) -> np.ndarray:
 
 def coherency_apply(m, j, *, device=None) -> np.ndarray:
     """J' = M J M^dagger for (..., 2, 2) complex arrays, through ``coherency_transform``."""
-    mr, mi = _split(m)
-    jr, ji = _split(j)
+    mr, mi = _split(m, "m")
+    jr, ji = _split(j, "j")
     re, im = elementwise(
         _coherency_transform_kernel,
         [(mr, wp.vec4), (mi, wp.vec4), (jr, wp.vec4), (ji, wp.vec4)],
@@ -455,21 +465,21 @@ def coherency_apply(m, j, *, device=None) -> np.ndarray:
 def stokes(j, *, device=None) -> np.ndarray:
     """Stokes vectors (..., 4) of coherency matrices (..., 2, 2): S0 = Jxx+Jyy, S1 = Jxx-Jyy,
     S2 = 2 Re Jxy, S3 = 2 Im Jxy (S3 > 0 right-circular, Born & Wolf naming)."""
-    jr, ji = _split(j)
+    jr, ji = _split(j, "j")
     s, _ = elementwise(_stokes_kernel, [(jr, wp.vec4), (ji, wp.vec4)], [wp.vec4, wp.float32], device=device)
     return s.astype(np.float64)
 
 
 def dop(j, *, device=None) -> np.ndarray:
     """Degree of polarization of coherency matrices (..., 2, 2), in [0, 1]."""
-    jr, ji = _split(j)
+    jr, ji = _split(j, "j")
     _, p = elementwise(_stokes_kernel, [(jr, wp.vec4), (ji, wp.vec4)], [wp.vec4, wp.float32], device=device)
     return p.astype(np.float64)
 
 
 def coherency_from_stokes(s, *, device=None) -> np.ndarray:
     """Coherency matrices (..., 2, 2) from Stokes vectors (..., 4)."""
-    re, im = elementwise(_from_stokes_kernel, [(s, wp.vec4)], [wp.vec4, wp.vec4], device=device)
+    re, im = elementwise(_from_stokes_kernel, [(_finite(s, "s"), wp.vec4)], [wp.vec4, wp.vec4], device=device)
     return _join(re, im)
 
 

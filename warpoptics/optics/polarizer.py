@@ -35,6 +35,7 @@ import numpy as np
 import warp as wp
 
 from ..device import elementwise
+from ..errors import InputError
 from .jones import Jones, coherency_from_stokes_vec, coherency_unpolarized
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -129,9 +130,18 @@ def _sheet_kernel(
 # NumPy wrappers (angles in degrees)
 
 
+def _finite(value, name: str) -> np.ndarray:
+    """``value`` as an array, or an InputError naming the argument and its first NaN/Inf."""
+    a = np.asarray(value)
+    bad = ~np.isfinite(a)
+    if np.any(bad):
+        raise InputError("must be finite", field=name, value=a[bad].flat[0], allowed="finite numbers")
+    return a
+
+
 def mueller_polarizer(angle_deg, *, device=None) -> np.ndarray:
     """Mueller matrices (..., 4, 4) of ideal linear polarizers at ``angle_deg`` (degrees)."""
-    theta = np.radians(np.asarray(angle_deg, dtype=np.float64))
+    theta = np.radians(_finite(angle_deg, "angle_deg").astype(np.float64))
     (m,) = elementwise(_mueller_kernel, [(theta, wp.float32)], [wp.mat44], device=device)
     return np.asarray(m, dtype=np.float64).reshape(*theta.shape, 4, 4)
 
@@ -140,9 +150,12 @@ def analyze(stokes, angle_deg, *, device=None) -> np.ndarray:
     """Stokes vectors (..., 4) after an ideal linear analyzer with its transmission axis at
     ``angle_deg`` (degrees from x toward y; broadcasts against ``stokes[..., 0]``).  Float64 in
     and out, the polarizer computed in float32 (``mueller_linear_polarizer``)."""
-    theta = np.radians(np.asarray(angle_deg, dtype=np.float64))
+    theta = np.radians(_finite(angle_deg, "angle_deg").astype(np.float64))
     (out,) = elementwise(
-        _analyze_kernel, [(stokes, wp.vec4d), (theta, wp.float32)], [wp.vec4d], device=device
+        _analyze_kernel,
+        [(_finite(stokes, "stokes"), wp.vec4d), (theta, wp.float32)],
+        [wp.vec4d],
+        device=device,
     )
     return out
 
