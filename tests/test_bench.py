@@ -17,7 +17,8 @@ import numpy as np
 import pytest
 
 import warpoptics as wo
-from warpoptics.bench import Bench, BenchScene, bench
+from warpoptics.pipelines.bench import Bench, bench
+from warpoptics.scene.bench import BenchScene
 from warpoptics.errors import InputError
 from warpoptics.spectra import cmf
 

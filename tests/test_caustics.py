@@ -20,7 +20,7 @@ import math
 import numpy as np
 import pytest
 
-from warpoptics.render import Renderer
+from warpoptics.pipelines.render import Renderer
 from warpoptics.scene import Scene
 
 N_GLASS = 1.5
@@ -292,7 +292,7 @@ def test_caustics_scene_renders_from_the_cli(tmp_path):
            "--set", "render.spp=1", "--set", "render.wavelengths=4"]
     res = subprocess.run(cmd, capture_output=True, text=True, timeout=600, cwd=root)
     assert res.returncode == 0, res.stderr[-2000:]
-    from warpoptics.image import read_image
+    from warpoptics.film.image import read_image
 
     data = read_image(out)
     assert np.isfinite(np.asarray(data[0] if isinstance(data, tuple) else data)).all()

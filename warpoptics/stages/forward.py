@@ -98,7 +98,7 @@ from .branches import (
 from .branches import (
     read_row as _read_row,
 )
-from .screen import ScreenSet, screen_hit
+from ..film.screen import ScreenSet, screen_hit
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 

@@ -71,8 +71,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from . import color
-from .errors import InputError
+from .. import color
+from ..errors import InputError
 
 __all__ = [
     "D65_WHITE_XYZ",
