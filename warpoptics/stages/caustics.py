@@ -484,8 +484,8 @@ class CausticStage:
 
     def __init__(self, config: CausticConfig, *, meshes, lamps, object_material, absorption_scale, object_axis,
                  camera, surfaces, geometry, materials, tables, device=None):
-        c = config
-        self.config = c
+        cfg = config
+        self.config = config
         self.device = get_device(device)
         dev = self.device
         self.camera = camera
@@ -539,23 +539,23 @@ class CausticStage:
         hi = (cent + rad[:, None]).max(axis=0)
         cp.all_centre = wp.vec3f(*(0.5 * (lo + hi)))
         cp.all_radius = float(0.5 * np.linalg.norm(hi - lo)) + 1.0e-3
-        strat = c.spectral if c.spectral in ("uniform", "importance", "stratified") else "importance"
-        count = int(c.wavelengths) if strat == "stratified" else 1
+        strat = cfg.spectral if cfg.spectral in ("uniform", "importance", "stratified") else "importance"
+        count = int(cfg.wavelengths) if strat == "stratified" else 1
         cp.strategy = strategy_id(strat)
         cp.count = count
-        self.paths = int(math.ceil(max(int(c.paths), 1) / count) * count)
+        self.paths = int(math.ceil(max(int(cfg.paths), 1) / count) * count)
         cp.splat_scale = float(count) / float(self.paths)
-        cp.seed = int(c.seed) * 7919 + 104729  # a stream apart from the camera pass's
-        cp.max_deposits = int(c.max_deposits)
+        cp.seed = int(cfg.seed) * 7919 + 104729  # a stream apart from the camera pass's
+        cp.max_deposits = int(cfg.max_deposits)
         self.params = cp
         self.forward = forward_params(
             np.asarray(object_material, dtype=np.int32) if len(object_material) else np.zeros(1, np.int32),
             np.asarray(absorption_scale, np.float32) if len(absorption_scale) else np.ones(1, np.float32),
             np.asarray(object_axis, np.float32).reshape(-1, 3) if len(object_axis) else np.zeros((1, 3)),
             -np.ones(max(len(object_material), 1), dtype=np.int32),  # no coatings (pipelines/caustics.py)
-            config=ForwardConfig(max_depth=c.max_depth, split_threshold=c.split_threshold,
-                                 max_deposits=c.max_deposits, seed=c.seed),
-            ambient=(c.ambient_index, 0.0), device=dev,
+            config=ForwardConfig(max_depth=cfg.max_depth, split_threshold=cfg.split_threshold,
+                                 max_deposits=cfg.max_deposits, seed=cfg.seed),
+            ambient=(cfg.ambient_index, 0.0), device=dev,
         )
         self.coatings = make_coating_stack([[]], device=dev)
         self.ledger = np.zeros(len(CAUSTIC_LEDGER))
