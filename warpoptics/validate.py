@@ -42,8 +42,12 @@ def check_keys(table: dict, allowed: Iterable[str], *, file: str | None = None, 
     allowed = set(allowed)
     for key in table:
         if key not in allowed:
-            raise InputError(f"unknown key{suggest(key, allowed)}", file=file, field=f"{prefix}{key}",
-                             allowed=", ".join(sorted(allowed)))
+            raise InputError(
+                f"unknown key{suggest(key, allowed)}",
+                file=file,
+                field=f"{prefix}{key}",
+                allowed=", ".join(sorted(allowed)),
+            )
 
 
 def _range_text(lo: float, hi: float, lo_open: bool) -> str:
@@ -51,8 +55,16 @@ def _range_text(lo: float, hi: float, lo_open: bool) -> str:
     return lo_s if hi == math.inf else f"{lo_s} and <= {hi}"
 
 
-def number(v, *, file: str | None = None, field: str, lo: float = -math.inf, hi: float = math.inf,
-           lo_open: bool = False, integer: bool = False):
+def number(
+    v,
+    *,
+    file: str | None = None,
+    field: str,
+    lo: float = -math.inf,
+    hi: float = math.inf,
+    lo_open: bool = False,
+    integer: bool = False,
+):
     """``v`` if it is a finite number (an ``int`` when ``integer``; never a bool) in ``[lo, hi]``
     (``(lo, hi]`` when ``lo_open``), else an InputError naming ``field``."""
     ok_type = isinstance(v, int) if integer else isinstance(v, (int, float))
@@ -62,7 +74,9 @@ def number(v, *, file: str | None = None, field: str, lo: float = -math.inf, hi:
     if not math.isfinite(v):
         raise InputError("must be a finite number", file=file, field=field, value=v)
     if v < lo or v > hi or (lo_open and v == lo):
-        raise InputError("out of range", file=file, field=field, value=v, allowed=_range_text(lo, hi, lo_open))
+        raise InputError(
+            "out of range", file=file, field=field, value=v, allowed=_range_text(lo, hi, lo_open)
+        )
     return v
 
 
@@ -81,7 +95,7 @@ def choice(v, allowed: Iterable[str], *, file: str | None = None, field: str) ->
 
 
 def boolean(v, *, file: str | None = None, field: str) -> bool:
-    """``v`` if it is ``True`` or ``False``: ``"no"``, ``0`` or ``1`` are refused, not taken as truth values."""
+    """``v`` if it is ``True`` or ``False``; ``"no"``, ``0`` or ``1`` are refused (not truth values)."""
     if not isinstance(v, bool):
         raise InputError("must be true or false", file=file, field=field, value=v)
     return v
@@ -102,20 +116,35 @@ def unit_vec3(v, *, file: str | None = None, field: str) -> tuple[float, float, 
     return x
 
 
-def pair(v, *, file: str | None = None, field: str, lo: float = 0.0, hi: float = math.inf,
-         lo_open: bool = True, integer: bool = False, what: str = "[width, height] in mm") -> tuple:
+def pair(
+    v,
+    *,
+    file: str | None = None,
+    field: str,
+    lo: float = 0.0,
+    hi: float = math.inf,
+    lo_open: bool = True,
+    integer: bool = False,
+    what: str = "[width, height] in mm",
+) -> tuple:
     """Two numbers ``[a, b]`` (sizes > 0 by default), each in range."""
     if not isinstance(v, (list, tuple)) or len(v) != 2:
         raise InputError(f"must be a list of two numbers {what}", file=file, field=field, value=v)
     conv = int if integer else float
-    return tuple(conv(number(c, file=file, field=field, lo=lo, hi=hi, lo_open=lo_open, integer=integer))
-                 for c in v)
+    return tuple(
+        conv(number(c, file=file, field=field, lo=lo, hi=hi, lo_open=lo_open, integer=integer)) for c in v
+    )
 
 
 def rgb(v, *, file: str | None = None, field: str, hi: float = math.inf) -> tuple[float, float, float]:
     """Linear sRGB ``[r, g, b]``, each component in ``[0, hi]``."""
     x = vec3(v, file=file, field=field)
     if min(x) < 0 or max(x) > hi:
-        raise InputError("out of range", file=file, field=field, value=list(x),
-                         allowed=f"linear sRGB components >= 0 and <= {hi}" if hi != math.inf else ">= 0")
+        raise InputError(
+            "out of range",
+            file=file,
+            field=field,
+            value=list(x),
+            allowed=f"linear sRGB components >= 0 and <= {hi}" if hi != math.inf else ">= 0",
+        )
     return x

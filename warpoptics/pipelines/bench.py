@@ -13,15 +13,15 @@ import numpy as np
 import warp as wp
 
 from ..device import get_device, launch_tiled, load_module
+from ..film.screen import Screen, ScreenImage, screen_set
 from ..geometry import cuts
 from ..geometry.query import GeometryScene
 from ..materials import get as get_material
 from ..materials.dispersion import build_material_table
 from ..optics.thinfilm import make_coating_stack
+from ..scene.bench import BenchScene
 from ..spectra import cmf
 from ..stages.coated import layer_index_samples
-from ..film.screen import Screen, ScreenImage, screen_set
-from ..scene.bench import BenchScene
 from ..stages.forward import LEDGER, ForwardConfig, forward_params, forward_trace_kernel
 from .objects import build_objects
 

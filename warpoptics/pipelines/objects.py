@@ -43,16 +43,24 @@ def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -
                 mesh = cache[key]
             elif ob.shape == "mesh":
                 film = getattr(ob, "film", None)  # films: shells and film surfaces may be open meshes
-                mesh = load_mesh(ob.path, repair=bool(ob.params.get("repair", False)),
-                                 closed=film is None or film.surface == "solid")
+                mesh = load_mesh(
+                    ob.path,
+                    repair=bool(ob.params.get("repair", False)),
+                    closed=film is None or film.surface == "solid",
+                )
             elif ob.shape == "gemcad":
                 mesh = read_gemcad(ob.path, diameter=float(ob.params.get("diameter", 1.0)))
             else:
                 mesh = getattr(cuts, ob.shape)(**ob.params)
         except InputError as exc:
             if exc.file is None:
-                exc = InputError(exc.message, file=file, field=f"{where}.{exc.field or 'shape'}",
-                                 value=exc.value, allowed=exc.allowed)
+                exc = InputError(
+                    exc.message,
+                    file=file,
+                    field=f"{where}.{exc.field or 'shape'}",
+                    value=exc.value,
+                    allowed=exc.allowed,
+                )
             raise exc from None
         except (ValueError, TypeError) as exc:
             raise InputError(str(exc), file=file, field=f"{where}.shape", value=ob.shape) from None
@@ -62,14 +70,17 @@ def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -
             mat = material_from_spec(ob.material)
         except InputError as exc:
             sub = f".{exc.field}" if exc.field and exc.field != "material" else ""
-            raise InputError(exc.message, file=file, field=f"{where}.material{sub}", value=exc.value,
-                             allowed=exc.allowed) from None
+            raise InputError(
+                exc.message, file=file, field=f"{where}.material{sub}", value=exc.value, allowed=exc.allowed
+            ) from None
         mats.append(mat)
         axes.append(ob.optic_axis)
     return SceneObjects(meshes=meshes, materials=mats, axes=axes)
 
 
-def world_axes(objects: Sequence[ObjectConfig], built: SceneObjects, *, file: str | None = None) -> np.ndarray:
+def world_axes(
+    objects: Sequence[ObjectConfig], built: SceneObjects, *, file: str | None = None
+) -> np.ndarray:
     """Optic axis of each object in world space (zero rows for isotropic materials): the object's
     ``optic_axis`` or its material's, both in the object frame, turned by the object's rotation."""
     mats, axes = built.materials, built.axes
@@ -77,12 +88,14 @@ def world_axes(objects: Sequence[ObjectConfig], built: SceneObjects, *, file: st
     for i, (ob, mat, ax) in enumerate(zip(objects, mats, axes, strict=True)):
         if not isinstance(mat, Uniaxial):
             if ax is not None:
-                raise InputError("an optic axis needs a uniaxial material", file=file,
-                                 field=f"object.{i}.optic_axis", value=list(ax))
+                raise InputError(
+                    "an optic axis needs a uniaxial material",
+                    file=file,
+                    field=f"object.{i}.optic_axis",
+                    value=list(ax),
+                )
             continue
         a = np.asarray(ax if ax is not None else mat.optic_axis, dtype=np.float64)
         a = ob.rotation_matrix() @ a
         out[i] = a / np.linalg.norm(a)
     return out
-
-

@@ -92,6 +92,24 @@ class BenchConfig:
     ambient_index: float = 1.0
     exposure: float = 0.0
     tone: str = "filmic"
+    source: str | None = field(default=None, compare=False)  # scene file, for messages
+
+    def __post_init__(self) -> None:
+        file = self.source
+        for k, lo, hi in (
+            ("wavelengths", 1, 4096),
+            ("max_depth", 0, 256),
+            ("max_deposits", 1, 1024),
+            ("seed", 0, 2**31 - 1),
+        ):
+            val.integer(getattr(self, k), file=file, field=f"render.{k}", lo=lo, hi=hi)
+        for k, lo, hi in (
+            ("split_threshold", 0.0, 1.0),
+            ("ambient_index", 1.0, 10.0),
+            ("exposure", -40.0, 40.0),
+        ):
+            val.number(getattr(self, k), file=file, field=f"render.{k}", lo=lo, hi=hi)
+        val.choice(self.tone, TONE_CURVES, file=file, field="render.tone")
 
 
 def is_bench_scene(path: str | Path) -> bool:
@@ -106,21 +124,8 @@ def is_bench_scene(path: str | Path) -> bool:
 def _render_config(t: dict, file) -> BenchConfig:
     if not isinstance(t, dict):
         raise InputError("must be a table [render]", file=file, field="render")
-    val.check_keys(t, set(BenchConfig.__dataclass_fields__), file=file, prefix="render.")
-    for k, lo, hi in (
-        ("wavelengths", 1, 4096),
-        ("max_depth", 0, 256),
-        ("max_deposits", 1, 1024),
-        ("seed", 0, 2**31 - 1),
-    ):
-        if k in t:
-            val.number(t[k], file=file, field=f"render.{k}", lo=lo, hi=hi, integer=True)
-    for k, lo, hi in (("split_threshold", 0.0, 1.0), ("ambient_index", 1.0, 10.0), ("exposure", -40.0, 40.0)):
-        if k in t:
-            val.number(t[k], file=file, field=f"render.{k}", lo=lo, hi=hi)
-    if "tone" in t:
-        val.choice(t["tone"], TONE_CURVES, file=file, field="render.tone")
-    return BenchConfig(**t)
+    val.check_keys(t, set(BenchConfig.__dataclass_fields__) - {"source"}, file=file, prefix="render.")
+    return BenchConfig(**t, source=file)
 
 
 def _source(t: dict, file) -> Beam:
@@ -186,8 +191,7 @@ def _sensor(t: dict, index: int, file) -> Screen:
                     "must be a list of two numbers [width, height]", file=file, field=prefix + k, value=v
                 )
             kw[k] = tuple(
-                val.number(c, file=file, field=prefix + k, lo=0, lo_open=True, integer=integer)
-                for c in v
+                val.number(c, file=file, field=prefix + k, lo=0, lo_open=True, integer=integer) for c in v
             )
     try:
         return Screen(**kw)
@@ -250,8 +254,12 @@ class BenchScene:
             if ob.film is not None and (ob.film.surface != "solid" or ob.film.profile != "uniform"):
                 # the forward tracer coats whole solids with a uniform stack (stages/forward.py)
                 bad = "surface" if ob.film.surface != "solid" else "film_thickness"
-                raise InputError("a bench object takes a uniform coating only", file=file,
-                                 field=f"object.{i}.{bad}", allowed="coating = [...] on a solid")
+                raise InputError(
+                    "a bench object takes a uniform coating only",
+                    file=file,
+                    field=f"object.{i}.{bad}",
+                    allowed="coating = [...] on a solid",
+                )
             objects.append(ob)
         render = _render_config(data.get("render", {}), file)
         return cls(

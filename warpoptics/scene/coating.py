@@ -38,7 +38,9 @@ def film_config(table: dict, index: int, file: str | None) -> FilmConfig | None:
     if not any(k in table for k in FILM_KEYS):
         return None
     prefix = f"object.{index}."
-    surface = val.choice(table.get("surface", "solid"), tuple(SURFACE_KINDS), file=file, field=prefix + "surface")
+    surface = val.choice(
+        table.get("surface", "solid"), tuple(SURFACE_KINDS), file=file, field=prefix + "surface"
+    )
     coat = table.get("coating", [])
     if isinstance(coat, dict):
         coat = [coat]
@@ -48,30 +50,45 @@ def film_config(table: dict, index: int, file: str | None) -> FilmConfig | None:
     for j, layer in enumerate(coat):
         f = f"{prefix}coating.{j}."
         if not isinstance(layer, dict):
-            raise InputError("must be a table { material = ..., thickness_nm = ... }", file=file, field=f[:-1], value=layer)
+            raise InputError(
+                "must be a table { material = ..., thickness_nm = ... }", file=file, field=f[:-1], value=layer
+            )
         val.check_keys(layer, _LAYER_KEYS, file=file, prefix=f)
         if "thickness_nm" not in layer:
             raise InputError("missing key", file=file, field=f + "thickness_nm")
         d = float(val.number(layer["thickness_nm"], file=file, field=f + "thickness_nm", lo=0.0, hi=1.0e6))
         if ("n" in layer) == ("material" in layer):
-            raise InputError('a layer needs exactly one of n = ... or material = "name"', file=file, field=f + "material")
+            raise InputError(
+                'a layer needs exactly one of n = ... or material = "name"', file=file, field=f + "material"
+            )
         if "n" in layer:
             n = float(val.number(layer["n"], file=file, field=f + "n", lo=1.0e-3, hi=100.0))
             k = float(val.number(layer.get("k", 0.0), file=file, field=f + "k", lo=0.0, hi=100.0))
             layers.append((complex(n, k), d))
         else:
             if "k" in layer:
-                raise InputError("k goes with n, not with material", file=file, field=f + "k", value=layer["k"])
+                raise InputError(
+                    "k goes with n, not with material", file=file, field=f + "k", value=layer["k"]
+                )
             layer_material(layer["material"], file, f + "material")  # validate now
             layers.append((layer["material"], d))
     if surface in ("shell", "film") and not layers:
-        raise InputError(f'a surface = "{surface}" object needs a coating (its film layers)', file=file,
-                         field=prefix + "coating")
+        raise InputError(
+            f'a surface = "{surface}" object needs a coating (its film layers)',
+            file=file,
+            field=prefix + "coating",
+        )
     th = table.get("film_thickness", {"profile": "uniform"})
     if not isinstance(th, dict):
-        raise InputError("must be a table { profile = ... }", file=file, field=prefix + "film_thickness", value=th)
-    profile = val.choice(th.get("profile", "uniform"), tuple(THICKNESS_PROFILES), file=file,
-                         field=prefix + "film_thickness.profile")
+        raise InputError(
+            "must be a table { profile = ... }", file=file, field=prefix + "film_thickness", value=th
+        )
+    profile = val.choice(
+        th.get("profile", "uniform"),
+        tuple(THICKNESS_PROFILES),
+        file=file,
+        field=prefix + "film_thickness.profile",
+    )
     val.check_keys(th, _PROFILE_KEYS[profile], file=file, prefix=prefix + "film_thickness.")
     params = dict(_PROFILE_DEFAULTS.get(profile, {}))
     for k, v in th.items():
@@ -79,17 +96,23 @@ def film_config(table: dict, index: int, file: str | None) -> FilmConfig | None:
             continue
         fld = prefix + "film_thickness." + k
         if k in ("seed", "octaves"):
-            params[k] = val.integer(v, file=file, field=fld, lo=0 if k == "seed" else 1,
-                                    hi=2**31 - 1 if k == "seed" else 12)
+            params[k] = val.integer(
+                v, file=file, field=fld, lo=0 if k == "seed" else 1, hi=2**31 - 1 if k == "seed" else 12
+            )
         else:
             params[k] = float(val.number(v, file=file, field=fld, lo=0.0, hi=1.0e6))
     if profile != "uniform" and not layers:
         raise InputError("a thickness profile needs a coating", file=file, field=prefix + "film_thickness")
-    roughness = float(val.number(table.get("roughness", 0.0), file=file, field=prefix + "roughness", lo=0.0, hi=1.0))
+    roughness = float(
+        val.number(table.get("roughness", 0.0), file=file, field=prefix + "roughness", lo=0.0, hi=1.0)
+    )
     if roughness > 0.0 and surface != "film":
-        raise InputError('roughness applies to surface = "film" only', file=file, field=prefix + "roughness", value=roughness)
+        raise InputError(
+            'roughness applies to surface = "film" only',
+            file=file,
+            field=prefix + "roughness",
+            value=roughness,
+        )
     return FilmConfig(
         surface=surface, layers=tuple(layers), profile=profile, profile_params=params, roughness=roughness
     )
-
-

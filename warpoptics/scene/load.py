@@ -16,7 +16,15 @@ from ..errors import InputError
 from ..stages.camera import CameraConfig
 from ..stages.environment import EnvironmentConfig
 from ..stages.surfaces import LampConfig, SurfaceConfig
-from .schema import ObjectConfig, RenderConfig, light_config, object_configs, render_config, surface_config, view_config
+from .schema import (
+    ObjectConfig,
+    RenderConfig,
+    light_config,
+    object_configs,
+    render_config,
+    surface_config,
+    view_config,
+)
 
 __all__ = ["Scene", "set_dotted", "parse_value"]
 
@@ -78,20 +86,31 @@ class Scene:
         if not lights and lamps:
             lights = (EnvironmentConfig(map="constant", intensity=0.0, source=file),)  # lamps only: black sky
         if len(lights) != 1:
-            raise InputError("exactly one environment light is supported", file=file, field="light",
-                             value=len(lights))
+            raise InputError(
+                "exactly one environment light is supported", file=file, field="light", value=len(lights)
+            )
         surf_t = data.get("surface", [])
         if not isinstance(surf_t, list):
             raise InputError("must be an array of tables [[surface]]", file=file, field="surface")
         surfaces = tuple(surface_config(t, i, file, base_dir) for i, t in enumerate(surf_t))
         objs_t = data.get("object", [])
         if not isinstance(objs_t, list) or (not objs_t and not surfaces):
-            raise InputError("a scene needs at least one [[object]] or [[surface]]", file=file,
-                             field="object")
+            raise InputError(
+                "a scene needs at least one [[object]] or [[surface]]", file=file, field="object"
+            )
         objects = tuple(ob for i, t in enumerate(objs_t) for ob in object_configs(t, i, file, base_dir))
         view = view_config(data["view"], file) if "view" in data else None
-        return cls(camera=camera, render=render, lights=lights, objects=objects, data=copy.deepcopy(data),
-                   path=path, view=view, surfaces=surfaces, lamps=lamps)
+        return cls(
+            camera=camera,
+            render=render,
+            lights=lights,
+            objects=objects,
+            data=copy.deepcopy(data),
+            path=path,
+            view=view,
+            surfaces=surfaces,
+            lamps=lamps,
+        )
 
     def with_overrides(self, overrides: dict[str, Any] | None = None, **kw) -> Scene:
         """A copy with dotted-path overrides applied, e.g. ``{"render.spp": 4,
@@ -113,15 +132,18 @@ def set_dotted(data: dict, dotted: str, value, *, file: str = "<scene>") -> None
     """Set ``data[a][b]...`` from ``"a.b.c"``; integers index arrays of tables (``object.0``)."""
     parts = dotted.split(".")
     if len(parts) < 2:
-        raise InputError("expected a dotted path like render.spp or object.0.diameter", file=file, field=dotted)
+        raise InputError(
+            "expected a dotted path like render.spp or object.0.diameter", file=file, field=dotted
+        )
     node: Any = data
     for i, part in enumerate(parts[:-1]):
         if isinstance(node, list):
             try:
                 node = node[int(part)]
             except (ValueError, IndexError):
-                raise InputError(f"no element {part!r} (there are {len(node)})", file=file,
-                                 field=".".join(parts[: i + 1])) from None
+                raise InputError(
+                    f"no element {part!r} (there are {len(node)})", file=file, field=".".join(parts[: i + 1])
+                ) from None
         else:
             if part not in node:
                 if part in ("object", "light", "surface"):

@@ -21,13 +21,23 @@ from .. import validate as val
 from ..errors import InputError
 from ..film.views import parse_view
 from ..geometry import cuts
-from ..stages.camera import CameraConfig
 from ..stages.environment import EnvironmentConfig
 from ..stages.surfaces import BSDF_KINDS, LAMP_KINDS, MIS_MODES, LampConfig, SurfaceConfig
 from .coating import film_config
 
-__all__ = ["RenderConfig", "ObjectConfig", "render_config", "object_configs", "light_config", "surface_config",
-           "view_config", "object_config", "SHAPES", "SPECTRAL_MODES", "TONE_CURVES"]
+__all__ = [
+    "RenderConfig",
+    "ObjectConfig",
+    "render_config",
+    "object_configs",
+    "light_config",
+    "surface_config",
+    "view_config",
+    "object_config",
+    "SHAPES",
+    "SPECTRAL_MODES",
+    "TONE_CURVES",
+]
 
 SPECTRAL_MODES = ("rgb3", "uniform", "importance", "stratified")
 BIREFRINGENCE_MODES = ("exact", "approx")
@@ -76,21 +86,36 @@ class RenderConfig:
         val.choice(self.mis, MIS_CHOICES, file=file, field=f("mis"))
         for k in ("polarization", "stone_shadows", "caustics", "adaptive"):
             val.boolean(getattr(self, k), file=file, field=f(k))
-        for k, lo, hi in (("wavelengths", 1, 4096), ("max_depth", 0, 256), ("max_splits", 0, 4096),
-                          ("spp", 1, 1 << 20), ("seed", 0, 2**31 - 1), ("diffuse_depth", 1, 8),
-                          ("caustic_paths", 0, 1 << 34), ("pilot_spp", 0, 1 << 20)):
+        for k, lo, hi in (
+            ("wavelengths", 1, 4096),
+            ("max_depth", 0, 256),
+            ("max_splits", 0, 4096),
+            ("spp", 1, 1 << 20),
+            ("seed", 0, 2**31 - 1),
+            ("diffuse_depth", 1, 8),
+            ("caustic_paths", 0, 1 << 34),
+            ("pilot_spp", 0, 1 << 20),
+        ):
             val.integer(getattr(self, k), file=file, field=f(k), lo=lo, hi=hi)
-        for k, lo, hi in (("split_threshold", 0.0, 1.0), ("rr_threshold", 0.0, 1.0), ("exposure", -40.0, 40.0),
-                          ("ambient_index", 1.0, 10.0)):
+        for k, lo, hi in (
+            ("split_threshold", 0.0, 1.0),
+            ("rr_threshold", 0.0, 1.0),
+            ("exposure", -40.0, 40.0),
+            ("ambient_index", 1.0, 10.0),
+        ):
             val.number(getattr(self, k), file=file, field=f(k), lo=lo, hi=hi)
         if self.adaptive and not 2 <= self.pilot < self.spp:
-            raise InputError(f"adaptive sampling needs a pilot of 2 or more samples and fewer than spp = {self.spp}"
-                             " (spp >= 3; pilot_spp 0 takes spp / 4)",
-                             file=file, field=f("pilot_spp") if self.pilot_spp else f("spp"),
-                             value=self.pilot_spp if self.pilot_spp else self.spp)
+            raise InputError(
+                f"adaptive sampling needs a pilot of 2 or more samples and fewer than spp = {self.spp}"
+                " (spp >= 3; pilot_spp 0 takes spp / 4)",
+                file=file,
+                field=f("pilot_spp") if self.pilot_spp else f("spp"),
+                value=self.pilot_spp if self.pilot_spp else self.spp,
+            )
         if self.spectral == "rgb3" and self.wavelengths not in (3, _DEFAULT_WAVELENGTHS):
-            raise InputError("rgb3 uses exactly 3 wavelengths", file=file, field=f("wavelengths"),
-                             value=self.wavelengths)
+            raise InputError(
+                "rgb3 uses exactly 3 wavelengths", file=file, field=f("wavelengths"), value=self.wavelengths
+            )
 
     @property
     def pilot(self) -> int:
@@ -111,21 +136,63 @@ def render_config(table: dict, file: str | None) -> RenderConfig:
         raise InputError("must be a table [render]", file=file, field="render", value=table)
     val.check_keys(table, _RENDER_FIELDS, file=file, prefix="render.")
     if table.get("spectral") == "rgb3" and "wavelengths" in table and table["wavelengths"] != 3:
-        raise InputError("rgb3 uses exactly 3 wavelengths", file=file, field="render.wavelengths",
-                         value=table["wavelengths"])
+        raise InputError(
+            "rgb3 uses exactly 3 wavelengths",
+            file=file,
+            field="render.wavelengths",
+            value=table["wavelengths"],
+        )
     return RenderConfig(**table, source=file)
 
 
 def _shape_functions() -> dict:
-    names = ["round_brilliant", "oval", "pear", "marquise", "emerald", "princess", "prism", "plate", "cube",
-             "sphere", "step_cut", "wavy_sheet", "rhomb"]
+    names = [
+        "round_brilliant",
+        "oval",
+        "pear",
+        "marquise",
+        "emerald",
+        "princess",
+        "prism",
+        "plate",
+        "cube",
+        "sphere",
+        "step_cut",
+        "wavy_sheet",
+        "rhomb",
+    ]
     return {n: getattr(cuts, n) for n in names if hasattr(cuts, n)}
 
 
-SHAPES = ("round_brilliant", "oval", "pear", "marquise", "emerald", "princess", "prism", "plate", "cube", "sphere",
-          "step_cut", "rhomb", "mesh", "gemcad", "wavy_sheet")
-_OBJECT_COMMON = {"shape", "material", "position", "rotation", "scale", "optic_axis", "absorption_scale", "path",
-                  "name", "instances"}
+SHAPES = (
+    "round_brilliant",
+    "oval",
+    "pear",
+    "marquise",
+    "emerald",
+    "princess",
+    "prism",
+    "plate",
+    "cube",
+    "sphere",
+    "step_cut",
+    "rhomb",
+    "mesh",
+    "gemcad",
+    "wavy_sheet",
+)
+_OBJECT_COMMON = {
+    "shape",
+    "material",
+    "position",
+    "rotation",
+    "scale",
+    "optic_axis",
+    "absorption_scale",
+    "path",
+    "name",
+    "instances",
+}
 _OBJECT_COMMON |= {"surface", "coating", "film_thickness", "roughness"}  # films: stages/coated.py
 
 
@@ -148,7 +215,14 @@ class ObjectConfig:
     def transform(self) -> np.ndarray:
         """4x4 object -> world transform (scale, then rotations x, y, z, then translation)."""
         rx, ry, rz = (math.radians(a) for a in self.rotation)
-        cx, sx, cy, sy, cz, sz = math.cos(rx), math.sin(rx), math.cos(ry), math.sin(ry), math.cos(rz), math.sin(rz)
+        cx, sx, cy, sy, cz, sz = (
+            math.cos(rx),
+            math.sin(rx),
+            math.cos(ry),
+            math.sin(ry),
+            math.cos(rz),
+            math.sin(rz),
+        )
         mx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
         my = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
         mz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
@@ -189,8 +263,9 @@ def object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfig
     if "material" in table:
         m = table["material"]
         if not isinstance(m, (str, dict)):
-            raise InputError("must be a material name or an inline table", file=file, field=prefix + "material",
-                             value=m)
+            raise InputError(
+                "must be a material name or an inline table", file=file, field=prefix + "material", value=m
+            )
         kw["material"] = m
     for k in ("position", "rotation"):
         if k in table:
@@ -198,17 +273,21 @@ def object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfig
     if "optic_axis" in table:
         ax = val.vec3(table["optic_axis"], file=file, field=prefix + "optic_axis")
         if np.linalg.norm(ax) == 0:
-            raise InputError("the optic axis must not be zero", file=file, field=prefix + "optic_axis", value=list(ax))
+            raise InputError(
+                "the optic axis must not be zero", file=file, field=prefix + "optic_axis", value=list(ax)
+            )
         kw["optic_axis"] = ax
     if "scale" in table:
-        kw["scale"] = float(val.number(table["scale"], file=file, field=prefix + "scale", lo=1.0e-4, hi=1.0e4))
+        kw["scale"] = float(
+            val.number(table["scale"], file=file, field=prefix + "scale", lo=1.0e-4, hi=1.0e4)
+        )
     if "absorption_scale" in table:
         kw["absorption_scale"] = float(
             val.number(table["absorption_scale"], file=file, field=prefix + "absorption_scale", lo=0.0)
         )
     if shape in ("mesh", "gemcad"):
         if "path" not in table or not isinstance(table["path"], str):
-            raise InputError("a mesh object needs path = \"file\"", file=file, field=prefix + "path")
+            raise InputError('a mesh object needs path = "file"', file=file, field=prefix + "path")
         p = Path(table["path"])
         if not p.is_absolute():
             p = base_dir / p
@@ -230,10 +309,13 @@ def object_configs(table: dict, index: int, file, base_dir: Path) -> list[Object
     inst = table["instances"]
     field_name = f"object.{index}.instances"
     if not isinstance(inst, list) or not inst:
-        raise InputError("must be a non-empty list of positions [[x, y, z], ...]", file=file,
-                         field=field_name, value=inst)
-    return [dataclasses.replace(ob, position=val.vec3(p, file=file, field=f"{field_name}.{j}"))
-            for j, p in enumerate(inst)]
+        raise InputError(
+            "must be a non-empty list of positions [[x, y, z], ...]", file=file, field=field_name, value=inst
+        )
+    return [
+        dataclasses.replace(ob, position=val.vec3(p, file=file, field=f"{field_name}.{j}"))
+        for j, p in enumerate(inst)
+    ]
 
 
 _LIGHT_KEYS = {"type", "map", "intensity", "tint", "rotation", "polarizer"}
@@ -261,8 +343,9 @@ def light_config(
             m = str(base_dir / m)  # a map file is found next to the scene file, like mesh paths
         kw["map"] = m
     if "intensity" in table:
-        kw["intensity"] = float(val.number(table["intensity"], file=file, field=prefix + "intensity", lo=0.0,
-                                          hi=1.0e12))
+        kw["intensity"] = float(
+            val.number(table["intensity"], file=file, field=prefix + "intensity", lo=0.0, hi=1.0e12)
+        )
     if "tint" in table:
         kw["tint"] = val.vec3(table["tint"], file=file, field=prefix + "tint")
         if min(kw["tint"]) < 0:
@@ -290,8 +373,9 @@ def view_config(table, file) -> str | None:
     try:
         k, arg = parse_view(kind, angle, field="view.kind")
     except InputError as exc:
-        raise InputError(exc.message, file=file, field=exc.field, value=exc.value,
-                         allowed=exc.allowed) from None
+        raise InputError(
+            exc.message, file=file, field=exc.field, value=exc.value, allowed=exc.allowed
+        ) from None
     return None if k == "none" else (k if arg is None else f"{k}:{arg}")
 
 
@@ -319,15 +403,17 @@ def _lamp_config(table: dict, ltype: str, prefix: str, file) -> LampConfig:
     if "tint" in table:
         kw["tint"] = val.rgb(table["tint"], file=file, field=prefix + "tint")
     if "angular_radius" in table:
-        kw["angular_radius"] = float(val.number(table["angular_radius"], file=file,
-                                             field=prefix + "angular_radius", lo=0.0, hi=45.0))
+        kw["angular_radius"] = float(
+            val.number(table["angular_radius"], file=file, field=prefix + "angular_radius", lo=0.0, hi=45.0)
+        )
     for k in ("cone_angle", "blend"):
         if k in table:
             kw[k] = float(val.number(table[k], file=file, field=prefix + k, lo=0.0, hi=90.0))
     if "double_sided" in table:
         if not isinstance(table["double_sided"], bool):
-            raise InputError("must be true or false", file=file, field=prefix + "double_sided",
-                             value=table["double_sided"])
+            raise InputError(
+                "must be true or false", file=file, field=prefix + "double_sided", value=table["double_sided"]
+            )
         kw["double_sided"] = table["double_sided"]
     if "up" in kw and "normal" in kw and np.linalg.norm(np.cross(kw["up"], kw["normal"])) < 1e-9:
         raise InputError("is parallel to the normal", file=file, field=prefix + "up", value=list(kw["up"]))
@@ -336,10 +422,34 @@ def _lamp_config(table: dict, ltype: str, prefix: str, file) -> LampConfig:
 
 SURFACE_TYPES = ("plane", "rectangle")
 _SURFACE_KEYS = {
-    "plane": {"type", "height", "size", "bsdf", "roughness", "ior", "color", "checker", "square", "texture",
-              "tile"},
-    "rectangle": {"type", "center", "normal", "up", "size", "bsdf", "roughness", "ior", "color", "checker",
-                  "square", "texture", "tile"},
+    "plane": {
+        "type",
+        "height",
+        "size",
+        "bsdf",
+        "roughness",
+        "ior",
+        "color",
+        "checker",
+        "square",
+        "texture",
+        "tile",
+    },
+    "rectangle": {
+        "type",
+        "center",
+        "normal",
+        "up",
+        "size",
+        "bsdf",
+        "roughness",
+        "ior",
+        "color",
+        "checker",
+        "square",
+        "texture",
+        "tile",
+    },
 }
 
 
@@ -356,8 +466,11 @@ def surface_config(table: dict, index: int, file, base_dir: Path) -> SurfaceConf
     kw: dict[str, Any] = {}
     if stype == "plane":
         h = float(val.number(table.get("height", 0.0), file=file, field=prefix + "height"))
-        s = float(val.number(table.get("size", 1000.0), file=file, field=prefix + "size", lo=0.0, hi=1.0e6,
-                          lo_open=True))
+        s = float(
+            val.number(
+                table.get("size", 1000.0), file=file, field=prefix + "size", lo=0.0, hi=1.0e6, lo_open=True
+            )
+        )
         kw.update(center=(0.0, 0.0, h), normal=(0.0, 0.0, 1.0), size=(s, s), up=(0.0, 1.0, 0.0))
     else:
         for k in ("normal", "up"):
@@ -368,34 +481,42 @@ def surface_config(table: dict, index: int, file, base_dir: Path) -> SurfaceConf
         if "size" in table:
             kw["size"] = val.pair(table["size"], file=file, field=prefix + "size", hi=1.0e6)
         if "up" in kw and np.linalg.norm(np.cross(kw["up"], kw.get("normal", (0.0, 0.0, 1.0)))) < 1e-9:
-            raise InputError("is parallel to the normal", file=file, field=prefix + "up",
-                             value=list(kw["up"]))
+            raise InputError(
+                "is parallel to the normal", file=file, field=prefix + "up", value=list(kw["up"])
+            )
     if "bsdf" in table:
         kw["bsdf"] = val.choice(table["bsdf"], tuple(BSDF_KINDS), file=file, field=prefix + "bsdf")
     if "roughness" in table:
-        kw["roughness"] = float(val.number(table["roughness"], file=file, field=prefix + "roughness",
-                                        lo=0.01, hi=1.0))
+        kw["roughness"] = float(
+            val.number(table["roughness"], file=file, field=prefix + "roughness", lo=0.01, hi=1.0)
+        )
     if "ior" in table:
         kw["ior"] = float(val.number(table["ior"], file=file, field=prefix + "ior", lo=1.0, hi=4.0))
     albedos = [k for k in ("color", "checker", "texture") if k in table]
     if len(albedos) > 1:
-        raise InputError("give one albedo: color, checker or texture", file=file, field=prefix + albedos[1],
-                         allowed="one of color, checker, texture")
+        raise InputError(
+            "give one albedo: color, checker or texture",
+            file=file,
+            field=prefix + albedos[1],
+            allowed="one of color, checker, texture",
+        )
     if "color" in table:
         kw["color"] = val.rgb(table["color"], file=file, field=prefix + "color", hi=1.0)
     if "checker" in table:
         c = table["checker"]
         if not isinstance(c, list) or len(c) != 2:
-            raise InputError("must be two colours [[r, g, b], [r, g, b]]", file=file,
-                             field=prefix + "checker", value=c)
+            raise InputError(
+                "must be two colours [[r, g, b], [r, g, b]]", file=file, field=prefix + "checker", value=c
+            )
         kw["albedo"] = "checker"
         kw["color"] = val.rgb(c[0], file=file, field=prefix + "checker.0", hi=1.0)
         kw["color2"] = val.rgb(c[1], file=file, field=prefix + "checker.1", hi=1.0)
     elif "square" in table:
         raise InputError("square needs checker = [[r, g, b], [r, g, b]]", file=file, field=prefix + "square")
     if "square" in table:
-        kw["square"] = float(val.number(table["square"], file=file, field=prefix + "square", lo=0.0,
-                                     hi=1.0e6, lo_open=True))
+        kw["square"] = float(
+            val.number(table["square"], file=file, field=prefix + "square", lo=0.0, hi=1.0e6, lo_open=True)
+        )
     if "texture" in table:
         t = table["texture"]
         if not isinstance(t, str):
@@ -409,6 +530,6 @@ def surface_config(table: dict, index: int, file, base_dir: Path) -> SurfaceConf
         kw["texture"] = str(p)
     if "tile" in table:
         if "texture" not in table:
-            raise InputError("tile needs texture = \"file\"", file=file, field=prefix + "tile")
+            raise InputError('tile needs texture = "file"', file=file, field=prefix + "tile")
         kw["tile"] = val.pair(table["tile"], file=file, field=prefix + "tile", hi=1.0e6)
     return SurfaceConfig(**kw)

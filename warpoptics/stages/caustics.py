@@ -482,8 +482,8 @@ class CausticStage:
     camera film; :attr:`ledger` the summed ledger (``CAUSTIC_LEDGER``) of the last run, relative
     to one path's emitted power (divide by ``paths`` for fractions)."""
 
-    def __init__(self, config: CausticConfig, *, meshes, lamps, object_material, absorption_scale, object_axis,
-                 camera, surfaces, geometry, materials, tables, device=None):
+    def __init__(self, config: CausticConfig, *, meshes, lamps, object_material, absorption_scale,
+                 object_axis, camera, surfaces, geometry, materials, tables, device=None):
         cfg = config
         self.config = config
         self.device = get_device(device)
@@ -567,13 +567,14 @@ class CausticStage:
         self._dep_xyz = wp.zeros(self._chunk * md, dtype=wp.vec3f, device=dev)
         self._ledger = wp.zeros((self._chunk, len(CAUSTIC_LEDGER)), dtype=wp.float64, device=dev)
 
-    def run(self, film: np.ndarray, *, threads: int | None = None, tile_size: int | None = None) -> np.ndarray:
+    def run(self, film: np.ndarray, *, threads: int | None = None,
+            tile_size: int | None = None) -> np.ndarray:
         """Trace the light paths and write the caustic film into the caller's ``film`` ((H*W, 3)
         float64, overwritten); returns it."""
         cam = self.camera.params
         npix = cam.width * cam.height
         if film.shape != (npix, 3) or film.dtype != np.float64:
-            raise ValueError(f"film must be a float64 array of shape ({npix}, 3), got {film.dtype} {film.shape}")
+            raise ValueError(f"film must be float64 of shape ({npix}, 3), got {film.dtype} {film.shape}")
         film[:] = 0.0
         self.ledger = np.zeros(len(CAUSTIC_LEDGER))
         if not self.enabled:

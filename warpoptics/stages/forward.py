@@ -64,6 +64,7 @@ from typing import Any
 import numpy as np
 import warp as wp
 
+from .. import validate as val
 from ..geometry.query import RayHit, SceneGeometry, scene_closest_hit
 from ..materials.dispersion import MaterialTable, material_alpha, material_eval
 from ..optics.birefringence import PlaneWave, generalized_fresnel, kappa_extraordinary, uniaxial_medium
@@ -129,10 +130,19 @@ class ForwardParams:
 
 @dataclass(frozen=True)
 class ForwardConfig:
+    """Settings of the forward tracer (a bench scene's ``[render]``): path depth, the relative
+    power above which rays split deterministically, screen deposits kept per ray, the seed."""
+
     max_depth: int = 16
     split_threshold: float = 1.0e-4
     max_deposits: int = 24
     seed: int = 0
+
+    def __post_init__(self) -> None:
+        val.integer(self.max_depth, field="render.max_depth", lo=0, hi=256)
+        val.number(self.split_threshold, field="render.split_threshold", lo=0.0, hi=1.0)
+        val.integer(self.max_deposits, field="render.max_deposits", lo=1, hi=1024)
+        val.integer(self.seed, field="render.seed", lo=0, hi=2**31 - 1)
 
 
 @wp.func
