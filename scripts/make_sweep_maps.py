@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from warpoptics.image import write_exr
+from warpoptics.film.image import write_exr
 
 
 def directions(width: int) -> np.ndarray:

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from warpoptics.errors import InputError
-from warpoptics.render import Renderer
+from warpoptics.pipelines.render import Renderer
 from warpoptics.scene import Scene
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -14,7 +14,7 @@ def test_writers_are_atomic(tmp_path, monkeypatch):
     import matplotlib.pyplot as plt
 
     from warpoptics.geometry import cuts, gemcad
-    from warpoptics.image import save_figure
+    from warpoptics.film.image import save_figure
 
     dest = tmp_path / "plot.png"
     dest.write_bytes(b"old")

@@ -18,7 +18,8 @@ import pytest
 import tmm
 
 import warpoptics as wo
-from warpoptics.bench import Bench, BenchScene, bench
+from warpoptics.pipelines.bench import Bench, bench
+from warpoptics.scene.bench import BenchScene
 from warpoptics.errors import InputError
 from warpoptics.spectra import cmf
 

@@ -20,7 +20,7 @@ import math
 import numpy as np
 import pytest
 
-from warpoptics.render import Renderer
+from warpoptics.pipelines.render import Renderer
 from warpoptics.scene import Scene
 
 N_GLASS = 1.5
@@ -84,7 +84,7 @@ def test_slab_caustic_matches_closed_form(device, kind):
     r = Renderer(Scene.from_dict(data), device=device)
     img = r.run()
     assert np.isfinite(img.xyz).all() and np.isfinite(img.stokes).all()
-    caustic = r.caustics.run().reshape(img.xyz.shape)  # deterministic: the same film again
+    caustic = r.caustics.run(np.zeros_like(r.caustic_film)).reshape(img.xyz.shape)  # deterministic: the same film again
     camera_pass = img.xyz - caustic
     fp = np.abs(_footprints(data["camera"]))
     inside = (fp.max(axis=(2, 3)) < 4.5)  # the whole pixel well inside the shadow |x|, |y| < 5
@@ -146,7 +146,7 @@ def test_spot_through_slab(device):
     data["camera"].update(fov=3.0, width=8, height=8)  # pixels within ~1.1 x 3.3 mm of the axis
     r = Renderer(Scene.from_dict(data), device=device)
     r.run()
-    caustic = r.caustics.run().reshape(8, 8, 3)
+    caustic = r.caustics.run(np.zeros_like(r.caustic_film)).reshape(8, 8, 3)
     fp = _footprints(data["camera"])
     rho = np.linalg.norm(fp.mean(axis=2), axis=-1)  # distance of the pixel from the axis, mm
     expected = 800.0 * _spot_slab_reference(rho, 20.0, N_GLASS) / math.pi
@@ -168,7 +168,7 @@ def test_small_area_light_through_wide_slab(device):
     data["camera"].update(position=low, fov=3.0, width=8, height=8)
     r = Renderer(Scene.from_dict(data), device=device)
     r.run()
-    caustic = r.caustics.run().reshape(8, 8, 3)
+    caustic = r.caustics.run(np.zeros_like(r.caustic_film)).reshape(8, 8, 3)
     rho = np.linalg.norm(_footprints(data["camera"]).mean(axis=2), axis=-1)
     expected = 800.0 * _spot_slab_reference(rho, 20.0, N_GLASS, lambertian=True) / math.pi
     # paths spread over the whole slab: ~25 per pixel (20 %), 64 pixels (2.5 %); the 1 mm box is
@@ -218,7 +218,7 @@ def test_glass_sphere_focuses_and_conserves_power(device):
     r = Renderer(Scene.from_dict(data), device=device)
     img = r.run()
     assert np.isfinite(img.xyz).all()
-    caustic = r.caustics.run().reshape(img.xyz.shape)
+    caustic = r.caustics.run(np.zeros_like(r.caustic_film)).reshape(img.xyz.shape)
     assert caustic[..., 1].max() > 5.0 * E_SUN / math.pi
     led = r.caustics.ledger / r.caustics.paths
     rd = float(r.caustics.params.t_radius.numpy()[0])  # the emission disc's radius
@@ -247,7 +247,7 @@ def test_caustics_off_is_the_old_image_and_on_only_adds(device):
     c = Renderer(Scene.from_dict(_slab_scene(caustics=False, stone_shadows=False)), device=device).run()
     r = Renderer(Scene.from_dict(_slab_scene(caustics=True, paths=20_000)), device=device)
     on = r.run()
-    film = r.caustics.run().reshape(on.xyz.shape)
+    film = r.caustics.run(np.zeros_like(r.caustic_film)).reshape(on.xyz.shape)
     assert np.array_equal(on.xyz, c.xyz + film)
     assert np.array_equal(on.alpha, c.alpha)
     assert np.array_equal(on.stokes[..., 1:], c.stokes[..., 1:])  # the splats are unpolarized
@@ -256,8 +256,8 @@ def test_caustics_off_is_the_old_image_and_on_only_adds(device):
 def test_caustics_deterministic_across_threads(device):
     data = _slab_scene(paths=20_000)
     r = Renderer(Scene.from_dict(data), device=device)
-    f1 = r.caustics.run(threads=1)
-    f2 = r.caustics.run(threads=2, tile_size=997)
+    f1 = r.caustics.run(np.zeros_like(r.caustic_film), threads=1)
+    f2 = r.caustics.run(np.zeros_like(r.caustic_film), threads=2, tile_size=997)
     assert np.array_equal(f1, f2)
 
 
@@ -275,7 +275,7 @@ def test_caustics_input_errors_and_no_lamps(device):
     r = Renderer(Scene.from_dict(d), device=device)
     img = r.run()
     assert np.isfinite(img.xyz).all() and not r.caustics.enabled
-    assert np.all(r.caustics.run() == 0.0)
+    assert np.all(r.caustics.run(np.zeros_like(r.caustic_film)) == 0.0)
 
 
 def test_caustics_scene_renders_from_the_cli(tmp_path):
@@ -292,7 +292,7 @@ def test_caustics_scene_renders_from_the_cli(tmp_path):
            "--set", "render.spp=1", "--set", "render.wavelengths=4"]
     res = subprocess.run(cmd, capture_output=True, text=True, timeout=600, cwd=root)
     assert res.returncode == 0, res.stderr[-2000:]
-    from warpoptics.image import read_image
+    from warpoptics.film.image import read_image
 
     data = read_image(out)
     assert np.isfinite(np.asarray(data[0] if isinstance(data, tuple) else data)).all()

@@ -6,7 +6,7 @@ import sys
 from pathlib import Path
 
 import warpoptics as wo
-from warpoptics.image import read_image
+from warpoptics.film.image import read_image
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -306,7 +306,7 @@ def test_flat_film_colour_matches_colour_table(device):
     sc = wo.Scene.from_dict(data)
     # non-dispersive materials, but the film's reflectance depends on the wavelength: one path
     # tree per wavelength (not render.py's shared-spectrum shortcut)
-    assert wo.Renderer(sc, device=device).shared_spectrum is False
+    assert wo.pipelines.render.Renderer(sc, device=device).shared_spectrum is False
     img = wo.render(sc, device=device)
     xyz = img.xyz.reshape(-1, 3).mean(axis=0)
     table = wo.thinfilm.film_color_table(

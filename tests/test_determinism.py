@@ -9,7 +9,7 @@ import sys
 import numpy as np
 from _helpers import ROOT
 
-from warpoptics.image import read_image
+from warpoptics.film.image import read_image
 
 
 def test_cli_render_is_byte_identical_for_any_thread_count(tmp_path):

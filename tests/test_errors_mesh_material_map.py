@@ -11,8 +11,8 @@ import trimesh
 from _helpers import FILE, assert_clear_scene_error, mod
 
 from warpoptics.errors import InputError
-from warpoptics.image import write_exr
-from warpoptics.render import Renderer
+from warpoptics.film.image import write_exr
+from warpoptics.pipelines.render import Renderer
 from warpoptics.scene import Scene
 
 
@@ -348,11 +348,11 @@ def test_gemcad_object_in_a_scene(tmp_path):
     asc = tmp_path / "rb.asc"
     gemcad.write(cuts.round_brilliant(), asc)
     data = mod(object__0={"shape": "gemcad", "path": str(asc), "diameter": 6.5})
-    from warpoptics.render import _build_objects
+    from warpoptics.pipelines.objects import build_objects
 
     scene = Scene.from_dict(data, path=FILE)
     Renderer(scene)
-    ((mesh, _),) = _build_objects(scene, None)[0]
+    ((mesh, _),) = build_objects(scene.objects, file=FILE).meshes
     lo, hi = mesh.bounds
     assert abs(max((hi - lo)[:2]) - 6.5) < 0.05  # scaled to the girdle width asked for
 

@@ -276,7 +276,7 @@ BAD_BENCH = [
 def test_bad_bench_input(path, value, match):
     import tomllib
 
-    from warpoptics.bench import BenchScene
+    from warpoptics.scene.bench import BenchScene
 
     data = tomllib.loads((ROOT / "scenes" / "bench" / "calcite.toml").read_text())
     node = data

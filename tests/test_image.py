@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from warpoptics.errors import InputError
-from warpoptics.image import atomic_path, read_image, write_exr, write_png
+from warpoptics.atomic import atomic_path
+from warpoptics.film.image import read_image, write_exr, write_png
 
 
 def test_exr_roundtrip_with_named_channels(tmp_path):

@@ -8,7 +8,7 @@ import pytest
 from _helpers import BASE, FILE
 
 from warpoptics.errors import InputError
-from warpoptics.render import Renderer, check_render_memory, estimate_render_bytes
+from warpoptics.pipelines.render import Renderer, check_render_memory, estimate_render_bytes
 from warpoptics.scene import Scene
 
 
@@ -21,7 +21,7 @@ def test_render_too_large_for_memory_is_refused(monkeypatch):
     assert "100000x100000" in str(info.value) and FILE in str(info.value)
     assert check_render_memory(64, 64, available=8 * 2**30) == estimate_render_bytes(64, 64)
     # the renderer checks before it allocates anything
-    wr = importlib.import_module("warpoptics.render")
+    wr = importlib.import_module("warpoptics.pipelines.render")
     monkeypatch.setattr(wr, "available_memory_bytes", lambda: 1000)
     with pytest.raises(InputError, match="GiB"):
         Renderer(Scene.from_dict(BASE, path=FILE))

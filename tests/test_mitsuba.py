@@ -23,9 +23,9 @@ import pytest
 mi = pytest.importorskip("mitsuba")
 
 import warpoptics as wo  # noqa: E402
-from warpoptics import mitsuba_export as mx  # noqa: E402
+from warpoptics.pipelines import mitsuba_export as mx  # noqa: E402
 from warpoptics.color import SRGB_TO_XYZ  # noqa: E402
-from warpoptics.image import write_exr  # noqa: E402
+from warpoptics.film.image import write_exr  # noqa: E402
 
 PASSES = 6
 

@@ -155,7 +155,7 @@ def test_importance_and_uniform_converge_to_the_same_image(device):
 
 def test_same_seed_same_image_for_any_threads_and_tiles(device, tmp_path):
     sc = scene(STUDIO)
-    r = wo.Renderer(sc, device=device)
+    r = wo.pipelines.render.Renderer(sc, device=device)
     a = r.run(threads=1)
     b = r.run(threads=2, tile_size=7, rows_per_chunk=3)
     c = r.run(threads=3, tile_size=64)
@@ -172,7 +172,7 @@ def test_image_outputs(device, tmp_path):
     img = wo.render(scene(STUDIO, **{"camera.width": 8, "camera.height": 6}), device=device)
     assert img.xyz.shape == (6, 8, 3) and img.stokes.shape == (6, 8, 4) and img.alpha.shape == (6, 8)
     exr = img.save(tmp_path / "x.exr")
-    pixels, names = wo.image.read_image(exr)
+    pixels, names = wo.film.image.read_image(exr)
     # EXR keeps channels by name (OpenImageIO lists R, G, B, A first, the rest sorted)
     stokes_xz = [f"stokes_{c}.S{i}" for c in "XZ" for i in range(4)]  # per-channel Stokes (views.py)
     assert sorted(names) == sorted(["R", "G", "B", "A", "S0", "S1", "S2", "S3", "X", "Y", "Z", *stokes_xz])
@@ -181,7 +181,7 @@ def test_image_outputs(device, tmp_path):
     np.testing.assert_array_equal(pixels[..., ch["S1"]], img.stokes[..., 1].astype(np.float32))
     np.testing.assert_array_equal(pixels[..., ch["A"]], img.alpha.astype(np.float32))
     png = img.save(tmp_path / "x.png")
-    p8, _ = wo.image.read_image(png)
+    p8, _ = wo.film.image.read_image(png)
     assert p8.shape == (6, 8, 3) and p8.max() <= 1.0
     with pytest.raises(wo.InputError, match="unsupported image format"):
         img.save(tmp_path / "x.bmp")
@@ -192,7 +192,7 @@ def test_shared_spectrum_path_matches_one_trace_per_wavelength(device):
     the renderer traces it once and evaluates all wavelengths at the leaves.  Independent check:
     the per-wavelength traces (shared_spectrum=False) estimate the same image.  Compared on the
     image means of X, Y, Z and S1 with the standard error measured from 6 seeds of each (4 sigma)."""
-    from warpoptics.render import Renderer
+    from warpoptics.pipelines.render import Renderer
 
     data = {**FURNACE, "light": [{"type": "environment", "map": "studio"}],
             "render": {**FURNACE["render"], "wavelengths": 8, "spp": 2, "max_depth": 12},
@@ -243,7 +243,7 @@ def test_adaptive_allocation():
     """adaptive.allocate: every pixel keeps its pilot, the pass costs what uniform spp would,
     noisy neighbourhoods get the samples, and a pixel's count never depends on its own pilot
     (which is what keeps the estimate unbiased)."""
-    from warpoptics.adaptive import allocate
+    from warpoptics.pipelines.adaptive import allocate
 
     h, w, pilot, spp = 12, 16, 4, 16
     rng = np.random.default_rng(1)

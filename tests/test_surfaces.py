@@ -21,7 +21,7 @@ import pytest
 
 from warpoptics.errors import InputError
 from warpoptics.geometry import cuts
-from warpoptics.render import Renderer
+from warpoptics.pipelines.render import Renderer
 from warpoptics.scene import Scene
 
 SCENES = Path(__file__).resolve().parent.parent / "scenes"
@@ -323,7 +323,7 @@ def test_scene_validation(patch, field, message):
 def test_texture_albedo(device, tmp_path):
     """An image texture (linear EXR, 2 x 1 texels: black | white) tiled every 2 mm from the
     plane's corner: x in (0, 1) mm reads the black texel, (1, 2) mm the white one."""
-    from warpoptics.image import write_exr
+    from warpoptics.film.image import write_exr
 
     tex = tmp_path / "tex.exr"
     write_exr(tex, np.array([[[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]], dtype=np.float32))
@@ -419,7 +419,7 @@ def test_environment_estimators_agree(device):
 @pytest.mark.parametrize("name", ["calcite", "diamonds_on_table", "dof"])
 def test_scenes_render_tiny(device, name):
     """The surface scenes load and render (8 x 8, 4 wavelengths): finite, lit, stones hit."""
-    from warpoptics.render import render
+    from warpoptics.pipelines.render import render
 
     img = render(SCENES / f"{name}.toml", device=device, width=8, height=8, wavelengths=4, spp=1)
     assert np.isfinite(img.xyz).all()

@@ -319,7 +319,7 @@ def test_dask_local_cluster_same_table(reference, tmp_path):
     assert r.rendered == 6
     assert table(tmp_path / "dask" / "results.csv") == rows
     # the images too: bit-identical renders
-    from warpoptics.image import read_image
+    from warpoptics.film.image import read_image
 
     for j in r.jobs[:2]:
         a, _ = read_image(tmp_path / "dask" / "images" / f"{j.key}.exr")
@@ -396,7 +396,7 @@ def test_cli(tmp_path, capsys):
     assert "6/6 jobs done" in res.stdout and "paired CIEDE2000" in res.stdout
     with open(tmp_path / "o" / "results.csv", newline="") as f:
         assert len(list(csv.DictReader(f))) == 6
-    from warpoptics.image import read_image
+    from warpoptics.film.image import read_image
 
     assert read_image(next((tmp_path / "o" / "images").glob("*.exr")))[0].shape[:2] == (8, 8)
     assert main(["sweep", str(sw_path), "-o", out, "--quiet"]) == 2

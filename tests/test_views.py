@@ -22,7 +22,7 @@ import pytest
 import warpoptics as wo
 from warpoptics.errors import InputError
 from warpoptics.optics.polarizer import analyze, mueller_polarizer, sheet_polarizer_stokes
-from warpoptics.views import analyzer, apply_view, dichroscope, parse_view, polariscope
+from warpoptics.film.views import analyzer, apply_view, dichroscope, parse_view, polariscope
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -318,7 +318,7 @@ def test_polariscope_needs_polarized_light(calcite_image):
     with pytest.raises(InputError, match="polarized light"):
         calcite_image.view("polariscope")
     with pytest.raises(InputError, match="polarization = true"):
-        wo.Renderer(scene({**PLATE, "material": "bk7"}, polarizer=0.0, polarization=False))
+        wo.pipelines.render.Renderer(scene({**PLATE, "material": "bk7"}, polarizer=0.0, polarization=False))
     with pytest.raises(InputError, match="light.0.polarizer"):
         scene({**PLATE, "material": "bk7"}, polarizer="sideways")
     s = scene({**PLATE, "material": "bk7"}, polarizer="none")

@@ -18,32 +18,39 @@ try:
 except _metadata.PackageNotFoundError:  # running from a source tree without install
     __version__ = "0.0.0+unknown"
 
-from . import color, device, image, materials, metrics, optics, spectra, sweep, views
-from .bench import BenchScene, bench
+from . import color, device, errors, film, geometry, materials, metrics, optics, pipelines, scene, spectra, stages, sweep, validate
 from .errors import InputError
+from .film.image import Image
 from .geometry import cuts
 from .optics import thinfilm
-from .render import Image, Renderer, render
+from .pipelines.bench import bench
+from .pipelines.render import render
 from .scene import Scene
 
 __all__ = [
     "__version__",
+    # subpackages and modules
     "color",
     "cuts",
     "device",
-    "image",
+    "errors",
+    "film",
+    "geometry",
     "materials",
     "metrics",
     "optics",
+    "pipelines",
+    "scene",
     "spectra",
+    "stages",
     "sweep",
     "thinfilm",
-    "views",
-    "InputError",
-    "BenchScene",
-    "bench",
-    "Image",
-    "Renderer",
+    "validate",
+    # DESIGN.md's top-level names: the one sanctioned second path (homes: scene.load, pipelines.render,
+    # pipelines.bench, film.image, errors)
     "Scene",
     "render",
+    "bench",
+    "Image",
+    "InputError",
 ]

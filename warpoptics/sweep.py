@@ -997,7 +997,7 @@ def _append_line(path: Path, line: str) -> None:
 
 
 def _write_text_atomic(path: Path, text: str) -> None:
-    from .image import atomic_path
+    from .atomic import atomic_path
 
     with atomic_path(path) as tmp:
         with open(tmp, "w", encoding="utf-8") as f:
@@ -1402,7 +1402,8 @@ class SweepRunner:
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        from .image import atomic_path, read_image
+        from .atomic import atomic_path
+        from .film.image import read_image
 
         tiles = []
         for j in jobs:
@@ -1452,7 +1453,7 @@ class SweepRunner:
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        from .image import atomic_path
+        from .atomic import atomic_path
 
         files = {}
         pair_by_key = {p["key"]: p for p in pairs}

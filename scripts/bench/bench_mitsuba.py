@@ -138,7 +138,7 @@ class MitsubaRunner:
     ):
         import mitsuba as mi
 
-        from warpoptics import mitsuba_export as mx
+        from warpoptics.pipelines import mitsuba_export as mx
 
         mi.set_variant(variant)
         self.mx, self.scene, self.spp, self.ims, self.times = mx, scene, spp, [], []
@@ -334,7 +334,7 @@ def main(argv=None) -> int:
         print(f"ours uniform vs Mitsuba: converged relative RMSE {100 * u['converged_rel_rmse']:.2f} % "
               f"(2-sigma upper {100 * u['converged_rel_rmse_upper_2sigma']:.2f} %)")
     if args.json:
-        from warpoptics.image import atomic_path
+        from warpoptics.film.image import atomic_path
 
         with atomic_path(args.json) as tmp:
             Path(tmp).write_text(json.dumps(res, indent=2))

@@ -64,7 +64,7 @@ def compose(
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from warpoptics.image import save_figure
+    from warpoptics.film.image import save_figure
 
     nr = len(rows)
     nc = max(len(r) for r in rows)
@@ -122,7 +122,7 @@ def stone_box(*alphas: np.ndarray, margin: float = 0.06) -> tuple[slice, slice]:
 
 def write_json(path: str | Path, data: dict) -> Path:
     """Write ``data`` as indented JSON atomically (temp file + rename)."""
-    from warpoptics.image import atomic_path
+    from warpoptics.film.image import atomic_path
 
     path = Path(path)
     with atomic_path(path) as tmp:

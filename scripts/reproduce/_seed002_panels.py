@@ -139,7 +139,7 @@ def montage(path: str, panels, *, gap: int = 4, title: str | None = None) -> Non
             x += rgb.shape[1] + gap
         y += rh
     arr = np.asarray(canvas).astype(np.float64) / 255.0
-    wo.image.write_png(path, arr)
+    wo.film.image.write_png(path, arr)
 
 
 def camera_axes(scene: wo.Scene) -> dict[str, np.ndarray]:

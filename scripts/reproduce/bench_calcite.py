@@ -42,7 +42,8 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
 
     import warpoptics as wo
-    from warpoptics.bench import BenchScene, bench
+    from warpoptics.pipelines.bench import bench
+    from warpoptics.scene.bench import BenchScene
 
     scene = BenchScene.load(SCENE)
     over = {"source.rays": args.rays} if args.rays else None

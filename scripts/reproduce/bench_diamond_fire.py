@@ -32,8 +32,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--device", default=None)
     args = ap.parse_args(argv)
 
-    from warpoptics.bench import BenchScene, bench
-    from warpoptics.render import Image
+    from warpoptics.pipelines.bench import bench
+    from warpoptics.scene.bench import BenchScene
+    from warpoptics.pipelines.render import Image
 
     over = {}
     if args.rays:

@@ -66,7 +66,8 @@ def main(argv: list[str] | None = None) -> int:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from warpoptics.bench import BenchScene, bench
+    from warpoptics.pipelines.bench import bench
+    from warpoptics.scene.bench import BenchScene
 
     scene = BenchScene.load(SCENE)
     rows = {}
@@ -109,7 +110,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.json:
         import json
 
-        from warpoptics.image import atomic_path
+        from warpoptics.film.image import atomic_path
 
         summary = {
             f"{mat}/{edge}": {k: v for k, v in ro.items() if k not in ("wavelength", "u")}
@@ -143,7 +144,7 @@ def main(argv: list[str] | None = None) -> int:
     a.legend(fontsize=8)
     fig.suptitle("Forward-traced prism experiment (seed 000 §4, fig. 5): thin edge vs thick edge")
     fig.tight_layout()
-    from warpoptics.image import save_figure
+    from warpoptics.film.image import save_figure
 
     save_figure(fig, args.output, dpi=100)  # atomic: temp file + rename
     print(f"wrote {args.output}")

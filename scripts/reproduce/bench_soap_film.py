@@ -51,7 +51,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--device", default=None)
     args = ap.parse_args(argv)
 
-    from warpoptics.bench import BenchScene, bench
+    from warpoptics.pipelines.bench import bench
+    from warpoptics.scene.bench import BenchScene
     from warpoptics.color import delta_e2000
 
     scene = BenchScene.load(SCENE)

@@ -53,7 +53,7 @@ def main(argv: list[str] | None = None) -> int:
         a.legend()
     fig.suptitle("Weidlich & Wilkie 2009 fig. 4: rose bengal in water (Kramers–Kronig, Maclaurin)")
     fig.tight_layout()
-    from warpoptics.image import save_figure
+    from warpoptics.film.image import save_figure
 
     save_figure(fig, args.output, dpi=100)  # atomic: temp file + rename
     print(f"wrote {args.output}")

@@ -142,7 +142,7 @@ def main(argv: list[str] | None = None) -> int:
         fontsize=10,
     )
     fig.tight_layout()
-    from warpoptics.image import save_figure
+    from warpoptics.film.image import save_figure
 
     save_figure(fig, args.output, dpi=110)  # atomic: temp file + rename
     print(f"\nwrote {args.output}")

@@ -123,7 +123,7 @@ def main(argv: list[str] | None = None) -> int:
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        from warpoptics.image import save_figure
+        from warpoptics.film.image import save_figure
 
         fig, ax = plt.subplots(figsize=(7.0, 0.3 * len(cells) + 0.7), dpi=100)
         ax.axis("off")

@@ -168,7 +168,7 @@ def main(argv=None) -> int:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from warpoptics.image import atomic_path
+    from warpoptics.film.image import atomic_path
 
     k550 = int(np.argmin(np.abs(wl - 550.0)))
     fig, ax = plt.subplots(2, 2, figsize=(10, 7))

@@ -17,7 +17,7 @@ import numpy as np
 
 import warpoptics as wo
 from warpoptics.color import encode_srgb
-from warpoptics.image import write_png
+from warpoptics.film.image import write_png
 
 
 def main(argv=None) -> int:

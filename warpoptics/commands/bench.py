@@ -12,9 +12,10 @@ _FORMATS = (".exr", ".png", ".jpg", ".jpeg", ".tif", ".tiff")
 
 
 def run(args) -> int:
-    from ..bench import Bench, BenchScene
+    from ..pipelines.bench import Bench
+    from ..scene.bench import BenchScene
     from ..errors import InputError
-    from ..scene import parse_value
+    from ..scene.load import parse_value
 
     out = Path(args.output)
     if out.suffix.lower() not in _FORMATS:

@@ -87,7 +87,7 @@ def run(args) -> int:
                 )
             kwargs[k] = v
         mesh = fn(**kwargs)
-    from ..image import atomic_path
+    from ..atomic import atomic_path
 
     with atomic_path(out) as tmp:  # a crash never leaves a half-written mesh
         if ext == ".asc":

@@ -46,7 +46,7 @@ def _plot(mat, path: str) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..image import save_figure
+    from ..film.image import save_figure
     from ..materials import Uniaxial
 
     lo, hi = mat.wavelength_range_nm
@@ -79,7 +79,7 @@ def run(args) -> int:
 
     mat = materials.get(args.name)
     if args.plot:
-        from ..image import FIGURE_FORMATS
+        from ..film.image import FIGURE_FORMATS
 
         ext = args.plot.rsplit(".", 1)[-1].lower() if "." in args.plot else "png"
         if ext not in FIGURE_FORMATS:

@@ -25,10 +25,10 @@ def _check_writable(out: str) -> None:
 
 
 def run(args) -> int:
-    from ..bench import is_bench_scene
+    from ..scene.bench import is_bench_scene
     from ..errors import InputError
-    from ..render import Renderer
-    from ..scene import Scene, parse_value
+    from ..pipelines.render import Renderer
+    from ..scene.load import Scene, parse_value
 
     if is_bench_scene(args.scene):
         # an optical-bench scene ([source] type = "beam"): trace it forward onto its screens
@@ -48,7 +48,7 @@ def run(args) -> int:
         raise InputError("unsupported output format", field="-o", value=out, allowed=".exr, .png, .jpg, .tif")
     if "width" in kw or "height" in kw:
         # refuse an image that cannot fit in memory before the pixel-count limits, with an estimate
-        from ..render import check_render_memory
+        from ..pipelines.render import check_render_memory
 
         check_render_memory(kw.get("width", scene.camera.width), kw.get("height", scene.camera.height),
                             file=args.scene)
@@ -58,7 +58,7 @@ def run(args) -> int:
     view = args.view if args.view is not None else scene.view
     if view is not None:
         # check the view (and that the light is polarized for a polariscope) before rendering
-        from ..views import parse_view
+        from ..film.views import parse_view
 
         kind, _ = parse_view(view)
         if kind == "polariscope" and scene.lights[0].polarizer is None:

@@ -41,7 +41,7 @@ def draw(path, *, start: float = 380.0, stop: float = 780.0, device=None) -> dic
     import matplotlib.pyplot as plt
 
     from ..color import encode_srgb
-    from ..image import save_figure
+    from ..film.image import save_figure
 
     wl = np.linspace(start, stop, 801)
     res = clip_comparison(wl, device=device)

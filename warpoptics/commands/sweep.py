@@ -7,7 +7,7 @@ import sys
 
 def run(args) -> int:
     from ..errors import InputError
-    from ..scene import parse_value
+    from ..scene.load import parse_value
     from ..sweep import Sweep, SweepRunner
 
     extra = {}

@@ -47,7 +47,7 @@ def build_table(args):
 
 
 def write_csv(table, path) -> Path:
-    from ..image import atomic_path
+    from ..atomic import atomic_path
 
     header = f"{table.quantity},X,Y,Z,R_linear,G_linear,B_linear"
     data = np.column_stack([table.axis, table.xyz, table.rgb])
@@ -63,7 +63,7 @@ def draw_table(table, path, *, n_film: float | None = None) -> Path:
     import matplotlib.pyplot as plt
 
     from ..color import clip_naive, encode_srgb
-    from ..image import atomic_path
+    from ..atomic import atomic_path
 
     x = table.axis
     lo, hi = float(x[0]), float(x[-1])

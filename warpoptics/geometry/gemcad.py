@@ -403,7 +403,7 @@ def write(obj: trimesh.Trimesh | Design, path: str | os.PathLike, **kw) -> Desig
     GemCAD ``.asc`` file: Windows-1252, CRLF.  Returns the design written."""
     design = obj if isinstance(obj, Design) else design_from_mesh(obj, **kw)
     text = dumps(design).replace("\n", "\r\n")
-    from ..image import atomic_path
+    from ..atomic import atomic_path
 
     with atomic_path(path) as tmp, open(tmp, "wb") as f:
         f.write(text.encode("cp1252", errors="replace"))

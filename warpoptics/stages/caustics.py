@@ -95,13 +95,14 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import dataclass
 
 import numpy as np
 import warp as wp
 
+from .. import validate as val
 from ..color import SRGB_TO_XYZ
 from ..device import get_device, launch_tiled, load_module
-from ..errors import InputError
 from ..geometry.query import SceneGeometry, scene_closest_hit
 from ..materials.dispersion import MaterialTable
 from ..optics.branches import Stack, read_row, write_row
@@ -128,7 +129,7 @@ from .surfaces import (
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
-__all__ = ["CausticParams", "CausticStage", "CAUSTIC_LEDGER", "caustic_importance"]
+__all__ = ["CausticParams", "CausticConfig", "CausticStage", "CAUSTIC_LEDGER", "caustic_importance"]
 
 #: names of the ledger columns (module docstring)
 CAUSTIC_LEDGER = ("surface", "absorbed", "escaped", "truncated", "lost", "interface", "overflow", "reflected")
@@ -439,18 +440,45 @@ def _bounding_spheres(meshes) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(centres).reshape(-1, 3), np.asarray(radii)
 
 
+@dataclass(frozen=True)
+class CausticConfig:
+    """Settings of the light tracer: ``paths`` light paths, the spectral sampling (``spectral``,
+    ``wavelengths``: as ``[render]``), path depth and splitting, deposits kept per path, the
+    ambient index and the seed."""
+
+    paths: int
+    spectral: str = "stratified"
+    wavelengths: int = 45
+    max_depth: int = 12
+    split_threshold: float = 0.01
+    max_deposits: int = 16
+    ambient_index: float = 1.0
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        f = "caustics."
+        val.integer(self.paths, field=f + "paths", lo=1)
+        val.choice(self.spectral, ("rgb3", "uniform", "importance", "stratified"), field=f + "spectral")
+        val.integer(self.wavelengths, field=f + "wavelengths", lo=1, hi=4096)
+        val.integer(self.max_depth, field=f + "max_depth", lo=0, hi=256)
+        val.number(self.split_threshold, field=f + "split_threshold", lo=0.0, hi=1.0)
+        val.integer(self.max_deposits, field=f + "max_deposits", lo=1, hi=1024)
+        val.number(self.ambient_index, field=f + "ambient_index", lo=1.0, hi=10.0)
+        val.integer(self.seed, field=f + "seed", lo=0, hi=2**31 - 1)
+
+
 class CausticStage:
-    """The light tracer of a :class:`~warpoptics.render.Renderer` (``[render] caustics = true``).
+    """The light tracer of a :class:`~warpoptics.pipelines.render.Renderer` (``[render] caustics = true``).
 
     ``paths``: number of light paths (rounded up to a multiple of the wavelength ``count``).
     :meth:`run` returns the caustic film (H*W, 3) XYZ in float64 that the Renderer adds to its
     camera film; :attr:`ledger` the summed ledger (``CAUSTIC_LEDGER``) of the last run, relative
     to one path's emitted power (divide by ``paths`` for fractions)."""
 
-    def __init__(self, *, meshes, lamps, object_material, absorption_scale, object_axis, camera, surfaces,
-                 geometry, materials, tables, spectral: str, wavelengths: int, paths: int,
-                 max_depth: int = 12, split_threshold: float = 0.01, max_deposits: int = 16,
-                 ambient: float = 1.0, seed: int = 0, device=None):
+    def __init__(self, config: CausticConfig, *, meshes, lamps, object_material, absorption_scale,
+                 object_axis, camera, surfaces, geometry, materials, tables, device=None):
+        cfg = config
+        self.config = config
         self.device = get_device(device)
         dev = self.device
         self.camera = camera
@@ -504,43 +532,52 @@ class CausticStage:
         hi = (cent + rad[:, None]).max(axis=0)
         cp.all_centre = wp.vec3f(*(0.5 * (lo + hi)))
         cp.all_radius = float(0.5 * np.linalg.norm(hi - lo)) + 1.0e-3
-        strat = spectral if spectral in ("uniform", "importance", "stratified") else "importance"
-        count = int(wavelengths) if strat == "stratified" else 1
+        strat = cfg.spectral if cfg.spectral in ("uniform", "importance", "stratified") else "importance"
+        count = int(cfg.wavelengths) if strat == "stratified" else 1
         cp.strategy = strategy_id(strat)
         cp.count = count
-        self.paths = int(math.ceil(max(int(paths), 1) / count) * count)
+        self.paths = int(math.ceil(max(int(cfg.paths), 1) / count) * count)
         cp.splat_scale = float(count) / float(self.paths)
-        cp.seed = int(seed) * 7919 + 104729  # a stream apart from the camera pass's
-        cp.max_deposits = int(max_deposits)
+        cp.seed = int(cfg.seed) * 7919 + 104729  # a stream apart from the camera pass's
+        cp.max_deposits = int(cfg.max_deposits)
         self.params = cp
         self.forward = forward_params(
             np.asarray(object_material, dtype=np.int32) if len(object_material) else np.zeros(1, np.int32),
             np.asarray(absorption_scale, np.float32) if len(absorption_scale) else np.ones(1, np.float32),
             np.asarray(object_axis, np.float32).reshape(-1, 3) if len(object_axis) else np.zeros((1, 3)),
-            -np.ones(max(len(object_material), 1), dtype=np.int32),  # no coatings (check_caustic_scene)
-            config=ForwardConfig(max_depth=max_depth, split_threshold=split_threshold,
-                                 max_deposits=max_deposits, seed=seed),
-            ambient=(ambient, 0.0), device=dev,
+            -np.ones(max(len(object_material), 1), dtype=np.int32),  # no coatings (pipelines/caustics.py)
+            config=ForwardConfig(max_depth=cfg.max_depth, split_threshold=cfg.split_threshold,
+                                 max_deposits=cfg.max_deposits, seed=cfg.seed),
+            ambient=(cfg.ambient_index, 0.0), device=dev,
         )
         self.coatings = make_coating_stack([[]], device=dev)
         self.ledger = np.zeros(len(CAUSTIC_LEDGER))
         self.seconds = 0.0
+        # per-launch deposit buffers, allocated once (run() fills them chunk by chunk)
+        self._chunk = min(_CHUNK, self.paths)
+        md = cp.max_deposits
+        self._dep_pix = wp.zeros(self._chunk * md, dtype=wp.int32, device=dev)
+        self._dep_xyz = wp.zeros(self._chunk * md, dtype=wp.vec3f, device=dev)
+        self._ledger = wp.zeros((self._chunk, len(CAUSTIC_LEDGER)), dtype=wp.float64, device=dev)
 
-    def run(self, *, threads: int | None = None, tile_size: int | None = None) -> np.ndarray:
+    def run(self, film: np.ndarray, *, threads: int | None = None,
+            tile_size: int | None = None) -> np.ndarray:
+        """Trace the light paths and write the caustic film into the caller's ``film`` ((H*W, 3)
+        float64, overwritten); returns it."""
         cam = self.camera.params
         npix = cam.width * cam.height
-        film = np.zeros((npix, 3), dtype=np.float64)
+        if film.shape != (npix, 3) or film.dtype != np.float64:
+            raise ValueError(f"film must be float64 of shape ({npix}, 3), got {film.dtype} {film.shape}")
+        film[:] = 0.0
         self.ledger = np.zeros(len(CAUSTIC_LEDGER))
         if not self.enabled:
             return film
         dev = self.device
         load_module(_caustic_kernel, dev)
         t0 = time.perf_counter()
-        chunk = min(_CHUNK, self.paths)
+        chunk = self._chunk
         md = self.params.max_deposits
-        dep_pix = wp.zeros(chunk * md, dtype=wp.int32, device=dev)
-        dep_xyz = wp.zeros(chunk * md, dtype=wp.vec3f, device=dev)
-        ledger = wp.zeros((chunk, len(CAUSTIC_LEDGER)), dtype=wp.float64, device=dev)
+        dep_pix, dep_xyz, ledger = self._dep_pix, self._dep_xyz, self._ledger
         for base in range(0, self.paths, chunk):
             nb = min(chunk, self.paths - base)
             launch_tiled(_caustic_kernel, nb,
@@ -557,12 +594,3 @@ class CausticStage:
         if not np.isfinite(film).all():
             raise FloatingPointError("caustic film is not finite: this is a bug, please report the scene")
         return film
-
-
-def check_caustic_scene(scene) -> None:
-    """Refuse what the light tracer does not model (coated objects / films)."""
-    for i, ob in enumerate(scene.objects):
-        if getattr(ob, "film", None) is not None or getattr(ob, "coating", None):
-            raise InputError("caustics do not support coated objects or films", file=scene.path,
-                             field=f"object.{i}", value=getattr(ob, "shape", None),
-                             allowed="render.caustics = false")

@@ -43,7 +43,6 @@ References
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -81,7 +80,8 @@ __all__ = [
     "coating_at",
     "film_thickness_nm",
     "turbulence_3d",
-    "film_config",
+    "layer_material",
+    "layer_index_samples",
     "build_film_surfaces",
     "empty_film_surfaces",
     "film_event",
@@ -411,26 +411,6 @@ def _thickness_kernel(
 # Configuration (scene files) and device data
 # ---------------------------------------------------------------------------------------------
 
-_FILM_KEYS = ("surface", "coating", "film_thickness", "roughness")
-_LAYER_KEYS = {"n", "k", "material", "thickness_nm"}
-_PROFILE_KEYS = {
-    "uniform": {"profile"},
-    "gravity": {"profile", "top_nm", "bottom_nm", "noise", "noise_scale", "seed", "octaves"},
-    "oil_drop": {"profile", "max_nm", "k1", "k2", "noise_scale", "seed", "octaves"},
-}
-_PROFILE_DEFAULTS = {
-    "gravity": {
-        "top_nm": 0.0,
-        "bottom_nm": 1000.0,
-        "noise": 0.15,
-        "noise_scale": 3.0,
-        "seed": 0,
-        "octaves": 5,
-    },
-    "oil_drop": {"max_nm": 1000.0, "k1": 3.0, "k2": 0.3, "noise_scale": 4.0, "seed": 0, "octaves": 6},
-}
-
-
 @dataclass(frozen=True)
 class FilmConfig:
     """The film keys of an ``[[object]]`` (validated): ``surface`` ("solid", "shell", "film"),
@@ -445,20 +425,7 @@ class FilmConfig:
     roughness: float = 0.0
 
 
-def _err(msg, file, fld, value=None, allowed=None):
-    return InputError(msg, file=file, field=fld, value=value, allowed=allowed)
-
-
-def _num(v, file, fld, lo=-math.inf, hi=math.inf, integer=False):
-    if isinstance(v, bool) or not isinstance(v, int if integer else (int, float)):
-        raise _err("must be an integer" if integer else "must be a number", file, fld, v)
-    if not math.isfinite(v) or v < lo or v > hi:
-        rng = f">= {lo:g}" + ("" if hi == math.inf else f" and <= {hi:g}")
-        raise _err("out of range", file, fld, v, rng)
-    return v
-
-
-def _layer_material(spec, file, fld):
+def layer_material(spec, file: str | None = None, fld: str = "coating.material"):
     """The Material of a layer's ``material`` value (InputError naming file/field/value)."""
     from ..materials import from_refractiveindex, material_from_spec
 
@@ -468,105 +435,19 @@ def _layer_material(spec, file, fld):
         if isinstance(spec, (str, dict)):
             return material_from_spec(spec)
     except InputError as exc:
-        raise _err(exc.message, file, fld, spec, exc.allowed) from None
+        raise InputError(exc.message, file=file, field=fld, value=spec, allowed=exc.allowed) from None
     except (OSError, KeyError, ValueError) as exc:
-        raise _err(f"unknown material ({exc})", file, fld, spec) from None
-    raise _err("must be a material name, a refractiveindex.info page or an inline table", file, fld, spec)
+        raise InputError(f"unknown material ({exc})", file=file, field=fld, value=spec) from None
+    raise InputError("must be a material name, a refractiveindex.info page or an inline table", file=file,
+                     field=fld, value=spec)
 
 
-def film_config(table: dict, index: int, file: str | None) -> FilmConfig | None:
-    """Validate the film keys (``surface``, ``coating``, ``film_thickness``, ``roughness``) of
-    ``[[object]]`` number ``index``; None when it has none.  Errors name file, field and value."""
-    if not any(k in table for k in _FILM_KEYS):
-        return None
-    prefix = f"object.{index}."
-    surface = table.get("surface", "solid")
-    if surface not in SURFACE_KINDS:
-        raise _err("unknown surface kind", file, prefix + "surface", surface, ", ".join(SURFACE_KINDS))
-    coat = table.get("coating", [])
-    if isinstance(coat, dict):
-        coat = [coat]
-    if not isinstance(coat, list):
-        raise _err("must be an array of layer tables", file, prefix + "coating", coat)
-    layers = []
-    for j, layer in enumerate(coat):
-        f = f"{prefix}coating.{j}."
-        if not isinstance(layer, dict):
-            raise _err("must be a table { material = ..., thickness_nm = ... }", file, f[:-1], layer)
-        for k in layer:
-            if k not in _LAYER_KEYS:
-                raise _err("unknown key", file, f + k, None, ", ".join(sorted(_LAYER_KEYS)))
-        if "thickness_nm" not in layer:
-            raise _err("missing key", file, f + "thickness_nm")
-        d = float(_num(layer["thickness_nm"], file, f + "thickness_nm", lo=0.0, hi=1.0e6))
-        if ("n" in layer) == ("material" in layer):
-            raise _err('a layer needs exactly one of n = ... or material = "name"', file, f + "material")
-        if "n" in layer:
-            n = float(_num(layer["n"], file, f + "n", lo=1.0e-3, hi=100.0))
-            k = float(_num(layer.get("k", 0.0), file, f + "k", lo=0.0, hi=100.0))
-            layers.append((complex(n, k), d))
-        else:
-            if "k" in layer:
-                raise _err("k goes with n, not with material", file, f + "k", layer["k"])
-            _layer_material(layer["material"], file, f + "material")  # validate now
-            layers.append((layer["material"], d))
-    if surface in ("shell", "film") and not layers:
-        raise _err(
-            f'a surface = "{surface}" object needs a coating (its film layers)', file, prefix + "coating"
-        )
-    th = table.get("film_thickness", {"profile": "uniform"})
-    if not isinstance(th, dict):
-        raise _err("must be a table { profile = ... }", file, prefix + "film_thickness", th)
-    profile = th.get("profile", "uniform")
-    if profile not in THICKNESS_PROFILES:
-        raise _err(
-            "unknown thickness profile",
-            file,
-            prefix + "film_thickness.profile",
-            profile,
-            ", ".join(THICKNESS_PROFILES),
-        )
-    for k in th:
-        if k not in _PROFILE_KEYS[profile]:
-            raise _err(
-                f"unknown key for profile {profile!r}",
-                file,
-                prefix + "film_thickness." + k,
-                None,
-                ", ".join(sorted(_PROFILE_KEYS[profile])),
-            )
-    params = dict(_PROFILE_DEFAULTS.get(profile, {}))
-    for k, v in th.items():
-        if k == "profile":
-            continue
-        fld = prefix + "film_thickness." + k
-        if k in ("seed", "octaves"):
-            params[k] = int(
-                _num(
-                    v,
-                    file,
-                    fld,
-                    lo=0 if k == "seed" else 1,
-                    hi=2**31 - 1 if k == "seed" else 12,
-                    integer=True,
-                )
-            )
-        else:
-            params[k] = float(_num(v, file, fld, lo=0.0, hi=1.0e6))
-    if profile != "uniform" and not layers:
-        raise _err("a thickness profile needs a coating", file, prefix + "film_thickness")
-    roughness = float(_num(table.get("roughness", 0.0), file, prefix + "roughness", lo=0.0, hi=1.0))
-    if roughness > 0.0 and surface != "film":
-        raise _err('roughness applies to surface = "film" only', file, prefix + "roughness", roughness)
-    return FilmConfig(
-        surface=surface, layers=tuple(layers), profile=profile, profile_params=params, roughness=roughness
-    )
-
-
-def _layer_index_samples(spec) -> np.ndarray | complex:
+def layer_index_samples(spec) -> np.ndarray | complex:
+    """A layer's index n + ik on the coating grid (360-830 nm, 5 nm; clipped to the material's data
+    range); a complex ``spec`` is returned as it is (dispersionless)."""
     if isinstance(spec, complex):
         return spec
-    mat = _layer_material(spec, None, "coating.material")
+    mat = layer_material(spec)
     lo, hi = mat.wavelength_range_nm
     g = np.clip(_GRID, lo, hi)
     n = np.asarray(mat.n(g), dtype=np.float64)
@@ -613,7 +494,7 @@ def make_film_surfaces(configs, *, frames=None, shapes=None, device=None) -> Fil
             continue
         kind[i] = SURFACE_KINDS[cfg.surface]
         coating[i] = len(layers)
-        layers.append([(_layer_index_samples(s), d) for s, d in cfg.layers])
+        layers.append([(layer_index_samples(s), d) for s, d in cfg.layers])
         nominal[i] = sum(d for _, d in cfg.layers)
         profile[i] = THICKNESS_PROFILES[cfg.profile]
         q = cfg.profile_params
@@ -651,26 +532,25 @@ def empty_film_surfaces(num_objects: int, *, device=None) -> FilmSurfaces:
     return make_film_surfaces([None] * max(int(num_objects), 1), device=device)
 
 
-def build_film_surfaces(scene: Any, meshes, mats, *, device=None) -> FilmSurfaces:
-    """The :class:`FilmSurfaces` of a scene's objects (``meshes``: (trimesh, transform) pairs,
-    ``mats``: their materials, as ``render._build_objects`` returns them).  Coated and film
-    objects must be isotropic (InputError naming the object)."""
-    configs, frames, shapes = [], [], []
-    for i, (ob, (mesh, _), mat) in enumerate(zip(scene.objects, meshes, mats, strict=True)):
-        cfg = getattr(ob, "film", None)
+def build_film_surfaces(films, shapes, meshes, mats, *, file: str | None = None, device=None) -> FilmSurfaces:
+    """The :class:`FilmSurfaces` of a scene's objects: per object its :class:`FilmConfig` (None: bare
+    solid) in ``films``, its (shape name, cut parameters) in ``shapes``, its (trimesh, transform) in
+    ``meshes`` and its material in ``mats``.  Coated and film objects must be isotropic (InputError
+    naming ``file`` and the object)."""
+    configs, frames = [], []
+    for i, (cfg, (mesh, _), mat) in enumerate(zip(films, meshes, mats, strict=True)):
         if cfg is not None and getattr(mat, "is_uniaxial", False):
             raise InputError(
                 "coatings, shells and film surfaces need an isotropic material (birefringent "
                 "stones are not coated here)",
-                file=scene.path,
+                file=file,
                 field=f"object.{i}.material",
-                value=getattr(mat, "name", str(ob.material)),
+                value=getattr(mat, "name", str(mat)),
             )
         configs.append(cfg)
         lo, hi = np.asarray(mesh.bounds, dtype=np.float64)
         frames.append((lo[2], hi[2], 0.5 * float(np.max(hi - lo))))
-        shapes.append((ob.shape, dict(ob.params)))
-    return make_film_surfaces(configs, frames=frames, shapes=shapes, device=device)
+    return make_film_surfaces(configs, frames=frames, shapes=list(shapes), device=device)
 
 
 # ---------------------------------------------------------------------------------------------

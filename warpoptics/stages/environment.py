@@ -243,7 +243,7 @@ class EnvironmentLight:
         return out.numpy().mean(axis=0)
 
     def _load_map(self, path: str) -> np.ndarray:
-        from ..image import read_image
+        from ..film.image import read_image
 
         field_name = "light.map"
         allowed = ", ".join(k for k in ENV_KINDS if k != "latlong") + ", or an .exr/.hdr/.png path"

@@ -64,6 +64,7 @@ from typing import Any
 import numpy as np
 import warp as wp
 
+from .. import validate as val
 from ..geometry.query import RayHit, SceneGeometry, scene_closest_hit
 from ..materials.dispersion import MaterialTable
 from ..optics.absorption import bouguer_lambert
@@ -91,9 +92,9 @@ from ..optics.jones import (
     stokes_from_coherency,
 )
 from ..optics.thinfilm import CoatingStack
+from ..film.screen import ScreenSet, screen_hit
 from .beam import BeamParams, beam_ray
 from .media import object_medium, segment_kappa
-from .screen import ScreenSet, screen_hit
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -123,10 +124,19 @@ class ForwardParams:
 
 @dataclass(frozen=True)
 class ForwardConfig:
+    """Settings of the forward tracer (a bench scene's ``[render]``): path depth, the relative
+    power above which rays split deterministically, screen deposits kept per ray, the seed."""
+
     max_depth: int = 16
     split_threshold: float = 1.0e-4
     max_deposits: int = 24
     seed: int = 0
+
+    def __post_init__(self) -> None:
+        val.integer(self.max_depth, field="render.max_depth", lo=0, hi=256)
+        val.number(self.split_threshold, field="render.split_threshold", lo=0.0, hi=1.0)
+        val.integer(self.max_deposits, field="render.max_deposits", lo=1, hi=1024)
+        val.integer(self.seed, field="render.seed", lo=0, hi=2**31 - 1)
 
 
 @wp.func

@@ -1102,7 +1102,7 @@ class SurfaceStage:
 
 
 def _load_texture(path: str | None, source: str | None, field_name: str) -> np.ndarray:
-    from ..image import read_image
+    from ..film.image import read_image
 
     if path is None or not Path(path).is_file():
         raise InputError("texture file not found", file=source, field=field_name, value=path)

@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 import warp as wp
 
+from .. import validate as val
 from ..geometry.query import RayHit, SceneGeometry, object_exit_hit, scene_closest_hit_leaving
 from ..materials.dispersion import MaterialTable
 from ..optics.absorption import bouguer_lambert
@@ -105,12 +106,22 @@ class TraceParams:
 
 @dataclass(frozen=True)
 class TraceConfig:
+    """Settings of the backward tracer (from a camera scene's ``[render]``)."""
+
     max_depth: int = 12
     split_threshold: float = 0.002
     max_splits: int = 64
     rr_threshold: float = 1.0e-4
     polarized: bool = True
     birefringence: str = "exact"
+
+    def __post_init__(self) -> None:
+        val.integer(self.max_depth, field="render.max_depth", lo=0, hi=256)
+        val.number(self.split_threshold, field="render.split_threshold", lo=0.0, hi=1.0)
+        val.integer(self.max_splits, field="render.max_splits", lo=0, hi=4096)
+        val.number(self.rr_threshold, field="render.rr_threshold", lo=0.0, hi=1.0)
+        val.boolean(self.polarized, field="render.polarization")
+        val.choice(self.birefringence, tuple(BIREFRINGENCE), field="render.birefringence")
 
 
 @wp.func

@@ -58,13 +58,14 @@ from pathlib import Path
 import numpy as np
 import warp as wp
 
-from .color import SRGB_TO_XYZ, xyz_to_rgb
-from .device import elementwise, get_device
-from .errors import InputError
-from .image import atomic_path
-from .scene import Scene
-from .spectra import SpectralTables, cmf_xyz, spectral_tables
-from .stages.environment import Environment, EnvironmentLight, environment_radiance
+from ..color import SRGB_TO_XYZ, xyz_to_rgb
+from ..device import elementwise, get_device
+from ..errors import InputError
+from ..atomic import atomic_path
+from ..scene import Scene
+from ..spectra import SpectralTables, cmf_xyz, spectral_tables
+from ..stages.environment import Environment, EnvironmentLight, environment_radiance
+from .objects import build_objects
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -233,7 +234,7 @@ def _write_ply(path: Path, vertices: np.ndarray, faces: np.ndarray) -> None:
 
 
 def _stone_index(mat, wavelength: float, where: str, file) -> float:
-    from .materials.dispersion import Uniaxial
+    from ..materials.dispersion import Uniaxial
 
     if isinstance(mat, Uniaxial):
         raise InputError(
@@ -279,8 +280,6 @@ def mitsuba_scene_dict(
     """
     import mitsuba as mi
 
-    from .render import _build_objects
-
     device = get_device(device)
     cam = scene.camera
     if cam.type != "perspective":
@@ -292,7 +291,8 @@ def mitsuba_scene_dict(
             allowed="perspective",
         )
     directory = Path(directory)
-    meshes, mats, _axes = _build_objects(scene, device)
+    built = build_objects(scene.objects, file=scene.path)
+    meshes, mats = built.meshes, built.materials
     d = {"type": "scene"}
     ambient = float(scene.render.ambient_index)
     for i, ((mesh, xf), mat) in enumerate(zip(meshes, mats, strict=True)):

@@ -13,29 +13,33 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import warp as wp
 
-from . import color
-from .adaptive import allocate, pilot_spp
-from .device import get_device, launch_tiled, load_module
-from .errors import InputError
-from .geometry.query import GeometryScene, SceneGeometry
-from .materials.dispersion import MaterialTable
-from .optics.jones import stokes_from_coherency
-from .scene import Scene
-from .spectra import SpectralTables, sample_wavelength, spectral_tables, strategy_id
-from .stages.camera import Camera, CameraParams, camera_ray
-from .stages.environment import Environment, EnvironmentLight, spectral_response
-from .stages.surfaces import Surfaces, SurfaceStage
-from .stages.trace import TraceConfig, TraceParams, default_params, trace_radiance
+from ..device import get_device, launch_tiled, load_module
+from ..errors import InputError
+from ..film.image import Image
+from ..film.views import polarizer_world_axis
+from ..geometry.query import GeometryScene, SceneGeometry
+from ..materials import material_from_spec
+from ..materials.dispersion import MaterialTable, build_material_table
+from ..optics.jones import stokes_from_coherency
+from ..scene import Scene
+from ..spectra import SpectralTables, sample_wavelength, spectral_tables, strategy_id
+from ..stages.camera import Camera, CameraParams, camera_ray
+from ..stages.coated import build_film_surfaces
+from ..stages.environment import Environment, EnvironmentLight, spectral_response
+from ..stages.surfaces import Surfaces, SurfaceStage
+from ..stages.trace import TraceConfig, TraceParams, default_params, trace_radiance
+from .adaptive import allocate
+from .caustics import caustic_stage
+from .objects import build_objects, world_axes
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
-__all__ = ["Image", "render", "Renderer", "FilmParams", "estimate_render_bytes", "available_memory_bytes",
+__all__ = ["render", "Renderer", "FilmParams", "estimate_render_bytes", "available_memory_bytes",
            "check_render_memory"]
 
 
@@ -157,138 +161,6 @@ def _render_pixels(
     stokes_xyz_out[pix, 2] = stokes_xyz_out[pix, 2] + stokes_z
 
 
-@dataclass
-class Image:
-    """A rendered image.  ``xyz`` (H, W, 3) CIE XYZ (Y = 1 is the luminance of a white at the
-    illuminant's level); ``stokes`` (H, W, 4) Y-weighted Stokes vector S0..S3 in the camera frame
-    (x = image right, y = image up; S0 = Y); ``alpha`` (H, W) fraction of samples whose primary ray
-    hit an object; ``stokes_xyz`` (H, W, 3, 4) the Stokes vector of each of X, Y, Z (its [..., c, 0]
-    is ``xyz[..., c]``, its Y row is ``stokes``), for the polarization views (:mod:`warpoptics.views`,
-    :meth:`view`); ``source_polarizer`` the angle (degrees, from image right toward image up) of the
-    polarizer in front of the light when the image was rendered with polarized light, else None."""
-
-    xyz: np.ndarray
-    stokes: np.ndarray
-    alpha: np.ndarray
-    exposure: float = 0.0
-    tone: str = "filmic"
-    stats: dict = field(default_factory=dict)
-    stokes_xyz: np.ndarray | None = None
-    source_polarizer: float | None = None
-
-    def view(self, kind: str, angle: float | None = None) -> Image:
-        """A polarization view of this image (no re-render): ``"analyzer"`` (an ideal linear
-        analyzer at ``angle`` degrees), ``"polariscope"`` (analyzer crossed with the light's
-        polarizer; ``"polariscope:parallel"`` for parallel), ``"dichroscope"`` (analyzer at
-        ``angle`` and ``angle + 90`` side by side) or ``"none"``; ``kind`` may carry the angle
-        (``"analyzer:30"``).  See :mod:`warpoptics.views`."""
-        from .views import apply_view
-
-        return apply_view(self, kind, angle)
-
-    @classmethod
-    def load(cls, path: str | Path) -> Image:
-        """Read an EXR written by :meth:`save` (XYZ, A, the Stokes layers, the light's polarizer)."""
-        from .views import load_exr
-
-        return load_exr(path)
-
-    @property
-    def rgb(self) -> np.ndarray:
-        """Scene-linear sRGB, Smits–Meyer gamut-clipped (negative components only; HDR kept)."""
-        return color.gamut_clip(self.xyz.reshape(-1, 3), 1.0e30).reshape(self.xyz.shape)
-
-    def display(self) -> np.ndarray:
-        """Display-encoded sRGB in [0, 1]: exposure, tone curve, sRGB transfer function."""
-        mapped = color.tone_map(self.rgb, exposure=self.exposure, curve=self.tone)
-        # self.rgb is already >= 0 (Smits–Meyer, constant Y); the tone curve maps each channel into [0, 1]
-        return color.encode_srgb(mapped)
-
-    def save(self, path: str | Path) -> Path:
-        """EXR: R, G, B (linear sRGB), A, S0..S3 (the Y-weighted Stokes vector) and X, Y, Z layers, and
-        with per-channel Stokes also ``stokes_X.S0..S3`` and ``stokes_Z.S0..S3`` (the Y ones are
-        S0..S3); PNG/JPEG/TIFF: tone mapped."""
-        from .image import write_exr, write_png
-
-        p = Path(path)
-        ext = p.suffix.lower()
-        if ext == ".exr":
-            data = np.concatenate([self.rgb, self.alpha[..., None], self.stokes, self.xyz], axis=-1)
-            names = ["R", "G", "B", "A", "S0", "S1", "S2", "S3", "X", "Y", "Z"]
-            attributes = None
-            if self.stokes_xyz is not None:
-                from .views import exr_stokes_layers
-
-                extra, extra_names, attributes = exr_stokes_layers(self)
-                data = np.concatenate([data, extra], axis=-1)
-                names += extra_names
-            return write_exr(p, data.astype(np.float32), names, attributes=attributes)
-        if ext in (".png", ".jpg", ".jpeg", ".tif", ".tiff"):
-            return write_png(p, self.display())
-        raise InputError("unsupported image format", field="output", value=str(path), allowed=".exr, .png, .jpg, .tif")
-
-
-def _build_objects(scene: Scene, device):
-    from . import materials as wo_materials
-    from .geometry import cuts
-
-    meshes, mats, axes = [], [], []
-    cache: dict = {}  # instancing: objects with the same shape and parameters share one mesh
-    for i, ob in enumerate(scene.objects):
-        where = f"object.{i}"
-        key = (ob.shape, ob.path, tuple(sorted((k, repr(v)) for k, v in ob.params.items())))
-        try:
-            if key in cache:
-                mesh = cache[key]
-            elif ob.shape == "mesh":
-                from .geometry.mesh import load_mesh
-
-                film = getattr(ob, "film", None)  # films: shells and film surfaces may be open meshes
-                mesh = load_mesh(ob.path, repair=bool(ob.params.get("repair", False)),
-                                 closed=film is None or film.surface == "solid")
-            elif ob.shape == "gemcad":
-                from .geometry.gemcad import read as read_gemcad
-
-                mesh = read_gemcad(ob.path, diameter=float(ob.params.get("diameter", 1.0)))
-            else:
-                mesh = getattr(cuts, ob.shape)(**ob.params)
-        except InputError as exc:
-            if exc.file is None:
-                exc = InputError(exc.message, file=scene.path, field=f"{where}.{exc.field or 'shape'}",
-                                 value=exc.value, allowed=exc.allowed)
-            raise exc from None
-        except (ValueError, TypeError) as exc:
-            raise InputError(str(exc), file=scene.path, field=f"{where}.shape", value=ob.shape) from None
-        cache[key] = mesh
-        meshes.append((mesh, ob.transform()))
-        try:
-            mat = wo_materials.material_from_spec(ob.material)
-        except InputError as exc:
-            raise InputError(exc.message, file=scene.path, field=f"{where}.material" + (f".{exc.field}" if exc.field and exc.field != "material" else ""),
-                             value=exc.value, allowed=exc.allowed) from None
-        mats.append(mat)
-        axes.append(ob.optic_axis)
-    return meshes, mats, axes
-
-
-def _world_axes(scene: Scene, mats, axes) -> np.ndarray:
-    """Optic axis of each object in world space (zero rows for isotropic materials): the object's
-    ``optic_axis`` or its material's, both in the object frame, turned by the object's rotation."""
-    from .materials.dispersion import Uniaxial
-
-    out = np.zeros((len(mats), 3))
-    for i, (ob, mat, ax) in enumerate(zip(scene.objects, mats, axes, strict=True)):
-        if not isinstance(mat, Uniaxial):
-            if ax is not None:
-                raise InputError("an optic axis needs a uniaxial material", file=scene.path,
-                                 field=f"object.{i}.optic_axis", value=list(ax))
-            continue
-        a = np.asarray(ax if ax is not None else mat.optic_axis, dtype=np.float64)
-        a = ob.rotation_matrix() @ a
-        out[i] = a / np.linalg.norm(a)
-    return out
-
-
 # bytes per pixel: the float64 film (xyz 24 + stokes 32 + alpha 8 + ray count 8 + per-channel stokes
 # 3 x 32) and, when the image is read back and saved, its NumPy copies and the EXR buffer
 # (19 channels float64 + float32)
@@ -354,33 +226,34 @@ class Renderer:
     """The standard pipeline for a scene; owns every stage's device data.  ``run()`` renders."""
 
     def __init__(self, scene: Scene, *, device=None, shared_spectrum: bool | None = None):
-        from .materials.dispersion import build_material_table
-
         self.scene = scene
         self.device = get_device(device)
         r = scene.render
         check_render_memory(scene.camera.width, scene.camera.height, file=scene.path)
-        meshes, mats, axes = _build_objects(scene, self.device)
+        built = build_objects(scene.objects, file=scene.path)
+        meshes, mats = built.meshes, built.materials
         self.geometry = GeometryScene(meshes, allow_empty=True, device=self.device)
         if mats:
             self.materials, ids = build_material_table(mats, self.device)
         else:  # surfaces only: a placeholder material table (no object refers to it)
-            from .materials import material_from_spec
-
             self.materials, ids = build_material_table([material_from_spec("diamond")], self.device)
             ids = []
-        from .stages.coated import build_film_surfaces  # films: coatings, shells, film surfaces
-
-        films = build_film_surfaces(scene, meshes, mats, device=self.device)
+        films = build_film_surfaces([ob.film for ob in scene.objects],
+                                    [(ob.shape, dict(ob.params)) for ob in scene.objects], meshes, mats,
+                                    file=scene.path, device=self.device)
         self.camera = Camera(scene.camera)
         self.environment = EnvironmentLight(scene.lights[0], self.device)
         self.source_polarizer = scene.lights[0].polarizer
         if self.source_polarizer is not None:
-            # polarized illumination (a polariscope): the sheet faces the camera (views.py)
-            from .views import polarizer_world_axis
-
-            axis = polarizer_world_axis(scene, self.camera, self.source_polarizer)
-            self.environment.struct.polarizer = axis
+            # polarized illumination (a polariscope): the sheet faces the camera (film/views.py);
+            # polarized light needs the polarized (Jones) renderer
+            if not r.polarization:
+                raise InputError("polarized light needs render.polarization = true", file=scene.path,
+                                 field="light.0.polarizer", value=self.source_polarizer)
+            p = self.camera.params
+            axis = polarizer_world_axis(np.array(p.right, dtype=np.float64), np.array(p.up, dtype=np.float64),
+                                        self.source_polarizer)
+            self.environment.struct.polarizer = wp.vec3f(*axis.astype(np.float32))
         self.surfaces = SurfaceStage(scene.surfaces, scene.lamps, max_diffuse=r.diffuse_depth, mis=r.mis,
                                      # caustics own the light through stones: stones then block NEE
                                      stone_shadows=r.stone_shadows and not r.caustics,
@@ -394,7 +267,7 @@ class Renderer:
         self.trace_params = default_params(
             np.asarray(ids, dtype=np.int32),
             np.array([ob.absorption_scale for ob in scene.objects], dtype=np.float32),
-            _world_axes(scene, mats, axes),
+            world_axes(scene.objects, built, file=scene.path),
             config=self.trace_config, ambient=(r.ambient_index, 0.0), rgb3=r.spectral == "rgb3",
             device=self.device, films=films,
         )
@@ -426,7 +299,7 @@ class Renderer:
         film.spp_begin = 0
         film.adaptive = 0
         film.round = 0
-        self.pilot = pilot_spp(r.spp, r.pilot_spp) if r.adaptive else 0
+        self.pilot = r.pilot if r.adaptive else 0
         n = film.width * film.height
         self.spp_end = wp.zeros(n if r.adaptive else 1, dtype=wp.int32, device=self.device)
         self.sq = wp.zeros(n, dtype=wp.vec3d, device=self.device)
@@ -437,7 +310,10 @@ class Renderer:
         self.stokes_xyz = wp.zeros((n, 3), dtype=wp.vec4d, device=self.device)
         self.caustics = None  # caustics hook: the light tracer (stages/caustics.py)
         if r.caustics:
-            self.caustics = _caustic_stage(self, meshes, ids, mats, axes)
+            self.caustics = caustic_stage(scene, built, ids, camera=self.camera, surfaces=self.surfaces,
+                                          geometry=self.geometry, materials=self.materials, tables=self.tables,
+                                          device=self.device)
+            self.caustic_film = np.zeros((n, 3), dtype=np.float64)  # the light tracer's output, reused
 
     def run(self, *, progress: bool = False, threads: int | None = None, tile_size: int | None = None,
             rows_per_chunk: int | None = None) -> Image:
@@ -493,7 +369,7 @@ class Renderer:
         caustic_stats = {}
         if self.caustics is not None:
             # caustics hook: add the light tracer's film (unpolarized: S0 only) to the camera's
-            cxyz = self.caustics.run(threads=threads, tile_size=tile_size).reshape(h, w, 3)
+            cxyz = self.caustics.run(self.caustic_film, threads=threads, tile_size=tile_size).reshape(h, w, 3)
             xyz = xyz + cxyz
             stokes[..., 0] += cxyz[..., 1]
             stokes_xyz[..., 0] += cxyz  # the S0 of each of X, Y, Z
@@ -507,23 +383,6 @@ class Renderer:
         self.spp_per_pixel = spp
         return Image(xyz=xyz, stokes=stokes, alpha=alpha, exposure=r.exposure, tone=r.tone, stats=stats,
                      stokes_xyz=stokes_xyz, source_polarizer=self.source_polarizer)
-
-
-def _caustic_stage(renderer: Renderer, meshes, ids, mats, axes):
-    """Caustics hook: the light tracer of a scene with ``[render] caustics = true``."""
-    from .stages.caustics import CausticStage, check_caustic_scene
-
-    scene, r, f = renderer.scene, renderer.scene.render, renderer.film
-    check_caustic_scene(scene)
-    paths = r.caustic_paths or f.width * f.height * r.spp
-    return CausticStage(
-        meshes=meshes, lamps=scene.lamps, object_material=ids,
-        absorption_scale=[ob.absorption_scale for ob in scene.objects],
-        object_axis=_world_axes(scene, mats, axes),
-        camera=renderer.camera, surfaces=renderer.surfaces.struct, geometry=renderer.geometry.geometry,
-        materials=renderer.materials, tables=renderer.tables, spectral=r.spectral, wavelengths=r.wavelengths,
-        paths=paths, max_depth=r.max_depth, ambient=r.ambient_index, seed=r.seed, device=renderer.device,
-    )
 
 
 def render(scene: Scene | str | Path, *, device=None, progress: bool = False, threads: int | None = None,

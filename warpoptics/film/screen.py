@@ -26,7 +26,9 @@ from dataclasses import dataclass
 import numpy as np
 import warp as wp
 
+from ..device import get_device
 from ..errors import InputError
+from .image import Image
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -136,8 +138,6 @@ class Screen:
 
 def screen_set(screens: list[Screen], device=None) -> ScreenSet:
     """Upload screens for kernels."""
-    from ..device import get_device
-
     dev = get_device(device)
     s = ScreenSet()
     s.count = len(screens)
@@ -166,10 +166,8 @@ class ScreenImage:
     tone: str = "filmic"
 
     def as_image(self):
-        """A :class:`warpoptics.render.Image` (for ``rgb``, ``display()``, ``save()``); its exposure
+        """A :class:`warpoptics.film.image.Image` (for ``rgb``, ``display()``, ``save()``); its exposure
         puts the 99.9th percentile of the lit pixels' Y at 1 (plus ``exposure`` stops)."""
-        from ..render import Image
-
         y = self.xyz[..., 1]
         lit = y[y > 0]
         ref = float(np.percentile(lit, 99.9)) if lit.size else 1.0

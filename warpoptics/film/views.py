@@ -4,7 +4,7 @@ A render keeps, per pixel, the Stokes vector of each of X, Y and Z in the camera
 (``Image.stokes_xyz``, x = image right, y = image up).  Every view here is an ideal optical
 element put between the image and the eye, applied with the Mueller matrix of
 :func:`warpoptics.optics.polarizer.mueller_linear_polarizer` (one place) to each channel; the
-result is again an :class:`~warpoptics.render.Image` (XYZ = S0 of each channel behind the
+result is again an :class:`~warpoptics.film.image.Image` (XYZ = S0 of each channel behind the
 element), so views compose and save like renders.
 
 - ``analyzer`` (angle θ): an ideal linear polarizer with its transmission axis at θ degrees from
@@ -42,12 +42,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
-from .optics.polarizer import analyze, sheet_absorbing_axis
+from ..errors import InputError
+from ..optics.polarizer import analyze, sheet_absorbing_axis
 
 __all__ = [
     "VIEW_KINDS",
@@ -56,13 +55,10 @@ __all__ = [
     "analyzer",
     "polariscope",
     "dichroscope",
-    "load_exr",
-    "exr_stokes_layers",
     "polarizer_world_axis",
 ]
 
 VIEW_KINDS = ("none", "analyzer", "polariscope", "dichroscope")
-_SOURCE_ATTR = "warpoptics:source_polarizer"
 
 
 def parse_view(
@@ -162,66 +158,7 @@ def apply_view(image, kind: str | None, angle: float | None = None, *, device=No
     return dichroscope(image, arg, device=device)
 
 
-# ----------------------------------------------------------------------------------------------
-# renderer and file hooks
-
-
-def polarizer_world_axis(scene, camera, angle_deg: float):
-    """The absorbing axis (world, ``wp.vec3f``) of the light's sheet polarizer for a scene: the
-    sheet faces the camera, its transmission axis at ``angle_deg`` on the image.  Polarized light
-    needs the polarized (Jones) renderer."""
-    import warp as wp
-
-    if not scene.render.polarization:
-        raise InputError("polarized light needs render.polarization = true", file=scene.path,
-                         field="light.0.polarizer", value=angle_deg)
-    p = camera.params
-    a = sheet_absorbing_axis(np.array(p.right, dtype=np.float64), np.array(p.up, dtype=np.float64), angle_deg)
-    return wp.vec3f(*a.astype(np.float32))
-
-
-def exr_stokes_layers(image) -> tuple[np.ndarray, list[str], dict]:
-    """Extra EXR channels of :meth:`Image.save`: ``stokes_X.S0..S3``, ``stokes_Z.S0..S3`` (the Y
-    vector is the file's S0..S3) and the header attribute of the light's polarizer angle."""
-    s = _stokes_xyz(image)
-    data = np.concatenate([s[..., 0, :], s[..., 2, :]], axis=-1)
-    names = [f"stokes_{c}.S{i}" for c in "XZ" for i in range(4)]
-    attrs = {} if image.source_polarizer is None else {_SOURCE_ATTR: float(image.source_polarizer)}
-    return data, names, attrs
-
-
-def load_exr(path: str | Path):
-    """An :class:`~warpoptics.render.Image` from an EXR written by ``Image.save`` (float32 data)."""
-    import OpenImageIO as oiio
-
-    from .image import read_image
-    from .render import Image
-
-    pixels, names = read_image(path)
-    idx = {n: i for i, n in enumerate(names)}
-    need = ["X", "Y", "Z", "S0", "S1", "S2", "S3"]
-    missing = [n for n in need if n not in idx]
-    if missing:
-        raise InputError(f"not a warpoptics render (missing channels {', '.join(missing)})", file=str(path))
-
-    def ch(*keys):
-        return np.stack([pixels[..., idx[k]] for k in keys], axis=-1).astype(np.float64)
-
-    xyz = ch("X", "Y", "Z")
-    stokes = ch("S0", "S1", "S2", "S3")
-    alpha = pixels[..., idx["A"]].astype(np.float64) if "A" in idx else np.ones(xyz.shape[:2])
-    stokes_xyz = None
-    layer = [f"stokes_{c}.S{i}" for c in "XZ" for i in range(4)]
-    if all(n in idx for n in layer):
-        sx = ch(*layer[:4])
-        sz = ch(*layer[4:])
-        stokes_xyz = np.stack([sx, stokes, sz], axis=-2)
-    source = None
-    inp = oiio.ImageInput.open(str(path))
-    if inp is not None:
-        try:
-            v = inp.spec().getattribute(_SOURCE_ATTR)
-            source = None if v is None else float(v)
-        finally:
-            inp.close()
-    return Image(xyz=xyz, stokes=stokes, alpha=alpha, stokes_xyz=stokes_xyz, source_polarizer=source)
+def polarizer_world_axis(right, up, angle_deg: float) -> np.ndarray:
+    """The absorbing axis (world, unit) of the light's sheet polarizer: the sheet faces the camera
+    (``right``, ``up``: the camera's world axes), its transmission axis at ``angle_deg`` on the image."""
+    return sheet_absorbing_axis(np.asarray(right, dtype=np.float64), np.asarray(up, dtype=np.float64), angle_deg)

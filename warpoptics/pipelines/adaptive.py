@@ -26,19 +26,10 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["pilot_spp", "allocate"]
+__all__ = ["allocate"]
 
 
 _EXPONENT = 0.4
-
-
-def pilot_spp(spp: int, pilot: int = 0) -> int:
-    """Pilot samples per pixel: ``pilot`` if given, else a quarter of ``spp`` (at least 2).
-
-    The pilot's variances steer everything after it.  Measured on bench_diamond at 256x256
-    (3 seeds, noise of one pass): spp 32 with a pilot of 4 -> 0.99 %, of 8 -> 0.90 % (same time);
-    spp 24 with a pilot of 3 -> 1.39 %."""
-    return int(pilot) if pilot > 0 else max(2, spp // 4)
 
 
 def _neighbours(a: np.ndarray, reduce) -> np.ndarray:

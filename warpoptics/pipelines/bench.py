@@ -1,313 +1,31 @@
 """The optical bench pipeline: Beam -> forward trace -> Screens, with an energy ledger.
 
-``bench(scene, **overrides) -> BenchResult``.  A bench scene is a TOML file like a camera
-scene, with a ``[source]`` beam instead of the camera and ``[[sensor]]`` screens::
-
-    [source]
-    type = "beam"                 # the only source type of a bench
-    kind = "collimated"           # "collimated" | "spot"
-    position = [-20.0, 0.0, 0.0]  # mm
-    direction = [1.0, 0.0, 0.0]
-    width = 0.5                   # beam diameter, mm (collimated)
-    divergence = 10.0             # full cone angle, degrees (spot)
-    spectrum = "E"                # "E" | "D65" | "A" | [r, g, b] (linear sRGB)
-    lines = [589.3]               # optional: only these wavelengths (nm), equal power
-    polarization = "unpolarized"  # "linear" (with polarization_angle, deg) | "right" | "left"
-    power = 1.0                   # W
-    rays = 256                    # beam positions (each traced at every wavelength sample)
-
-    [render]                      # all optional
-    wavelengths = 32              # spectral samples (strata of 360-830 nm)
-    max_depth = 16
-    split_threshold = 1e-4        # relative power above which rays split deterministically
-    max_deposits = 24             # screen deposits kept per beam ray
-    seed = 0
-    ambient_index = 1.0
-
-    [[sensor]]
-    type = "screen"
-    name = "wall"
-    center = [200.0, 0.0, 0.0]
-    normal = [-1.0, 0.0, 0.0]     # toward the light
-    up = [0.0, 0.0, 1.0]
-    size = [40.0, 20.0]           # mm
-    resolution = [400, 200]       # pixels
-
-    [[object]]                    # as in camera scenes, plus an optional coating (front to substrate)
-    shape = "plate"
-    material = "bk7"
-    coating = [{ n = 2.0, k = 0.0, thickness_nm = 300.0 }]   # or { material = "water", thickness_nm = ... }
-
-Objects are validated by ``warpoptics.scene``'s object rules (the same keys and errors as camera
-scenes); ``coating`` coats every face of its object (the stack faces the ambient medium).
+``bench(scene, **overrides) -> BenchResult``; the scene schema is :mod:`warpoptics.scene.bench`.
 """
 
 from __future__ import annotations
 
-import copy
-import math
 import time
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
-from types import SimpleNamespace
-from typing import Any
 
 import numpy as np
 import warp as wp
 
-from . import scene as _scene
-from .device import get_device, launch_tiled, load_module
-from .errors import InputError
-from .stages.beam import Beam
-from .stages.forward import LEDGER, ForwardConfig, forward_params, forward_trace_kernel
-from .stages.screen import Screen, ScreenImage, screen_set
+from ..device import get_device, launch_tiled, load_module
+from ..film.screen import Screen, ScreenImage, screen_set
+from ..geometry import cuts
+from ..geometry.query import GeometryScene
+from ..materials import get as get_material
+from ..materials.dispersion import build_material_table
+from ..optics.thinfilm import make_coating_stack
+from ..scene.bench import BenchScene
+from ..spectra import cmf
+from ..stages.coated import layer_index_samples
+from ..stages.forward import LEDGER, ForwardConfig, forward_params, forward_trace_kernel
+from .objects import build_objects
 
-__all__ = ["BenchConfig", "BenchScene", "BenchResult", "Bench", "bench", "is_bench_scene"]
-
-_SOURCE_KEYS = {
-    "type",
-    "kind",
-    "position",
-    "direction",
-    "width",
-    "divergence",
-    "spectrum",
-    "lines",
-    "polarization",
-    "polarization_angle",
-    "polarization_x",
-    "power",
-    "rays",
-}
-_SENSOR_KEYS = {"type", "name", "center", "normal", "up", "size", "resolution"}
-_TOP_KEYS = {"source", "sensor", "render", "object"}
-_LAYER_KEYS = {"n", "k", "material", "thickness_nm"}
-
-
-@dataclass(frozen=True)
-class BenchConfig:
-    """``[render]`` of a bench scene."""
-
-    wavelengths: int = 32
-    max_depth: int = 16
-    split_threshold: float = 1.0e-4
-    max_deposits: int = 24
-    seed: int = 0
-    ambient_index: float = 1.0
-    exposure: float = 0.0
-    tone: str = "filmic"
-
-
-def is_bench_scene(path: str | Path) -> bool:
-    """True if the TOML file has a ``[source]`` table (an optical-bench scene)."""
-    try:
-        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
-    except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError):
-        return False
-    return isinstance(data.get("source"), dict)
-
-
-def _render_config(t: dict, file) -> BenchConfig:
-    if not isinstance(t, dict):
-        raise InputError("must be a table [render]", file=file, field="render")
-    _scene._check_keys(t, set(BenchConfig.__dataclass_fields__), file=file, prefix="render.")
-    for k, lo, hi in (
-        ("wavelengths", 1, 4096),
-        ("max_depth", 0, 256),
-        ("max_deposits", 1, 1024),
-        ("seed", 0, 2**31 - 1),
-    ):
-        if k in t:
-            _scene._number(t[k], file=file, field_name=f"render.{k}", lo=lo, hi=hi, integer=True)
-    for k, lo, hi in (("split_threshold", 0.0, 1.0), ("ambient_index", 1.0, 10.0), ("exposure", -40.0, 40.0)):
-        if k in t:
-            _scene._number(t[k], file=file, field_name=f"render.{k}", lo=lo, hi=hi)
-    if "tone" in t:
-        _scene._choice(t["tone"], _scene.TONE_CURVES, file=file, field_name="render.tone")
-    return BenchConfig(**t)
-
-
-def _source(t: dict, file) -> Beam:
-    if not isinstance(t, dict):
-        raise InputError("must be a table [source]", file=file, field="source")
-    _scene._check_keys(t, _SOURCE_KEYS, file=file, prefix="source.")
-    _scene._choice(t.get("type", "beam"), ("beam",), file=file, field_name="source.type")
-    kw: dict[str, Any] = {}
-    if "kind" in t:
-        kw["type"] = _scene._choice(t["kind"], ("collimated", "spot"), file=file, field_name="source.kind")
-    for k in ("position", "direction", "polarization_x"):
-        if k in t:
-            kw[k] = _scene._vec3(t[k], file=file, field_name=f"source.{k}")
-    for k, lo in (("width", 0.0), ("divergence", 0.0), ("polarization_angle", -math.inf), ("power", 0.0)):
-        if k in t:
-            kw[k] = float(_scene._number(t[k], file=file, field_name=f"source.{k}", lo=lo))
-    if "rays" in t:
-        kw["rays"] = int(
-            _scene._number(t["rays"], file=file, field_name="source.rays", lo=1, hi=1 << 24, integer=True)
-        )
-    if "spectrum" in t:
-        s = t["spectrum"]
-        kw["spectrum"] = s if isinstance(s, str) else _scene._vec3(s, file=file, field_name="source.spectrum")
-    if "lines" in t:
-        lines = t["lines"]
-        if not isinstance(lines, list) or not lines:
-            raise InputError(
-                "must be a list of wavelengths in nm", file=file, field="source.lines", value=lines
-            )
-        kw["lines"] = tuple(
-            float(_scene._number(v, file=file, field_name="source.lines", lo=360.0, hi=830.0)) for v in lines
-        )
-    if "polarization" in t:
-        kw["polarization"] = _scene._choice(
-            t["polarization"],
-            ("unpolarized", "linear", "right", "left"),
-            file=file,
-            field_name="source.polarization",
-        )
-    try:
-        return Beam(**kw)
-    except InputError as exc:
-        raise InputError(
-            exc.message, file=file, field=exc.field, value=exc.value, allowed=exc.allowed
-        ) from None
-
-
-def _sensor(t: dict, index: int, file) -> Screen:
-    prefix = f"sensor.{index}."
-    if not isinstance(t, dict):
-        raise InputError("must be a table", file=file, field=f"sensor.{index}")
-    _scene._check_keys(t, _SENSOR_KEYS, file=file, prefix=prefix)
-    _scene._choice(t.get("type", "screen"), ("screen",), file=file, field_name=prefix + "type")
-    kw: dict[str, Any] = {"name": str(t.get("name", f"screen{index}"))}
-    for k in ("center", "normal", "up"):
-        if k in t:
-            kw[k] = _scene._vec3(t[k], file=file, field_name=prefix + k)
-    for k, integer in (("size", False), ("resolution", True)):
-        if k in t:
-            v = t[k]
-            if not isinstance(v, list) or len(v) != 2:
-                raise InputError(
-                    "must be a list of two numbers [width, height]", file=file, field=prefix + k, value=v
-                )
-            kw[k] = tuple(
-                _scene._number(c, file=file, field_name=prefix + k, lo=0, lo_open=True, integer=integer)
-                for c in v
-            )
-    try:
-        return Screen(**kw)
-    except InputError as exc:
-        raise InputError(
-            exc.message,
-            file=file,
-            field=prefix + (exc.field or "").split(".")[-1],
-            value=exc.value,
-            allowed=exc.allowed,
-        ) from None
-
-
-def _coating(v, index: int, file) -> tuple:
-    prefix = f"object.{index}.coating"
-    if isinstance(v, dict):
-        v = [v]
-    if not isinstance(v, list):
-        raise InputError("must be an array of layer tables", file=file, field=prefix, value=v)
-    layers = []
-    for j, layer in enumerate(v):
-        f = f"{prefix}.{j}."
-        if not isinstance(layer, dict):
-            raise InputError("must be a table", file=file, field=f[:-1], value=layer)
-        _scene._check_keys(layer, _LAYER_KEYS, file=file, prefix=f)
-        if "thickness_nm" not in layer:
-            raise InputError("missing key", file=file, field=f + "thickness_nm")
-        d = float(_scene._number(layer["thickness_nm"], file=file, field_name=f + "thickness_nm", lo=0.0))
-        if ("n" in layer) == ("material" in layer):
-            raise InputError(
-                'a layer needs exactly one of n = ... or material = "name"', file=file, field=f + "n"
-            )
-        if "n" in layer:
-            n = float(_scene._number(layer["n"], file=file, field_name=f + "n", lo=1.0e-3))
-            k = float(_scene._number(layer.get("k", 0.0), file=file, field_name=f + "k", lo=0.0))
-            layers.append((complex(n, k), d))
-        else:
-            if not isinstance(layer["material"], str):
-                raise InputError(
-                    "must be a material name", file=file, field=f + "material", value=layer["material"]
-                )
-            layers.append((str(layer["material"]), d))
-    return tuple(layers)
-
-
-@dataclass(frozen=True)
-class BenchScene:
-    """A validated bench scene (``data`` keeps the raw TOML for overrides)."""
-
-    source: Beam
-    sensors: tuple[Screen, ...]
-    objects: tuple[_scene.ObjectConfig, ...]
-    coatings: tuple[tuple | None, ...]
-    render: BenchConfig
-    data: dict = field(repr=False, compare=False, default_factory=dict)
-    path: str | None = None
-
-    @classmethod
-    def load(cls, path: str | Path) -> BenchScene:
-        p = Path(path)
-        if not p.is_file():
-            raise InputError("scene file not found", file=str(p))
-        try:
-            data = tomllib.loads(p.read_text(encoding="utf-8"))
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError(f"not valid TOML ({exc})", file=str(p)) from None
-        return cls.from_dict(data, path=str(p))
-
-    @classmethod
-    def from_dict(cls, data: dict, *, path: str | None = None) -> BenchScene:
-        file = path or "<scene>"
-        base_dir = Path(path).parent if path else Path.cwd()
-        _scene._check_keys(data, _TOP_KEYS, file=file, prefix="")
-        if "source" not in data:
-            raise InputError(
-                'a bench scene needs a [source] table (type = "beam")', file=file, field="source"
-            )
-        source = _source(data["source"], file)
-        sensors_t = data.get("sensor", [])
-        if isinstance(sensors_t, dict):
-            sensors_t = [sensors_t]
-        if not isinstance(sensors_t, list) or not sensors_t:
-            raise InputError("a bench scene needs at least one [[sensor]] screen", file=file, field="sensor")
-        sensors = tuple(_sensor(t, i, file) for i, t in enumerate(sensors_t))
-        objs_t = data.get("object", [])
-        if not isinstance(objs_t, list):
-            raise InputError("must be an array of tables [[object]]", file=file, field="object")
-        objects, coatings = [], []
-        for i, t in enumerate(objs_t):
-            if not isinstance(t, dict):
-                raise InputError("must be a table", file=file, field=f"object.{i}")
-            t = dict(t)
-            coat = t.pop("coating", None)
-            objects.append(_scene._object_config(t, i, file, base_dir))
-            coatings.append(None if coat is None else _coating(coat, i, file))
-        render = _render_config(data.get("render", {}), file)
-        return cls(
-            source=source,
-            sensors=sensors,
-            objects=tuple(objects),
-            coatings=tuple(coatings),
-            render=render,
-            data=copy.deepcopy(data),
-            path=path,
-        )
-
-    def with_overrides(self, overrides: dict[str, Any] | None = None) -> BenchScene:
-        """A copy with dotted-path overrides, e.g. ``{"source.rays": 64, "object.0.position": [...]}``."""
-        data = copy.deepcopy(self.data)
-        for dotted, value in (overrides or {}).items():
-            parts = dotted.split(".")
-            if parts[0] == "sensor" and isinstance(data.get("sensor"), dict):
-                data["sensor"] = [data["sensor"]]
-            _scene.set_dotted(data, dotted, value, file=self.path or "<scene>")
-        return BenchScene.from_dict(data, path=self.path)
+__all__ = ["BenchResult", "Bench", "bench"]
 
 
 @dataclass
@@ -435,27 +153,18 @@ class Bench:
     """The bench pipeline for a scene; owns every stage's device data.  ``run()`` traces."""
 
     def __init__(self, scene: BenchScene, *, device=None):
-        from . import materials as wo_materials
-        from .geometry.query import GeometryScene
-        from .materials.dispersion import build_material_table
-        from .optics.thinfilm import make_coating_stack
-        from .render import _build_objects
-
         self.scene = scene
         self.device = get_device(device)
         r = scene.render
         self.wavelengths, self.weights = scene.source.spectral_samples(r.wavelengths)
         if scene.objects:
-            meshes, mats, axes = _build_objects(
-                SimpleNamespace(objects=scene.objects, path=scene.path), self.device
-            )
+            built = build_objects(scene.objects, file=scene.path)
+            meshes, mats, axes = built.meshes, built.materials, built.axes
         else:
             # an empty bench: one tiny object far away keeps the geometry struct valid
-            from .geometry import cuts
-
             far = np.eye(4)
             far[:3, 3] = (1.0e5, 1.0e5, 1.0e5)
-            meshes, mats, axes = [(cuts.cube(1.0e-3), far)], [wo_materials.get("water")], [None]
+            meshes, mats, axes = [(cuts.cube(1.0e-3), far)], [get_material("water")], [None]
         self.geometry = GeometryScene(meshes, device=self.device)
         self.materials, ids = build_material_table(mats, self.device, rgb3=False)
         world_axes = []
@@ -476,13 +185,10 @@ class Bench:
             coat_ids.append(len(layers))
             rows = []
             for index, d in c:
-                if isinstance(index, str):
-                    m = wo_materials.get(index)
-                    nn = np.asarray(m.n(grid), dtype=np.float64)
-                    kk = np.asarray(m.k(grid), dtype=np.float64) if hasattr(m, "k") else np.zeros_like(nn)
-                    rows.append((nn + 1j * kk, d))
-                else:
+                if isinstance(index, complex):
                     rows.append((np.full(grid.size, index), d))
+                else:  # a material: its n + ik on the grid (clipped to its data range)
+                    rows.append((layer_index_samples(index), d))
             layers.append(rows)
         self.coatings = make_coating_stack(
             layers or [[]], wavelength_start_nm=360.0, wavelength_step_nm=5.0, device=self.device
@@ -508,8 +214,6 @@ class Bench:
         self, *, threads: int | None = None, tile_size: int | None = None, chunk: int = 1 << 15
     ) -> BenchResult:
         """Trace every beam ray; ``chunk`` beam rays (times wavelengths) per launch round."""
-        from .spectra import cmf
-
         src = self.scene.source
         n_wl = self.wavelengths.size
         total = src.rays * n_wl

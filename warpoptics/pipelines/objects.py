@@ -1,0 +1,101 @@
+"""The scene-geometry builder both pipelines call: ``[[object]]`` configs -> meshes (cuts, mesh
+files, GemCAD designs; instances share one mesh), materials and optic axes."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from ..geometry import cuts
+from ..geometry.gemcad import read as read_gemcad
+from ..geometry.mesh import load_mesh
+from ..materials import material_from_spec
+from ..materials.dispersion import Uniaxial
+from ..scene.schema import ObjectConfig
+
+__all__ = ["SceneObjects", "build_objects", "world_axes"]
+
+
+@dataclass(frozen=True)
+class SceneObjects:
+    """What :func:`build_objects` returns, one entry per object: ``meshes`` (trimesh, 4x4 object ->
+    world transform), ``materials`` (dispersion models), ``axes`` (the object's ``optic_axis``
+    override in the object frame, or None)."""
+
+    meshes: list
+    materials: list
+    axes: list
+
+
+def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -> SceneObjects:
+    """Meshes and materials of a scene's objects (camera and bench scenes alike); errors of a cut,
+    a mesh file or a material become InputErrors naming ``file`` and ``object.<i>``."""
+    meshes, mats, axes = [], [], []
+    cache: dict = {}  # instancing: objects with the same shape and parameters share one mesh
+    for i, ob in enumerate(objects):
+        where = f"object.{i}"
+        key = (ob.shape, ob.path, tuple(sorted((k, repr(v)) for k, v in ob.params.items())))
+        try:
+            if key in cache:
+                mesh = cache[key]
+            elif ob.shape == "mesh":
+                film = getattr(ob, "film", None)  # films: shells and film surfaces may be open meshes
+                mesh = load_mesh(
+                    ob.path,
+                    repair=bool(ob.params.get("repair", False)),
+                    closed=film is None or film.surface == "solid",
+                )
+            elif ob.shape == "gemcad":
+                mesh = read_gemcad(ob.path, diameter=float(ob.params.get("diameter", 1.0)))
+            else:
+                mesh = getattr(cuts, ob.shape)(**ob.params)
+        except InputError as exc:
+            if exc.file is None:
+                exc = InputError(
+                    exc.message,
+                    file=file,
+                    field=f"{where}.{exc.field or 'shape'}",
+                    value=exc.value,
+                    allowed=exc.allowed,
+                )
+            raise exc from None
+        except (ValueError, TypeError) as exc:
+            raise InputError(str(exc), file=file, field=f"{where}.shape", value=ob.shape) from None
+        cache[key] = mesh
+        meshes.append((mesh, ob.transform()))
+        try:
+            mat = material_from_spec(ob.material)
+        except InputError as exc:
+            sub = f".{exc.field}" if exc.field and exc.field != "material" else ""
+            raise InputError(
+                exc.message, file=file, field=f"{where}.material{sub}", value=exc.value, allowed=exc.allowed
+            ) from None
+        mats.append(mat)
+        axes.append(ob.optic_axis)
+    return SceneObjects(meshes=meshes, materials=mats, axes=axes)
+
+
+def world_axes(
+    objects: Sequence[ObjectConfig], built: SceneObjects, *, file: str | None = None
+) -> np.ndarray:
+    """Optic axis of each object in world space (zero rows for isotropic materials): the object's
+    ``optic_axis`` or its material's, both in the object frame, turned by the object's rotation."""
+    mats, axes = built.materials, built.axes
+    out = np.zeros((len(mats), 3))
+    for i, (ob, mat, ax) in enumerate(zip(objects, mats, axes, strict=True)):
+        if not isinstance(mat, Uniaxial):
+            if ax is not None:
+                raise InputError(
+                    "an optic axis needs a uniaxial material",
+                    file=file,
+                    field=f"object.{i}.optic_axis",
+                    value=list(ax),
+                )
+            continue
+        a = np.asarray(ax if ax is not None else mat.optic_axis, dtype=np.float64)
+        a = ob.rotation_matrix() @ a
+        out[i] = a / np.linalg.norm(a)
+    return out

@@ -1,0 +1,535 @@
+"""The tables of a TOML scene -> validated frozen configs, with errors that name file, field and value.
+
+A scene file has the tables ``[camera]``, ``[render]``, ``[[light]]``, ``[[object]]`` and ``[[surface]]`` (see
+DESIGN.md and the files in ``scenes/``).  ``Scene.load(path)`` reads and validates it;
+``scene.with_overrides({"render.spp": 4, "object.0.diameter": 5.0})`` returns a modified copy
+(dotted paths, as the CLI's ``--set`` and the sweep axes use them).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import inspect
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .. import validate as val
+from ..errors import InputError
+from ..film.views import parse_view
+from ..geometry import cuts
+from ..stages.environment import EnvironmentConfig
+from ..stages.surfaces import BSDF_KINDS, LAMP_KINDS, MIS_MODES, LampConfig, SurfaceConfig
+from .coating import film_config
+
+__all__ = [
+    "RenderConfig",
+    "ObjectConfig",
+    "render_config",
+    "object_configs",
+    "light_config",
+    "surface_config",
+    "view_config",
+    "object_config",
+    "SHAPES",
+    "SPECTRAL_MODES",
+    "TONE_CURVES",
+]
+
+SPECTRAL_MODES = ("rgb3", "uniform", "importance", "stratified")
+BIREFRINGENCE_MODES = ("exact", "approx")
+TONE_CURVES = ("filmic", "reinhard", "clip")
+MIS_CHOICES = tuple(MIS_MODES)
+
+
+@dataclass(frozen=True)
+class RenderConfig:
+    """``[render]``: how to render (see DESIGN.md)."""
+
+    spectral: str = "stratified"
+    wavelengths: int = 45
+    polarization: bool = True
+    birefringence: str = "exact"
+    max_depth: int = 12
+    spp: int = 1
+    seed: int = 0
+    split_threshold: float = 0.002
+    max_splits: int = 64
+    rr_threshold: float = 1.0e-4
+    exposure: float = 0.0
+    tone: str = "filmic"
+    ambient_index: float = 1.0
+    # surfaces (stages/surfaces.py): surface hits per path leaf, direct-light estimator, and
+    # whether stones filter shadow rays (straight-through) or block them
+    diffuse_depth: int = 3
+    mis: str = "mis"
+    stone_shadows: bool = True
+    # caustics (stages/caustics.py): a light tracer for lamp -> gem -> surface -> eye; with it on,
+    # stones block the camera's shadow rays (stone_shadows is ignored); caustic_paths 0: one light
+    # path per pixel sample (width x height x spp)
+    caustics: bool = False
+    caustic_paths: int = 0
+    # adaptive sampling (adaptive.py): a pilot of pilot_spp samples (0: spp / 4, at least 2) in
+    # every pixel decides where the rest go; the pass costs about what spp everywhere would
+    adaptive: bool = False
+    pilot_spp: int = 0
+    source: str | None = field(default=None, compare=False)  # scene file, for messages
+
+    def __post_init__(self) -> None:
+        file, f = self.source, (lambda k: f"render.{k}")  # noqa: E731
+        val.choice(self.spectral, SPECTRAL_MODES, file=file, field=f("spectral"))
+        val.choice(self.birefringence, BIREFRINGENCE_MODES, file=file, field=f("birefringence"))
+        val.choice(self.tone, TONE_CURVES, file=file, field=f("tone"))
+        val.choice(self.mis, MIS_CHOICES, file=file, field=f("mis"))
+        for k in ("polarization", "stone_shadows", "caustics", "adaptive"):
+            val.boolean(getattr(self, k), file=file, field=f(k))
+        for k, lo, hi in (
+            ("wavelengths", 1, 4096),
+            ("max_depth", 0, 256),
+            ("max_splits", 0, 4096),
+            ("spp", 1, 1 << 20),
+            ("seed", 0, 2**31 - 1),
+            ("diffuse_depth", 1, 8),
+            ("caustic_paths", 0, 1 << 34),
+            ("pilot_spp", 0, 1 << 20),
+        ):
+            val.integer(getattr(self, k), file=file, field=f(k), lo=lo, hi=hi)
+        for k, lo, hi in (
+            ("split_threshold", 0.0, 1.0),
+            ("rr_threshold", 0.0, 1.0),
+            ("exposure", -40.0, 40.0),
+            ("ambient_index", 1.0, 10.0),
+        ):
+            val.number(getattr(self, k), file=file, field=f(k), lo=lo, hi=hi)
+        if self.adaptive and not 2 <= self.pilot < self.spp:
+            raise InputError(
+                f"adaptive sampling needs a pilot of 2 or more samples and fewer than spp = {self.spp}"
+                " (spp >= 3; pilot_spp 0 takes spp / 4)",
+                file=file,
+                field=f("pilot_spp") if self.pilot_spp else f("spp"),
+                value=self.pilot_spp if self.pilot_spp else self.spp,
+            )
+        if self.spectral == "rgb3" and self.wavelengths not in (3, _DEFAULT_WAVELENGTHS):
+            raise InputError(
+                "rgb3 uses exactly 3 wavelengths", file=file, field=f("wavelengths"), value=self.wavelengths
+            )
+
+    @property
+    def pilot(self) -> int:
+        """Pilot samples per pixel of adaptive sampling: ``pilot_spp`` if given, else a quarter of
+        ``spp`` (at least 2).  The pilot's variances steer everything after it.  Measured on
+        bench_diamond at 256x256 (3 seeds, noise of one pass): spp 32 with a pilot of 4 -> 0.99 %,
+        of 8 -> 0.90 % (same time); spp 24 with a pilot of 3 -> 1.39 %."""
+        return int(self.pilot_spp) if self.pilot_spp > 0 else max(2, self.spp // 4)
+
+
+_DEFAULT_WAVELENGTHS = RenderConfig.__dataclass_fields__["wavelengths"].default
+_RENDER_FIELDS = set(RenderConfig.__dataclass_fields__) - {"source"}
+
+
+def render_config(table: dict, file: str | None) -> RenderConfig:
+    """``[render]`` of a camera scene (unknown keys refused, values checked by :class:`RenderConfig`)."""
+    if not isinstance(table, dict):
+        raise InputError("must be a table [render]", file=file, field="render", value=table)
+    val.check_keys(table, _RENDER_FIELDS, file=file, prefix="render.")
+    if table.get("spectral") == "rgb3" and "wavelengths" in table and table["wavelengths"] != 3:
+        raise InputError(
+            "rgb3 uses exactly 3 wavelengths",
+            file=file,
+            field="render.wavelengths",
+            value=table["wavelengths"],
+        )
+    return RenderConfig(**table, source=file)
+
+
+def _shape_functions() -> dict:
+    names = [
+        "round_brilliant",
+        "oval",
+        "pear",
+        "marquise",
+        "emerald",
+        "princess",
+        "prism",
+        "plate",
+        "cube",
+        "sphere",
+        "step_cut",
+        "wavy_sheet",
+        "rhomb",
+    ]
+    return {n: getattr(cuts, n) for n in names if hasattr(cuts, n)}
+
+
+SHAPES = (
+    "round_brilliant",
+    "oval",
+    "pear",
+    "marquise",
+    "emerald",
+    "princess",
+    "prism",
+    "plate",
+    "cube",
+    "sphere",
+    "step_cut",
+    "rhomb",
+    "mesh",
+    "gemcad",
+    "wavy_sheet",
+)
+_OBJECT_COMMON = {
+    "shape",
+    "material",
+    "position",
+    "rotation",
+    "scale",
+    "optic_axis",
+    "absorption_scale",
+    "path",
+    "name",
+    "instances",
+}
+_OBJECT_COMMON |= {"surface", "coating", "film_thickness", "roughness"}  # films: stages/coated.py
+
+
+@dataclass(frozen=True)
+class ObjectConfig:
+    """``[[object]]``: a solid, its material and its placement."""
+
+    shape: str
+    material: Any = "diamond"
+    params: dict = field(default_factory=dict)  # keyword arguments of the cut function
+    position: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    rotation: tuple[float, float, float] = (0.0, 0.0, 0.0)  # degrees about x, then y, then z
+    scale: float = 1.0
+    optic_axis: tuple[float, float, float] | None = None  # object frame; default the material's
+    absorption_scale: float = 1.0
+    path: str | None = None
+    name: str | None = None
+    film: Any = None  # stages.coated.FilmConfig: coating, shell or film surface (None: bare solid)
+
+    def transform(self) -> np.ndarray:
+        """4x4 object -> world transform (scale, then rotations x, y, z, then translation)."""
+        rx, ry, rz = (math.radians(a) for a in self.rotation)
+        cx, sx, cy, sy, cz, sz = (
+            math.cos(rx),
+            math.sin(rx),
+            math.cos(ry),
+            math.sin(ry),
+            math.cos(rz),
+            math.sin(rz),
+        )
+        mx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
+        my = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
+        mz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
+        m = np.eye(4)
+        m[:3, :3] = mz @ my @ mx * self.scale
+        m[:3, 3] = self.position
+        return m
+
+    def rotation_matrix(self) -> np.ndarray:
+        return self.transform()[:3, :3] / self.scale
+
+
+def object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfig:
+    prefix = f"object.{index}."
+    if not isinstance(table, dict):
+        raise InputError("must be a table [[object]]", file=file, field=f"object.{index}", value=table)
+    if "shape" not in table:
+        raise InputError("missing key", file=file, field=prefix + "shape", allowed=", ".join(SHAPES))
+    shape = val.choice(table["shape"], SHAPES, file=file, field=prefix + "shape")
+    params = {k: v for k, v in table.items() if k not in _OBJECT_COMMON}
+    if shape in ("mesh", "gemcad"):
+        allowed_params = {"diameter"} if shape == "gemcad" else {"repair"}
+    else:
+        fn = _shape_functions()[shape]
+        sig = inspect.signature(fn).parameters
+        allowed_params = {p for p, v in sig.items() if v.kind not in (v.VAR_KEYWORD, v.VAR_POSITIONAL)}
+        if any(v.kind == v.VAR_KEYWORD for v in sig.values()):
+            # the brilliant family forwards its keywords to round_brilliant
+            allowed_params |= set(inspect.signature(_shape_functions()["round_brilliant"]).parameters)
+    val.check_keys(params, allowed_params | _OBJECT_COMMON, file=file, prefix=prefix)
+    for k, v in params.items():
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            if not (k == "repair" and isinstance(v, bool)):
+                raise InputError("must be a number", file=file, field=prefix + k, value=v)
+        elif not math.isfinite(v):
+            raise InputError("must be finite", file=file, field=prefix + k, value=v)
+    kw: dict[str, Any] = {"shape": shape, "params": params}
+    if "material" in table:
+        m = table["material"]
+        if not isinstance(m, (str, dict)):
+            raise InputError(
+                "must be a material name or an inline table", file=file, field=prefix + "material", value=m
+            )
+        kw["material"] = m
+    for k in ("position", "rotation"):
+        if k in table:
+            kw[k] = val.vec3(table[k], file=file, field=prefix + k)
+    if "optic_axis" in table:
+        ax = val.vec3(table["optic_axis"], file=file, field=prefix + "optic_axis")
+        if np.linalg.norm(ax) == 0:
+            raise InputError(
+                "the optic axis must not be zero", file=file, field=prefix + "optic_axis", value=list(ax)
+            )
+        kw["optic_axis"] = ax
+    if "scale" in table:
+        kw["scale"] = float(
+            val.number(table["scale"], file=file, field=prefix + "scale", lo=1.0e-4, hi=1.0e4)
+        )
+    if "absorption_scale" in table:
+        kw["absorption_scale"] = float(
+            val.number(table["absorption_scale"], file=file, field=prefix + "absorption_scale", lo=0.0)
+        )
+    if shape in ("mesh", "gemcad"):
+        if "path" not in table or not isinstance(table["path"], str):
+            raise InputError('a mesh object needs path = "file"', file=file, field=prefix + "path")
+        p = Path(table["path"])
+        if not p.is_absolute():
+            p = base_dir / p
+        if not p.is_file():
+            raise InputError("file not found", file=file, field=prefix + "path", value=table["path"])
+        kw["path"] = str(p)
+    if "name" in table:
+        kw["name"] = str(table["name"])
+    kw["film"] = film_config(table, index, file)
+    return ObjectConfig(**kw)
+
+
+def object_configs(table: dict, index: int, file, base_dir: Path) -> list[ObjectConfig]:
+    """One ``[[object]]`` table: one object, or one per entry of ``instances = [[x, y, z], ...]``
+    (positions in mm that replace ``position``; the instances share one mesh)."""
+    ob = object_config(table, index, file, base_dir)
+    if "instances" not in table:
+        return [ob]
+    inst = table["instances"]
+    field_name = f"object.{index}.instances"
+    if not isinstance(inst, list) or not inst:
+        raise InputError(
+            "must be a non-empty list of positions [[x, y, z], ...]", file=file, field=field_name, value=inst
+        )
+    return [
+        dataclasses.replace(ob, position=val.vec3(p, file=file, field=f"{field_name}.{j}"))
+        for j, p in enumerate(inst)
+    ]
+
+
+_LIGHT_KEYS = {"type", "map", "intensity", "tint", "rotation", "polarizer"}
+
+
+def light_config(
+    table: dict, index: int, file, base_dir: Path | None = None
+) -> EnvironmentConfig | LampConfig:
+    prefix = f"light.{index}."
+    if not isinstance(table, dict):
+        raise InputError("must be a table [[light]]", file=file, field=f"light.{index}", value=table)
+    ltype = table.get("type", "environment")
+    val.choice(ltype, ("environment", "constant", *LAMP_KINDS), file=file, field=prefix + "type")
+    if ltype in LAMP_KINDS:
+        return _lamp_config(table, ltype, prefix, file)
+    val.check_keys(table, _LIGHT_KEYS, file=file, prefix=prefix)
+    kw: dict[str, Any] = {"source": file}
+    if ltype == "constant":
+        kw["map"] = "constant"
+    elif "map" in table:
+        m = table["map"]
+        if not isinstance(m, str):
+            raise InputError("must be a map name or a file path", file=file, field=prefix + "map", value=m)
+        if Path(m).suffix and not Path(m).is_absolute() and base_dir is not None:
+            m = str(base_dir / m)  # a map file is found next to the scene file, like mesh paths
+        kw["map"] = m
+    if "intensity" in table:
+        kw["intensity"] = float(
+            val.number(table["intensity"], file=file, field=prefix + "intensity", lo=0.0, hi=1.0e12)
+        )
+    if "tint" in table:
+        kw["tint"] = val.vec3(table["tint"], file=file, field=prefix + "tint")
+        if min(kw["tint"]) < 0:
+            raise InputError("must be >= 0", file=file, field=prefix + "tint", value=list(kw["tint"]))
+    if "rotation" in table:
+        kw["rotation_deg"] = float(val.number(table["rotation"], file=file, field=prefix + "rotation"))
+    if "polarizer" in table and table["polarizer"] != "none":
+        # an ideal linear polarizer in front of the light (polariscope), degrees on the image
+        kw["polarizer"] = float(val.number(table["polarizer"], file=file, field=prefix + "polarizer"))
+    return EnvironmentConfig(**kw)
+
+
+_VIEW_KEYS = {"kind", "angle"}
+
+
+def view_config(table, file) -> str | None:
+    """``[view]``: the polarization view the CLI applies (``warpoptics.views``), as a spec string."""
+    if not isinstance(table, dict):
+        raise InputError("must be a table [view]", file=file, field="view", value=table)
+    val.check_keys(table, _VIEW_KEYS, file=file, prefix="view.")
+    kind = table.get("kind", "none")
+    angle = table.get("angle")
+    if angle is not None:
+        angle = float(val.number(angle, file=file, field="view.angle"))
+    try:
+        k, arg = parse_view(kind, angle, field="view.kind")
+    except InputError as exc:
+        raise InputError(
+            exc.message, file=file, field=exc.field, value=exc.value, allowed=exc.allowed
+        ) from None
+    return None if k == "none" else (k if arg is None else f"{k}:{arg}")
+
+
+_LAMP_KEYS = {
+    "directional": {"type", "direction", "irradiance", "tint", "angular_radius"},
+    "area": {"type", "center", "normal", "up", "size", "radiance", "tint", "double_sided"},
+    "spot": {"type", "center", "direction", "intensity", "tint", "cone_angle", "blend"},
+}
+
+
+def _lamp_config(table: dict, ltype: str, prefix: str, file) -> LampConfig:
+    """``[[light]] type = "directional"`` or ``"area"`` (stages/surfaces.py)."""
+    val.check_keys(table, _LAMP_KEYS[ltype], file=file, prefix=prefix)
+    kw: dict[str, Any] = {"type": ltype, "source": file}
+    for k in ("direction", "normal", "up"):
+        if k in table:
+            kw[k] = val.unit_vec3(table[k], file=file, field=prefix + k)
+    if "center" in table:
+        kw["center"] = val.vec3(table["center"], file=file, field=prefix + "center")
+    if "size" in table:
+        kw["size"] = val.pair(table["size"], file=file, field=prefix + "size", hi=1.0e6)
+    for k in ("irradiance", "radiance", "intensity"):
+        if k in table:
+            kw[k] = float(val.number(table[k], file=file, field=prefix + k, lo=0.0, hi=1.0e12))
+    if "tint" in table:
+        kw["tint"] = val.rgb(table["tint"], file=file, field=prefix + "tint")
+    if "angular_radius" in table:
+        kw["angular_radius"] = float(
+            val.number(table["angular_radius"], file=file, field=prefix + "angular_radius", lo=0.0, hi=45.0)
+        )
+    for k in ("cone_angle", "blend"):
+        if k in table:
+            kw[k] = float(val.number(table[k], file=file, field=prefix + k, lo=0.0, hi=90.0))
+    if "double_sided" in table:
+        if not isinstance(table["double_sided"], bool):
+            raise InputError(
+                "must be true or false", file=file, field=prefix + "double_sided", value=table["double_sided"]
+            )
+        kw["double_sided"] = table["double_sided"]
+    if "up" in kw and "normal" in kw and np.linalg.norm(np.cross(kw["up"], kw["normal"])) < 1e-9:
+        raise InputError("is parallel to the normal", file=file, field=prefix + "up", value=list(kw["up"]))
+    return LampConfig(**kw)
+
+
+SURFACE_TYPES = ("plane", "rectangle")
+_SURFACE_KEYS = {
+    "plane": {
+        "type",
+        "height",
+        "size",
+        "bsdf",
+        "roughness",
+        "ior",
+        "color",
+        "checker",
+        "square",
+        "texture",
+        "tile",
+    },
+    "rectangle": {
+        "type",
+        "center",
+        "normal",
+        "up",
+        "size",
+        "bsdf",
+        "roughness",
+        "ior",
+        "color",
+        "checker",
+        "square",
+        "texture",
+        "tile",
+    },
+}
+
+
+def surface_config(table: dict, index: int, file, base_dir: Path) -> SurfaceConfig:
+    """``[[surface]]``: ``type = "plane"`` (``height`` mm, ``size`` mm) or ``"rectangle"``
+    (``center``, ``normal``, ``up``, ``size = [w, h]``); ``bsdf = "diffuse" | "glossy"``
+    (``roughness``, coat ``ior``); albedo ``color = [r, g, b]``, or ``checker = [[r, g, b], [r, g, b]]``
+    with ``square`` mm, or ``texture = "file.png"`` with ``tile = [w, h]`` mm."""
+    prefix = f"surface.{index}."
+    if not isinstance(table, dict):
+        raise InputError("must be a table [[surface]]", file=file, field=f"surface.{index}", value=table)
+    stype = val.choice(table.get("type", "plane"), SURFACE_TYPES, file=file, field=prefix + "type")
+    val.check_keys(table, _SURFACE_KEYS[stype], file=file, prefix=prefix)
+    kw: dict[str, Any] = {}
+    if stype == "plane":
+        h = float(val.number(table.get("height", 0.0), file=file, field=prefix + "height"))
+        s = float(
+            val.number(
+                table.get("size", 1000.0), file=file, field=prefix + "size", lo=0.0, hi=1.0e6, lo_open=True
+            )
+        )
+        kw.update(center=(0.0, 0.0, h), normal=(0.0, 0.0, 1.0), size=(s, s), up=(0.0, 1.0, 0.0))
+    else:
+        for k in ("normal", "up"):
+            if k in table:
+                kw[k] = val.unit_vec3(table[k], file=file, field=prefix + k)
+        if "center" in table:
+            kw["center"] = val.vec3(table["center"], file=file, field=prefix + "center")
+        if "size" in table:
+            kw["size"] = val.pair(table["size"], file=file, field=prefix + "size", hi=1.0e6)
+        if "up" in kw and np.linalg.norm(np.cross(kw["up"], kw.get("normal", (0.0, 0.0, 1.0)))) < 1e-9:
+            raise InputError(
+                "is parallel to the normal", file=file, field=prefix + "up", value=list(kw["up"])
+            )
+    if "bsdf" in table:
+        kw["bsdf"] = val.choice(table["bsdf"], tuple(BSDF_KINDS), file=file, field=prefix + "bsdf")
+    if "roughness" in table:
+        kw["roughness"] = float(
+            val.number(table["roughness"], file=file, field=prefix + "roughness", lo=0.01, hi=1.0)
+        )
+    if "ior" in table:
+        kw["ior"] = float(val.number(table["ior"], file=file, field=prefix + "ior", lo=1.0, hi=4.0))
+    albedos = [k for k in ("color", "checker", "texture") if k in table]
+    if len(albedos) > 1:
+        raise InputError(
+            "give one albedo: color, checker or texture",
+            file=file,
+            field=prefix + albedos[1],
+            allowed="one of color, checker, texture",
+        )
+    if "color" in table:
+        kw["color"] = val.rgb(table["color"], file=file, field=prefix + "color", hi=1.0)
+    if "checker" in table:
+        c = table["checker"]
+        if not isinstance(c, list) or len(c) != 2:
+            raise InputError(
+                "must be two colours [[r, g, b], [r, g, b]]", file=file, field=prefix + "checker", value=c
+            )
+        kw["albedo"] = "checker"
+        kw["color"] = val.rgb(c[0], file=file, field=prefix + "checker.0", hi=1.0)
+        kw["color2"] = val.rgb(c[1], file=file, field=prefix + "checker.1", hi=1.0)
+    elif "square" in table:
+        raise InputError("square needs checker = [[r, g, b], [r, g, b]]", file=file, field=prefix + "square")
+    if "square" in table:
+        kw["square"] = float(
+            val.number(table["square"], file=file, field=prefix + "square", lo=0.0, hi=1.0e6, lo_open=True)
+        )
+    if "texture" in table:
+        t = table["texture"]
+        if not isinstance(t, str):
+            raise InputError("must be an image file path", file=file, field=prefix + "texture", value=t)
+        p = Path(t)
+        if not p.is_absolute():
+            p = base_dir / p
+        if not p.is_file():
+            raise InputError("texture file not found", file=file, field=prefix + "texture", value=t)
+        kw["albedo"] = "texture"
+        kw["texture"] = str(p)
+    if "tile" in table:
+        if "texture" not in table:
+            raise InputError('tile needs texture = "file"', file=file, field=prefix + "tile")
+        kw["tile"] = val.pair(table["tile"], file=file, field=prefix + "tile", hi=1.0e6)
+    return SurfaceConfig(**kw)

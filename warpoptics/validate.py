@@ -1,0 +1,150 @@
+"""The one validation toolkit for user input: numbers with ranges, integers, choices, booleans,
+vectors and unknown keys, each raising :class:`~warpoptics.errors.InputError` with the file, the
+field, the value and what is allowed.
+
+It sits beside :mod:`warpoptics.errors` at the bottom of the package (it imports nothing else of
+warpoptics), so that the scene schema (TOML tables), the stages' frozen configs (their
+``__post_init__``), the bench, the sweep specs and the material specs all validate with the same
+rules and give the same one-line message whether a value came from a file or from Python
+(``file=None`` then).
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from collections.abc import Iterable
+
+from .errors import InputError
+
+__all__ = [
+    "suggest",
+    "check_keys",
+    "number",
+    "integer",
+    "choice",
+    "boolean",
+    "vec3",
+    "unit_vec3",
+    "pair",
+    "rgb",
+]
+
+
+def suggest(key: str, allowed: Iterable[str]) -> str:
+    """``"; did you mean 'spp'?"`` for the closest allowed key (difflib ratio >= 0.6), else ``""``."""
+    close = difflib.get_close_matches(key, list(allowed), n=1, cutoff=0.6)
+    return f"; did you mean {close[0]!r}?" if close else ""
+
+
+def check_keys(table: dict, allowed: Iterable[str], *, file: str | None = None, prefix: str = "") -> None:
+    """Refuse a key of ``table`` that is not in ``allowed`` (field ``prefix + key``, with a suggestion)."""
+    allowed = set(allowed)
+    for key in table:
+        if key not in allowed:
+            raise InputError(
+                f"unknown key{suggest(key, allowed)}",
+                file=file,
+                field=f"{prefix}{key}",
+                allowed=", ".join(sorted(allowed)),
+            )
+
+
+def _range_text(lo: float, hi: float, lo_open: bool) -> str:
+    lo_s = f"> {lo}" if lo_open else f">= {lo}"
+    return lo_s if hi == math.inf else f"{lo_s} and <= {hi}"
+
+
+def number(
+    v,
+    *,
+    file: str | None = None,
+    field: str,
+    lo: float = -math.inf,
+    hi: float = math.inf,
+    lo_open: bool = False,
+    integer: bool = False,
+):
+    """``v`` if it is a finite number (an ``int`` when ``integer``; never a bool) in ``[lo, hi]``
+    (``(lo, hi]`` when ``lo_open``), else an InputError naming ``field``."""
+    ok_type = isinstance(v, int) if integer else isinstance(v, (int, float))
+    if isinstance(v, bool) or not ok_type:
+        kind = "an integer" if integer else "a number"
+        raise InputError(f"must be {kind}", file=file, field=field, value=v)
+    if not math.isfinite(v):
+        raise InputError("must be a finite number", file=file, field=field, value=v)
+    if v < lo or v > hi or (lo_open and v == lo):
+        raise InputError(
+            "out of range", file=file, field=field, value=v, allowed=_range_text(lo, hi, lo_open)
+        )
+    return v
+
+
+def integer(v, *, file: str | None = None, field: str, lo: float = -math.inf, hi: float = math.inf) -> int:
+    """``v`` if it is an integer (not a bool, not 2.0) in ``[lo, hi]``."""
+    return int(number(v, file=file, field=field, lo=lo, hi=hi, integer=True))
+
+
+def choice(v, allowed: Iterable[str], *, file: str | None = None, field: str) -> str:
+    """``v`` if it is one of the strings ``allowed`` (a near miss gets a suggestion)."""
+    allowed = tuple(allowed)
+    if not isinstance(v, str) or v not in allowed:
+        hint = suggest(v, allowed) if isinstance(v, str) else ""
+        raise InputError(f"unknown value{hint}", file=file, field=field, value=v, allowed=", ".join(allowed))
+    return v
+
+
+def boolean(v, *, file: str | None = None, field: str) -> bool:
+    """``v`` if it is ``True`` or ``False``; ``"no"``, ``0`` or ``1`` are refused (not truth values)."""
+    if not isinstance(v, bool):
+        raise InputError("must be true or false", file=file, field=field, value=v)
+    return v
+
+
+def vec3(v, *, file: str | None = None, field: str) -> tuple[float, float, float]:
+    """Three finite numbers ``[x, y, z]`` as a tuple of floats."""
+    if not isinstance(v, (list, tuple)) or len(v) != 3:
+        raise InputError("must be a list of three numbers [x, y, z]", file=file, field=field, value=v)
+    return tuple(float(number(c, file=file, field=field)) for c in v)
+
+
+def unit_vec3(v, *, file: str | None = None, field: str) -> tuple[float, float, float]:
+    """A :func:`vec3` that is not the zero vector (returned as given, not normalised)."""
+    x = vec3(v, file=file, field=field)
+    if not any(x):
+        raise InputError("must not be the zero vector", file=file, field=field, value=list(x))
+    return x
+
+
+def pair(
+    v,
+    *,
+    file: str | None = None,
+    field: str,
+    lo: float = 0.0,
+    hi: float = math.inf,
+    lo_open: bool = True,
+    integer: bool = False,
+    what: str = "[width, height] in mm",
+) -> tuple:
+    """Two numbers ``[a, b]`` (sizes > 0 by default), each in range."""
+    if not isinstance(v, (list, tuple)) or len(v) != 2:
+        raise InputError(f"must be a list of two numbers {what}", file=file, field=field, value=v)
+    conv = int if integer else float
+    return tuple(
+        conv(number(c, file=file, field=field, lo=lo, hi=hi, lo_open=lo_open, integer=integer)) for c in v
+    )
+
+
+def rgb(v, *, file: str | None = None, field: str, hi: float = math.inf) -> tuple[float, float, float]:
+    """Linear sRGB ``[r, g, b]``, each component in ``[0, hi]``."""
+    x = vec3(v, file=file, field=field)
+    if min(x) < 0 or max(x) > hi:
+        raise InputError(
+            "out of range",
+            file=file,
+            field=field,
+            value=list(x),
+            allowed=f"linear sRGB components >= 0 and <= {hi}" if hi != math.inf else ">= 0",
+        )
+    return x
