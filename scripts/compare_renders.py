@@ -108,7 +108,10 @@ def compare(before: Path, after: Path) -> int:
             f"  rms diff {r['rms_diff']:.3e}  seed noise {r['rms_seed_noise']:.3e}  ratio {r['ratio']:.3f}"
             f"  max |diff| {r['max_abs_diff']:.3e}")
         print(f"{r['image']:32s} {r['verdict']:15s}{extra}")
-    (after / "comparison.json").write_text(json.dumps(rows, indent=1))
+    from warpoptics.atomic import atomic_path
+
+    with atomic_path(after / "comparison.json") as tmp:
+        Path(tmp).write_text(json.dumps(rows, indent=1))
     n_id = sum(r["verdict"] == "byte-identical" for r in rows)
     print(f"{n_id} of {len(rows)} byte-identical; worst noise ratio {worst:.3f} (bound {BOUND})")
     return 0 if worst <= BOUND else 1

@@ -321,13 +321,26 @@ def write_dot(rep: Report, path: Path, layers=LAYERS) -> None:
     tmp.replace(path)
 
 
-def write_png(rep: Report, path: Path, layers=LAYERS) -> None:
-    """Layers as rows from the bottom; import edges grey, upward ones red."""
+def write_png(rep: Report, path: Path, layers=LAYERS, packages: bool = False) -> None:
+    """Layers as rows from the bottom; import edges grey, upward ones red.  ``packages``: one box
+    per subpackage or top-level module (``optics``, ``stages``, ``color``...), for the README."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    if packages:
+        def group(m: str) -> str:
+            return m.split(".")[0]
+
+        layer_of = {group(m): rep.layer_of[m] for m in rep.modules if rep.layer_of.get(m) is not None}
+        edges = {(group(i.source), group(i.target)) for i in rep.imports
+                 if group(i.source) != group(i.target) and group(i.target) in layer_of
+                 and group(i.source) in layer_of}
+        up = {e for e in edges if (layer_of[e[1]] or 0) > (layer_of[e[0]] or 0)}
+        rep = Report(modules=sorted(layer_of), imports=[Import(a, b, "", 0) for a, b in sorted(edges)],
+                     layer_of=layer_of, circles=[], upward=[Import(a, b, "", 0) for a, b in sorted(up)],
+                     private=[])
     rows = [[m for m in rep.modules if rep.layer_of[m] == k] for k in range(len(layers))]
     rows.append(rep.unplaced)
     width = max(len(r) for r in rows) or 1
@@ -373,13 +386,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--package", type=Path, default=ROOT / PACKAGE, help="the package folder")
     ap.add_argument("--dot", type=Path, help="also write the graph as Graphviz DOT")
     ap.add_argument("--png", type=Path, help="also draw the graph (matplotlib)")
+    ap.add_argument("--packages", action="store_true", help="draw one box per subpackage / top-level module")
     args = ap.parse_args(argv)
     rep = analyze(args.package)
     print(format_report(rep))
     if args.dot:
         write_dot(rep, args.dot)
     if args.png:
-        write_png(rep, args.png)
+        write_png(rep, args.png, packages=args.packages)
     return 0 if rep.ok else 1
 
 
