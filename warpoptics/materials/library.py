@@ -44,9 +44,17 @@ from .absorption import (
     with_absorption,
 )
 from .dispersion import VISIBLE_RANGE_NM, Cauchy, Isotropic, Material, Uniaxial
+from .kramers_kronig import anomalous, fuchsine_absorption, rose_bengal_absorption
 from .refractiveindex import from_refractiveindex
 
-__all__ = ["get", "names", "cauchy_from_gem_constants", "ALIASES"]
+__all__ = [
+    "get",
+    "names",
+    "cauchy_from_gem_constants",
+    "ALIASES",
+    "rose_bengal_solution",
+    "fuchsine_solution",
+]
 
 _FRAUNHOFER_D = 589.3
 _BG = (430.8, 686.7)
@@ -254,10 +262,30 @@ def _fused_silica() -> Material:
     return _page("main/SiO2/Malitson", "fused_silica")
 
 
+def rose_bengal_solution(percent: float = 10.0, *, device=None) -> Isotropic:
+    """Rose bengal in water (Weidlich & Wilkie §4.2): water + Kramers–Kronig of the dye's k."""
+    return anomalous(
+        get("water"),
+        rose_bengal_absorption(percent),
+        name=f"rose_bengal_{percent:g}",
+        source=f"water (Daimon 20 °C) + rose bengal {percent:g} % (Gaussian bands) + Kramers–Kronig",
+        device=device,
+    )
+
+
+def fuchsine_solution(percent: float = 1.0, *, device=None) -> Isotropic:
+    """Fuchsine in water (Weidlich & Wilkie fig. 1): water + Kramers–Kronig of the dye's k."""
+    return anomalous(
+        get("water"),
+        fuchsine_absorption(percent),
+        name=f"fuchsine_{percent:g}",
+        source=f"water (Daimon 20 °C) + fuchsine {percent:g} % (Gaussian bands) + Kramers–Kronig",
+        device=device,
+    )
+
+
 def _dye(kind: str, percent: float) -> Callable[[], Material]:
     def build() -> Material:
-        from .kramers_kronig import fuchsine_solution, rose_bengal_solution
-
         return rose_bengal_solution(percent) if kind == "rose_bengal" else fuchsine_solution(percent)
 
     return build
