@@ -18,6 +18,7 @@ __all__ = [
     "FUCHSINE_MOLAR_MASS",
     "FUCHSINE_EPSILON",
     "FUCHSINE_BANDS",
+    "LIBRARY_SOLUTIONS",
 ]
 
 #: rose bengal solutions of Weidlich & Wilkie §4.2, in % (read as g per 100 mL of water)
@@ -31,3 +32,11 @@ ROSE_BENGAL_BANDS = ((549.0, 12.5, 1.0), (510.0, 17.0, 0.30))
 FUCHSINE_MOLAR_MASS = 337.85  # g/mol, rosaniline hydrochloride
 FUCHSINE_EPSILON = 9.0e4  # L mol^-1 cm^-1 at 543 nm (decadic), water
 FUCHSINE_BANDS = ((543.0, 22.0, 1.0), (500.0, 20.0, 0.20))
+
+#: the gem library's solutions: library name -> (dye, concentration in %)
+LIBRARY_SOLUTIONS: dict[str, tuple[str, float]] = {
+    "rose_bengal_10": ("rose_bengal", 10.0),
+    "rose_bengal_3.3": ("rose_bengal", 3.3),
+    "rose_bengal_1": ("rose_bengal", 1.0),
+    "fuchsine": ("fuchsine", 1.0),
+}
