@@ -135,6 +135,45 @@ def test_expressions():
             evaluate_expression(bad, v)
 
 
+@pytest.mark.parametrize(
+    "text, msg",
+    [
+        ("9**9**9", "integers are limited to 4096 bits"),  # 9**387420489: 370 million digits
+        ("3999999**3999999", "integers are limited"),  # passes an operand-size guard like simpleeval's
+        ("2**4096 * 2**4096", "integers are limited"),
+        ("[0]*10**9", "more than 100000 elements"),  # 8 GB of list
+        ('"a"*10**10', "more than 100000 elements"),  # 10 GB of string
+        ("[[0]*1000]*1000", "more than 100000 elements"),  # shared rows still count: JSON-dumped for the key
+        ("'%0999999999d' % 1", "string formatting"),  # a 1 GB string from a 1-char result
+        ("round(5, -10**9)", "round\\(\\) takes at most 400 digits"),  # CPython computes 10**10**9
+        ("[" * 150 + "]" * 150, "nested too deeply"),
+        ("-" * 1500 + "1", "nested too deeply"),  # our recursive walk would overflow the C stack
+        ("1+" * 900 + "1", "nested too deeply"),
+        ("1+" * 1500 + "1", "limited to 2000 characters"),
+    ],
+)
+def test_expressions_refuse_what_would_hang_or_exhaust_memory(text, msg):
+    # Issue 22 item 7: each is refused with the field and the expression named, before the work
+    # is done.  A refusal takes microseconds (the unguarded evaluation: minutes, or the memory);
+    # one second is a bound that a loaded CI machine meets and a hang does not.
+    t0 = time.perf_counter()
+    with pytest.raises(InputError, match=msg) as info:
+        evaluate_expression(text, {}, file="s.toml", field_name="expr.big")
+    assert time.perf_counter() - t0 < 1.0
+    assert str(info.value).startswith("s.toml: expr.big = ")
+    assert text[:40] in str(info.value)
+
+
+def test_expressions_within_the_bounds_still_work():
+    # the bounds are inclusive limits, not a change of meaning: values at them evaluate exactly
+    assert evaluate_expression("2**4095", {}) == 1 << 4095
+    assert evaluate_expression("[0]*99999", {}) == [0] * 99999
+    assert evaluate_expression("round(2.5, 400)", {}) == 2.5
+    assert evaluate_expression("'%.3f' if x else 0", {"x": False}) == 0
+    assert evaluate_expression("1+" * 60 + "1", {}) == 61
+    assert evaluate_expression("2.0**-10**9", {}) == 0.0  # a float power is one libm call
+
+
 def test_product_zip_groups_and_keys(tmp_path):
     (tmp_path / "scene.toml").write_text(SCENE)
     a = Axis("a", (1.0, 2.0), path="object.0.pavilion_angle")

@@ -20,6 +20,7 @@ import tmm
 import warpoptics as wo
 from warpoptics.color import gamut_clip
 from warpoptics.errors import InputError
+from warpoptics.optics.thinfilm import tables as thinfilm_tables
 
 tf = wo.thinfilm
 ROOT = Path(__file__).resolve().parents[1]
@@ -394,8 +395,8 @@ def test_table_lookup_equals_direct_evaluation(device):
     rng = np.random.default_rng(3)
     x = np.sort(rng.uniform(0.0, 800.0, 40))
     x[0], x[1] = 0.0, 800.0
-    direct = tf._fill_table(  # the same kernel, sampled exactly at x
-        tf._table_model(0, wo.device.get_device(device), phase=1.0, K=1.0),
+    direct = thinfilm_tables._fill_table(  # the same kernel, sampled exactly at x
+        thinfilm_tables._table_model(0, wo.device.get_device(device), phase=1.0, K=1.0),
         x,
         "optical_thickness_nm",
         "smits-meyer",

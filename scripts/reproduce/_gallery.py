@@ -34,7 +34,8 @@ class Timer:
 def sweep_scenes(path: str | Path, *, overrides: dict | None = None):
     """[(job, Scene)] of a sweep preset (``scenes/sweeps/*.toml``): its axes and expressions
     resolved exactly as ``warpoptics sweep`` resolves them, plus ``overrides`` (dotted paths)."""
-    from warpoptics.sweep import Sweep, scene_for
+    from warpoptics.sweep import Sweep
+    from warpoptics.sweep.spec import scene_for
 
     sw = Sweep.load(path)
     data, scene_path, _ = sw.scene_source()

@@ -43,14 +43,8 @@ from .dispersion import (
     material_eval,
     material_eval_channel,
 )
-from .kramers_kronig import (
-    anomalous,
-    fuchsine_solution,
-    kramers_kronig,
-    rose_bengal_absorption,
-    rose_bengal_solution,
-)
-from .library import get, names
+from .kramers_kronig import anomalous, kramers_kronig, rose_bengal_absorption
+from .library import fuchsine_solution, get, names, rose_bengal_solution
 from .refractiveindex import from_refractiveindex
 from .spec import material_from_spec
 

@@ -43,7 +43,20 @@ import warp as wp
 from .. import device as _device
 from ..errors import InputError
 from ..optics.absorption import pleochroic_kappa
-from .dispersion import Material, Uniaxial, alpha_from_k_func, k_from_alpha_func, with_absorption_k
+from .datasets.seed002 import SEED002_ALPHA_PER_MM, SEED002_GEMS
+from .dispersion import Material, Uniaxial, rgb3_alpha_of, with_absorption_k
+from .rgb_weights import RGB_CMFS, rgb_weights
+from .units import (
+    absorbance_per_cm_from_alpha,
+    alpha_from_absorbance_per_cm,
+    alpha_from_k,
+    alpha_from_k_func,
+    finite_array,
+    k_from_alpha,
+    k_from_alpha_func,
+    nonnegative_array,
+    wavelength_array,
+)
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -68,8 +81,6 @@ __all__ = [
     "seed002_spectra",
 ]
 
-_LN10 = math.log(10.0)
-
 # ----------------------------------------------------------------------------------------------
 # Device code
 # ----------------------------------------------------------------------------------------------
@@ -83,26 +94,6 @@ def band_profile(shape: int, wavelength_nm: float, center_nm: float, width_nm: f
     if shape == 0:
         return wp.exp(-0.5 * x * x / (width_nm * width_nm))
     return width_nm * width_nm / (x * x + width_nm * width_nm)
-
-
-@wp.kernel
-def _unit_kernel(
-    offset: int,
-    value: wp.array(dtype=wp.float32),
-    wavelength_nm: wp.array(dtype=wp.float32),
-    mode: int,
-    out: wp.array(dtype=wp.float32),
-):
-    i = wp.tid() + offset
-    v = value[i]
-    if mode == 0:
-        out[i] = alpha_from_k_func(v, wavelength_nm[i])
-    elif mode == 1:
-        out[i] = k_from_alpha_func(v, wavelength_nm[i])
-    elif mode == 2:
-        out[i] = v * wp.log(10.0) / 10.0  # decadic absorbance per cm -> alpha 1/mm
-    else:
-        out[i] = v * 10.0 / wp.log(10.0)  # alpha 1/mm -> decadic absorbance per cm
 
 
 @wp.kernel
@@ -142,72 +133,16 @@ def _pleochroic_kernel(
 # ----------------------------------------------------------------------------------------------
 
 
-def _finite(name: str, value) -> np.ndarray:
-    a = np.asarray(value, dtype=np.float64)
-    if not np.all(np.isfinite(a)):
-        raise InputError("must be finite", field=name, value=value)
-    return a
-
-
-def _nonneg(name: str, value) -> np.ndarray:
-    a = _finite(name, value)
-    if np.any(a < 0):
-        raise InputError(
-            "must be >= 0 (negative absorption would amplify light)", field=name, value=float(a.min())
-        )
-    return a
-
-
-def _wavelength(value) -> np.ndarray:
-    a = _finite("wavelength_nm", value)
-    if np.any(a <= 0):
-        raise InputError("wavelength must be > 0 nm", field="wavelength_nm", value=float(a.min()))
-    return a
-
-
-def _unit(value, wavelength_nm, mode: int, device=None) -> np.ndarray:
-    (out,) = _device.elementwise(
-        _unit_kernel,
-        [(value, wp.float32), (wavelength_nm, wp.float32)],
-        [wp.float32],
-        extra=(mode,),
-        device=device,
-    )
-    return out
-
-
-def alpha_from_k(k, wavelength_nm, *, device=None) -> np.ndarray:
-    """alpha (1/mm, base e) from the extinction coefficient k at λ (nm): 4 pi k / λ."""
-    return _unit(_nonneg("k", k), _wavelength(wavelength_nm), 0, device)
-
-
-def k_from_alpha(alpha_per_mm, wavelength_nm, *, device=None) -> np.ndarray:
-    """Extinction coefficient k from alpha (1/mm, base e) at λ (nm): alpha λ / 4 pi."""
-    return _unit(_nonneg("alpha_per_mm", alpha_per_mm), _wavelength(wavelength_nm), 1, device)
-
-
-def alpha_from_absorbance_per_cm(absorbance_per_cm, *, device=None) -> np.ndarray:
-    """alpha (1/mm, base e) from decadic absorbance per cm: ln(10) A / 10."""
-    a = _nonneg("absorbance_per_cm", absorbance_per_cm)
-    return _unit(a, np.ones_like(a), 2, device)
-
-
-def absorbance_per_cm_from_alpha(alpha_per_mm, *, device=None) -> np.ndarray:
-    """Decadic absorbance per cm from alpha (1/mm, base e): 10 alpha / ln(10)."""
-    a = _nonneg("alpha_per_mm", alpha_per_mm)
-    return _unit(a, np.ones_like(a), 3, device)
-
-
 def pleochroic_alpha(alpha_o, alpha_e, n_o, n_e, cos_theta, *, device=None) -> np.ndarray:
     """e-ray absorption (Guy & Soler 2004 eq. 7); the law is ``optics.absorption.pleochroic_kappa``."""
     (out,) = _device.elementwise(
         _pleochroic_kernel,
         [
-            (_nonneg("alpha_o", alpha_o), wp.float32),
-            (_nonneg("alpha_e", alpha_e), wp.float32),
-            (_finite("n_o", n_o), wp.float32),
-            (_finite("n_e", n_e), wp.float32),
-            (_finite("cos_theta", cos_theta), wp.float32),
+            (nonnegative_array("alpha_o", alpha_o), wp.float32),
+            (nonnegative_array("alpha_e", alpha_e), wp.float32),
+            (finite_array("n_o", n_o), wp.float32),
+            (finite_array("n_e", n_e), wp.float32),
+            (finite_array("cos_theta", cos_theta), wp.float32),
         ],
         [wp.float32],
         device=device,
@@ -260,8 +195,8 @@ class AbsorptionSpectrum:
     zero outside the table."""
 
     def __init__(self, wavelength_nm, alpha_per_mm, *, name: str = "absorption", source: str = "") -> None:
-        lam = _wavelength(wavelength_nm).reshape(-1)
-        a = _nonneg("alpha", alpha_per_mm).reshape(-1)
+        lam = wavelength_array(wavelength_nm).reshape(-1)
+        a = nonnegative_array("alpha", alpha_per_mm).reshape(-1)
         if lam.shape != a.shape or lam.size < 2:
             raise InputError(
                 "absorption table needs >= 2 wavelengths and as many values",
@@ -316,8 +251,8 @@ class AbsorptionSpectrum:
     ) -> AbsorptionSpectrum:
         """From a table in ``unit``: "alpha_per_mm" (base e), "k" (extinction coefficient),
         "absorbance_per_cm" (decadic) or "alpha_per_cm" (base e)."""
-        lam = _wavelength(wavelength_nm)
-        v = _nonneg(unit, values)
+        lam = wavelength_array(wavelength_nm)
+        v = nonnegative_array(unit, values)
         if unit == "alpha_per_mm":
             a = v
         elif unit == "alpha_per_cm":
@@ -368,50 +303,6 @@ class AbsorptionSpectrum:
 # Guy & Soler 2004 eq. 9 and its inversion
 # ----------------------------------------------------------------------------------------------
 
-_CMF_NAME = "Wright & Guild 1931 2 Degree RGB CMFs"
-#: colour-matching functions for eq. 9: "cie1931_rgb" (Wright & Guild, primaries 700 / 546.1 /
-#: 435.8 nm, as in the source) or "srgb" (the CIE 1931 XYZ functions through XYZ -> linear sRGB:
-#: the channels of the renderer's rgb3 mode, warpoptics.spectra.RGB3_WAVELENGTHS)
-RGB_CMFS = ("cie1931_rgb", "srgb")
-_cmf_cache: dict[tuple[str, str], tuple[np.ndarray, np.ndarray]] = {}
-
-
-def _rgb_weights(illuminant: str = "E", cmfs: str = "cie1931_rgb") -> tuple[np.ndarray, np.ndarray]:
-    """(λ nodes, weights (3, m)) with κ_c = Σ_j w_cj κ(λ_j) = eq. 9 by trapezoid quadrature."""
-    key = (illuminant, cmfs)
-    if key in _cmf_cache:
-        return _cmf_cache[key]
-    from .. import spectra
-
-    if cmfs == "cie1931_rgb":
-        import colour  # heavy import: only when needed
-
-        table = colour.MSDS_CMFS[_CMF_NAME]
-        lam = np.asarray(table.wavelengths, dtype=np.float64)  # 380-780 nm, 5 nm
-        rgb = np.asarray(table.values, dtype=np.float64).T  # (3, m)
-    elif cmfs == "srgb":
-        from ..color import XYZ_TO_SRGB
-
-        lam = spectra.grid()  # 360-830 nm, 1 nm
-        rgb = XYZ_TO_SRGB @ spectra.cmf(lam).T  # (3, m)
-    else:
-        raise InputError(
-            "unknown colour-matching functions", field="cmfs", value=cmfs, allowed=", ".join(RGB_CMFS)
-        )
-    try:
-        s0 = spectra.illuminant(illuminant, lam)
-    except ValueError as exc:
-        raise InputError(
-            "unknown illuminant", field="illuminant", value=illuminant, allowed=", ".join(spectra.ILLUMINANTS)
-        ) from exc
-    q = np.full_like(lam, lam[1] - lam[0])  # trapezoid weights on the uniform grid
-    q[0] *= 0.5
-    q[-1] *= 0.5
-    w = rgb * s0 * q
-    w = w / w.sum(axis=1, keepdims=True)  # divide by R0 = ∫ r̄ S0 dλ (eq. 9)
-    _cmf_cache[key] = (lam, w)
-    return lam, w
-
 
 def rgb_absorbance(spectrum, *, illuminant: str = "E", cmfs: str = "cie1931_rgb") -> np.ndarray:
     """(κ_r, κ_g, κ_b) of Guy & Soler 2004 eq. 9: κ_c = ∫ κ(λ) c̄(λ) S0(λ) dλ / ∫ c̄(λ) S0(λ) dλ.
@@ -423,7 +314,7 @@ def rgb_absorbance(spectrum, *, illuminant: str = "E", cmfs: str = "cie1931_rgb"
     (warpoptics.spectra).  Units are those of κ.  Both CMF sets have negative lobes, so a narrow
     band can give a negative channel (see :func:`rgb3_alpha_of`).
     """
-    lam, w = _rgb_weights(illuminant, cmfs)
+    lam, w = rgb_weights(illuminant, cmfs)
     if isinstance(spectrum, AbsorptionSpectrum):
         kappa = spectrum.alpha(lam)
     elif callable(spectrum):
@@ -467,7 +358,7 @@ def spectrum_from_rgb(
     solver tolerance (~1e-9 relative).  ``n_basis=None`` tries 12, 24 then 48 functions and
     keeps the smoothest that reaches the triplet (strongly peaked triplets need narrower ones).
     """
-    target = _nonneg("rgb", rgb).reshape(-1)
+    target = nonnegative_array("rgb", rgb).reshape(-1)
     if target.shape != (3,):
         raise InputError("an RGB absorbance needs 3 values", field="rgb", value=rgb)
     tries = (12, 24, 48) if n_basis is None else (int(n_basis),)
@@ -490,7 +381,7 @@ def _invert_rgb(target: np.ndarray, illuminant: str, cmfs: str, wavelength_range
     from scipy.optimize import minimize
 
     lo, hi = wavelength_range_nm
-    lam_cmf, w = _rgb_weights(illuminant, cmfs)
+    lam_cmf, w = rgb_weights(illuminant, cmfs)
     knots = np.linspace(lo, hi, n_basis - 2)
     lam_tab = np.union1d(np.arange(lo, hi + 1e-9, 5.0), lam_cmf)
     lam_tab = lam_tab[(lam_tab >= lo) & (lam_tab <= hi)]
@@ -517,26 +408,6 @@ def _invert_rgb(target: np.ndarray, illuminant: str, cmfs: str, wavelength_range
     if not res.success:
         err = max(err, 1.0)
     return lam_tab, np.maximum(basis_tab @ c, 0.0) * scale, err
-
-
-def rgb3_alpha_of(mat: Material, *, illuminant: str = "E", cmfs: str = "srgb", device=None):
-    """(K^o_rgb, K^e_rgb) in 1/mm for the renderer's rgb3 mode: eq. 9 of the material's alpha(λ).
-
-    The default ``cmfs="srgb"`` matches the rgb3 channels of the renderer (sRGB primaries,
-    warpoptics.spectra.RGB3_WAVELENGTHS).  Both CMF sets have negative lobes (r̄ below ~545 nm),
-    so eq. 9 of a narrow band there (e.g. rose bengal at 549 nm) can come out negative in a
-    channel; a negative absorbance would amplify light, so each channel is clamped at 0 here
-    (``rgb_absorbance`` itself stays the plain eq. 9).  Materials carrying the seed-002 table
-    (``mat.rgb3_alpha``) use those triplets verbatim instead (see build_material_table).
-    """
-    lam, w = _rgb_weights(illuminant, cmfs)
-    lo, hi = mat.wavelength_range_nm
-    a = mat.alpha(np.clip(lam, lo, hi), device=device)
-    if isinstance(mat, Uniaxial):
-        ko, ke = np.maximum(w @ a[:, 0], 0.0), np.maximum(w @ a[:, 1], 0.0)
-        return tuple(ko.tolist()), tuple(ke.tolist())
-    t = tuple(np.maximum(w @ a, 0.0).tolist())
-    return t, t
 
 
 def with_absorption(
@@ -566,69 +437,6 @@ def with_absorption(
 # ----------------------------------------------------------------------------------------------
 # Seed 002 §6.1 gem table
 # ----------------------------------------------------------------------------------------------
-
-#: alpha (1/mm) per unit of the seed-002 table's absorbances (read as base-e per mm; see module doc)
-SEED002_ALPHA_PER_MM = 1.0
-
-#: Guy & Soler 2004 §6.1 "System parameters", verbatim: type (I/U/B), (K_r, K_g, K_b) for the o
-#: and e rays (isotropic: o only), colours, n_o / n_e at the green channel and the ± that gives
-#: red (−) and blue (+) (half the gemological dispersion).  Sapphire's row lists e before o.
-SEED002_GEMS: dict[str, dict] = {
-    "garnet": dict(
-        type="I",
-        K_o=(0.136, 0.153, 0.175),
-        K_e=None,
-        colors=("orange-red",),
-        n_o=1.730,
-        n_e=None,
-        half_dispersion=0.014,
-    ),
-    "tourmaline": dict(
-        type="U",
-        K_o=(0.033, 0.034, 0.082),
-        K_e=(0.010, 0.076, 0.015),
-        colors=("yellow green", "blue green"),
-        n_o=1.642,
-        n_e=1.619,
-        half_dispersion=0.011,
-    ),
-    "peridot": dict(
-        type="B",
-        K_o=(0.023, 0.015, 0.051),
-        K_e=(0.011, 0.003, 0.028),
-        colors=("green", "yellow green"),
-        n_o=1.680,
-        n_e=1.640,
-        half_dispersion=0.010,
-    ),
-    "diamond": dict(
-        type="I",
-        K_o=(0.001, 0.001, 0.001),
-        K_e=None,
-        colors=("white",),
-        n_o=2.410,
-        n_e=None,
-        half_dispersion=0.022,
-    ),
-    "sapphire": dict(
-        type="U",
-        K_o=(0.165, 0.147, 0.185),
-        K_e=(0.332, 0.270, 0.156),
-        colors=("violetish blue", "light blue"),
-        n_o=1.768,
-        n_e=1.760,
-        half_dispersion=0.009,
-    ),
-    "andalusite": dict(
-        type="B",
-        K_o=(0.0056, 0.006, 0.0183),
-        K_e=(0.170, 0.175, 0.257),
-        colors=("greenish red", "yellowish green"),
-        n_o=1.635,
-        n_e=1.644,
-        half_dispersion=0.005,
-    ),
-}
 
 
 def seed002_spectra(name: str) -> tuple[AbsorptionSpectrum, AbsorptionSpectrum]:

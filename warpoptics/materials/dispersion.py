@@ -64,6 +64,8 @@ import warp as wp
 
 from .. import device as _device
 from ..errors import InputError
+from .rgb_weights import rgb_weights
+from .units import alpha_from_k_func, k_from_alpha_func
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -263,18 +265,6 @@ def material_eval(table: MaterialTable, mat_id: int, wavelength_nm: float):
         material_eval_channel(table, mat_id, 0, wavelength_nm),
         material_eval_channel(table, mat_id, 1, wavelength_nm),
     )
-
-
-@wp.func
-def alpha_from_k_func(k: float, wavelength_nm: float):
-    """alpha (1/mm, base e) = 4 pi k / λ, λ in mm (Weidlich & Wilkie 2009, eq. 3)."""
-    return 4.0 * wp.pi * k / (wavelength_nm * 1.0e-6)
-
-
-@wp.func
-def k_from_alpha_func(alpha_per_mm: float, wavelength_nm: float):
-    """k = alpha λ / (4 pi), alpha in 1/mm, λ in nm (Weidlich & Wilkie 2009, eq. 3)."""
-    return alpha_per_mm * (wavelength_nm * 1.0e-6) / (4.0 * wp.pi)
 
 
 @wp.func
@@ -618,6 +608,26 @@ class Uniaxial(Material):
         return f"Uniaxial({self.name!r}, {lo:g}-{hi:g} nm, axis={self._axis})"
 
 
+def rgb3_alpha_of(mat: Material, *, illuminant: str = "E", cmfs: str = "srgb", device=None):
+    """(K^o_rgb, K^e_rgb) in 1/mm for the renderer's rgb3 mode: eq. 9 of the material's alpha(λ).
+
+    The default ``cmfs="srgb"`` matches the rgb3 channels of the renderer (sRGB primaries,
+    warpoptics.spectra.RGB3_WAVELENGTHS).  Both CMF sets have negative lobes (r̄ below ~545 nm),
+    so eq. 9 of a narrow band there (e.g. rose bengal at 549 nm) can come out negative in a
+    channel; a negative absorbance would amplify light, so each channel is clamped at 0 here
+    (``rgb_absorbance`` itself stays the plain eq. 9).  Materials carrying the seed-002 table
+    (``mat.rgb3_alpha``) use those triplets verbatim instead (see build_material_table).
+    """
+    lam, w = rgb_weights(illuminant, cmfs)
+    lo, hi = mat.wavelength_range_nm
+    a = mat.alpha(np.clip(lam, lo, hi), device=device)
+    if isinstance(mat, Uniaxial):
+        ko, ke = np.maximum(w @ a[:, 0], 0.0), np.maximum(w @ a[:, 1], 0.0)
+        return tuple(ko.tolist()), tuple(ke.tolist())
+    t = tuple(np.maximum(w @ a, 0.0).tolist())
+    return t, t
+
+
 def build_material_table(
     materials: Sequence[Material], device=None, *, rgb3: bool = True
 ) -> tuple[MaterialTable, list[int]]:
@@ -627,8 +637,6 @@ def build_material_table(
     scene; nothing is compiled per material.  ``rgb3=False`` leaves ``rgb3_alpha_*`` at zero
     (skips the eq. 9 integrals for materials without tabulated RGB absorbances).
     """
-    from .absorption import rgb3_alpha_of  # local: absorption imports this module
-
     dev = _device.get_device(device)
     if len(materials) == 0:
         raise InputError("a material table needs at least one material", field="materials")

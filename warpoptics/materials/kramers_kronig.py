@@ -18,8 +18,10 @@ grid.  The finite range is either truncated (k = 0 outside; Weidlich & Wilkie §
 when k falls off inside the range) or continued by Gaussian tails k_end · exp(−d²/2w²).
 
 :func:`anomalous` builds a material n(λ) = n_base(λ) + Δn_KK(λ), k(λ) from a transparent base
-and an absorption spectrum; the dye solutions of Weidlich & Wilkie §4.2 (rose bengal 10 %,
-3.3 %, 1 % in water) and a fuchsine solution are built that way.
+and an absorption spectrum; the gem library builds the dye solutions of Weidlich & Wilkie §4.2
+(rose bengal 10 %, 3.3 %, 1 % in water) and a fuchsine solution that way, from the dyes'
+absorption here (:func:`rose_bengal_absorption`, :func:`fuchsine_absorption`; their data are in
+:mod:`warpoptics.materials.datasets.dyes`).
 
 References
 ----------
@@ -46,6 +48,15 @@ import warp as wp
 from .. import device as _device
 from ..errors import InputError
 from .absorption import AbsorptionSpectrum, Band, k_from_alpha
+from .datasets.dyes import (
+    FUCHSINE_BANDS,
+    FUCHSINE_EPSILON,
+    FUCHSINE_MOLAR_MASS,
+    ROSE_BENGAL_BANDS,
+    ROSE_BENGAL_CONCENTRATIONS,
+    ROSE_BENGAL_EPSILON,
+    ROSE_BENGAL_MOLAR_MASS,
+)
 from .dispersion import Isotropic, Material, Uniaxial, with_absorption_k
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -56,9 +67,7 @@ __all__ = [
     "kramers_kronig_maclaurin",
     "anomalous",
     "rose_bengal_absorption",
-    "rose_bengal_solution",
     "fuchsine_absorption",
-    "fuchsine_solution",
     "ROSE_BENGAL_CONCENTRATIONS",
 ]
 
@@ -303,18 +312,6 @@ def anomalous(
 # Dye solutions (Weidlich & Wilkie 2009 §4.2, fig. 4–5; fig. 1)
 # ----------------------------------------------------------------------------------------------
 
-#: rose bengal solutions of Weidlich & Wilkie §4.2, in % (read as g per 100 mL of water)
-ROSE_BENGAL_CONCENTRATIONS = (10.0, 3.3, 1.0)
-
-_RB_MOLAR_MASS = 1017.6  # g/mol, disodium salt
-_RB_EPSILON = 9.8e4  # L mol^-1 cm^-1 at 549 nm (decadic), water
-# (centre nm, sigma nm, relative height): main band and vibronic shoulder
-_RB_BANDS = ((549.0, 12.5, 1.0), (510.0, 17.0, 0.30))
-
-_FU_MOLAR_MASS = 337.85  # g/mol, rosaniline hydrochloride
-_FU_EPSILON = 9.0e4  # L mol^-1 cm^-1 at 543 nm (decadic), water
-_FU_BANDS = ((543.0, 22.0, 1.0), (500.0, 20.0, 0.20))
-
 
 def _dye_absorption(percent: float, molar_mass: float, epsilon: float, bands, name: str, source: str):
     if not (math.isfinite(percent) and percent > 0):
@@ -336,9 +333,9 @@ def rose_bengal_absorption(percent: float = 10.0) -> AbsorptionSpectrum:
     ε(549 nm) = 9.8e4 L/mol/cm, bands 549 nm (σ 12.5 nm) and 510 nm (σ 17 nm, 0.30)."""
     return _dye_absorption(
         percent,
-        _RB_MOLAR_MASS,
-        _RB_EPSILON,
-        _RB_BANDS,
+        ROSE_BENGAL_MOLAR_MASS,
+        ROSE_BENGAL_EPSILON,
+        ROSE_BENGAL_BANDS,
         f"rose bengal {percent:g} %",
         "rose bengal in water, Gaussian bands at 549/510 nm (see module references)",
     )
@@ -349,37 +346,9 @@ def fuchsine_absorption(percent: float = 1.0) -> AbsorptionSpectrum:
     L/mol/cm, bands 543 nm (σ 22 nm) and 500 nm (σ 20 nm, 0.20)."""
     return _dye_absorption(
         percent,
-        _FU_MOLAR_MASS,
-        _FU_EPSILON,
-        _FU_BANDS,
+        FUCHSINE_MOLAR_MASS,
+        FUCHSINE_EPSILON,
+        FUCHSINE_BANDS,
         f"fuchsine {percent:g} %",
         "fuchsine in water, Gaussian bands at 543/500 nm (see module references)",
-    )
-
-
-def _water() -> Isotropic:
-    from .library import get
-
-    return get("water")
-
-
-def rose_bengal_solution(percent: float = 10.0, *, device=None) -> Isotropic:
-    """Rose bengal in water (Weidlich & Wilkie §4.2): water + Kramers–Kronig of the dye's k."""
-    return anomalous(
-        _water(),
-        rose_bengal_absorption(percent),
-        name=f"rose_bengal_{percent:g}",
-        source=f"water (Daimon 20 °C) + rose bengal {percent:g} % (Gaussian bands) + Kramers–Kronig",
-        device=device,
-    )
-
-
-def fuchsine_solution(percent: float = 1.0, *, device=None) -> Isotropic:
-    """Fuchsine in water (Weidlich & Wilkie fig. 1): water + Kramers–Kronig of the dye's k."""
-    return anomalous(
-        _water(),
-        fuchsine_absorption(percent),
-        name=f"fuchsine_{percent:g}",
-        source=f"water (Daimon 20 °C) + fuchsine {percent:g} % (Gaussian bands) + Kramers–Kronig",
-        device=device,
     )

@@ -2,7 +2,9 @@
 
 Dispersion comes from a refractiveindex.info page where one exists (read offline with
 :func:`from_refractiveindex`); otherwise a two-term Cauchy formula n = A + B/λ² (λ in µm) is fitted
-exactly through a published index and dispersion (values cited per entry below).  Biaxial
+exactly through a published index and dispersion.  The numbers (pages, constants, bands) and their
+provenance are data, in :mod:`warpoptics.materials.datasets` (``gems``, ``seed002``, ``dyes``);
+this module composes the materials from them.  Biaxial
 stones (peridot, andalusite, topaz) are treated as uniaxial, as Guy & Soler 2004 do for
 peridot and andalusite (§3.2: "behave visually as if they were uniaxial because two of the three
 absorbance spectra are nearly identical"); their n_o / n_e are the two distinct principal
@@ -30,6 +32,7 @@ References (gemological constants)
 from __future__ import annotations
 
 import difflib
+import functools
 from collections.abc import Callable
 
 import numpy as np
@@ -43,10 +46,20 @@ from .absorption import (
     seed002_spectra,
     with_absorption,
 )
+from .datasets.dyes import LIBRARY_SOLUTIONS
+from .datasets.gems import CR3_BANDS_SOURCE, GEMS
 from .dispersion import VISIBLE_RANGE_NM, Cauchy, Isotropic, Material, Uniaxial
+from .kramers_kronig import anomalous, fuchsine_absorption, rose_bengal_absorption
 from .refractiveindex import from_refractiveindex
 
-__all__ = ["get", "names", "cauchy_from_gem_constants", "ALIASES"]
+__all__ = [
+    "get",
+    "names",
+    "cauchy_from_gem_constants",
+    "ALIASES",
+    "rose_bengal_solution",
+    "fuchsine_solution",
+]
 
 _FRAUNHOFER_D = 589.3
 _BG = (430.8, 686.7)
@@ -140,152 +153,73 @@ def _seed002_indices(name: str) -> Material:
 
 def _bands(bands, name) -> AbsorptionSpectrum:
     return AbsorptionSpectrum.from_bands(
-        bands,
+        [Band(c, w, peak) for c, w, peak in bands],
         wavelength_range_nm=(300.0, 900.0),
         name=name,
-        source="Cr3+ bands (positions: literature; amplitudes illustrative)",
+        source=CR3_BANDS_SOURCE,
     )
 
 
-def _diamond() -> Material:
-    return _seed002("diamond", _page("main/C/Peter", "diamond"))
+def _gem(name: str) -> Material:
+    """Build library entry ``name`` from its data (:data:`~.datasets.gems.GEMS`)."""
+    entry = GEMS[name]
+    kind, *args = entry["index"]
+    if kind == "page":
+        mat = _page(args[0], name)
+    elif kind == "pages":
+        o = _page(args[0], f"{name} (o)")
+        e = _page(args[1], f"{name} (e)")
+        mat = _uniaxial(o, e, name, entry["source"])
+    elif kind == "constants":
+        n_o, n_e, dispersion = args
+        src = entry["source"]
+        o = cauchy_from_gem_constants(n_o, dispersion, name=f"{name} (o)", source=src)
+        e = cauchy_from_gem_constants(n_e, dispersion, name=f"{name} (e)", source=src)
+        mat = _uniaxial(o, e, name, src)
+    else:  # "seed002"
+        mat = _seed002_indices(name)
+    absorption = entry.get("absorption")
+    if absorption == "seed002":
+        return _seed002(name, mat)
+    if absorption is not None:
+        ko = _bands(absorption["o"], f"{name} K^o")
+        ke = _bands(absorption["e"], f"{name} K^e")
+        return with_absorption(mat, (ko, ke), source=mat.source + "; " + absorption["source"])
+    return mat
 
 
-def _sapphire() -> Material:
-    o = _page("main/Al2O3/Malitson-o", "sapphire (o)")
-    e = _page("main/Al2O3/Malitson-e", "sapphire (e)")
-    return _seed002("sapphire", _uniaxial(o, e, "sapphire", "refractiveindex.info main/Al2O3/Malitson-o/-e"))
-
-
-def _ruby() -> Material:
-    o = _page("main/Al2O3/Malitson-o", "ruby (o)")
-    e = _page("main/Al2O3/Malitson-e", "ruby (e)")
-    base = _uniaxial(o, e, "ruby", "refractiveindex.info main/Al2O3/Malitson-o/-e")
-    ko = _bands([Band(556.0, 30.0, 0.25), Band(407.0, 25.0, 0.30)], "ruby K^o")
-    ke = _bands([Band(570.0, 30.0, 0.20), Band(400.0, 25.0, 0.22)], "ruby K^e")
-    return with_absorption(
-        base, (ko, ke), source=base.source + "; Cr3+ bands after McClure 1962 (illustrative strength)"
+def rose_bengal_solution(percent: float = 10.0, *, device=None) -> Isotropic:
+    """Rose bengal in water (Weidlich & Wilkie §4.2): water + Kramers–Kronig of the dye's k."""
+    return anomalous(
+        get("water"),
+        rose_bengal_absorption(percent),
+        name=f"rose_bengal_{percent:g}",
+        source=f"water (Daimon 20 °C) + rose bengal {percent:g} % (Gaussian bands) + Kramers–Kronig",
+        device=device,
     )
 
 
-def _calcite() -> Material:
-    o = _page("main/CaCO3/Ghosh-o", "calcite (o)")
-    e = _page("main/CaCO3/Ghosh-e", "calcite (e)")
-    return _uniaxial(o, e, "calcite", "refractiveindex.info main/CaCO3/Ghosh-o/-e")
-
-
-def _quartz() -> Material:
-    o = _page("main/SiO2/Ghosh-o", "quartz (o)")
-    e = _page("main/SiO2/Ghosh-e", "quartz (e)")
-    return _uniaxial(o, e, "quartz", "refractiveindex.info main/SiO2/Ghosh-o/-e")
-
-
-def _zircon() -> Material:
-    src = "high zircon, GIA: n_o 1.925, n_e 1.984 (nD), dispersion 0.039; Cauchy fit"
-    o = cauchy_from_gem_constants(1.925, 0.039, name="zircon (o)", source=src)
-    e = cauchy_from_gem_constants(1.984, 0.039, name="zircon (e)", source=src)
-    return _uniaxial(o, e, "zircon", src)
-
-
-def _tourmaline() -> Material:
-    return _seed002("tourmaline", _seed002_indices("tourmaline"))
-
-
-def _emerald() -> Material:
-    src = "emerald (beryl), GIA: n_o 1.583, n_e 1.577 (nD), dispersion 0.014; Cauchy fit"
-    o = cauchy_from_gem_constants(1.583, 0.014, name="emerald (o)", source=src)
-    e = cauchy_from_gem_constants(1.577, 0.014, name="emerald (e)", source=src)
-    base = _uniaxial(o, e, "emerald", src)
-    ko = _bands([Band(600.0, 35.0, 0.15), Band(430.0, 25.0, 0.20)], "emerald K^o")
-    ke = _bands([Band(640.0, 35.0, 0.12), Band(420.0, 25.0, 0.15)], "emerald K^e")
-    return with_absorption(
-        base, (ko, ke), source=src + "; Cr3+ bands after Wood & Nassau 1968 (illustrative strength)"
+def fuchsine_solution(percent: float = 1.0, *, device=None) -> Isotropic:
+    """Fuchsine in water (Weidlich & Wilkie fig. 1): water + Kramers–Kronig of the dye's k."""
+    return anomalous(
+        get("water"),
+        fuchsine_absorption(percent),
+        name=f"fuchsine_{percent:g}",
+        source=f"water (Daimon 20 °C) + fuchsine {percent:g} % (Gaussian bands) + Kramers–Kronig",
+        device=device,
     )
-
-
-def _peridot() -> Material:
-    return _seed002("peridot", _seed002_indices("peridot"))
-
-
-def _garnet() -> Material:
-    return _seed002("garnet", _seed002_indices("garnet"))
-
-
-def _andalusite() -> Material:
-    return _seed002("andalusite", _seed002_indices("andalusite"))
-
-
-def _spinel() -> Material:
-    return _page("main/MgAl2O4/Tropf", "spinel")
-
-
-def _topaz() -> Material:
-    src = (
-        "topaz (biaxial, treated as uniaxial): n_alpha 1.619 -> o, n_gamma 1.627 -> e (nD), "
-        "dispersion 0.014 (GIA); Cauchy fit"
-    )
-    o = cauchy_from_gem_constants(1.619, 0.014, name="topaz (o)", source=src)
-    e = cauchy_from_gem_constants(1.627, 0.014, name="topaz (e)", source=src)
-    return _uniaxial(o, e, "topaz", src)
-
-
-def _cubic_zirconia() -> Material:
-    # Wood & Nassau 1982, cubic zirconia stabilised with 12 mol % yttria
-    return _page("main/ZrO2/Wood", "cubic_zirconia")
-
-
-def _moissanite() -> Material:
-    o = _page("main/SiC/Wang-6H-o", "moissanite (o)")
-    e = _page("main/SiC/Wang-6H-e", "moissanite (e)")
-    return _uniaxial(
-        o, e, "moissanite", "refractiveindex.info main/SiC/Wang-6H-o/-e (6H-SiC), extrapolated below 435.8 nm"
-    )
-
-
-def _water() -> Material:
-    return _page("main/H2O/Daimon-20.0C", "water")
-
-
-def _bk7() -> Material:
-    return _page("specs/SCHOTT-optical/N-BK7", "bk7")
-
-
-def _fused_silica() -> Material:
-    return _page("main/SiO2/Malitson", "fused_silica")
 
 
 def _dye(kind: str, percent: float) -> Callable[[], Material]:
     def build() -> Material:
-        from .kramers_kronig import fuchsine_solution, rose_bengal_solution
-
         return rose_bengal_solution(percent) if kind == "rose_bengal" else fuchsine_solution(percent)
 
     return build
 
 
 _BUILDERS: dict[str, Callable[[], Material]] = {
-    "diamond": _diamond,
-    "sapphire": _sapphire,
-    "ruby": _ruby,
-    "calcite": _calcite,
-    "quartz": _quartz,
-    "zircon": _zircon,
-    "tourmaline": _tourmaline,
-    "emerald": _emerald,
-    "peridot": _peridot,
-    "garnet": _garnet,
-    "spinel": _spinel,
-    "topaz": _topaz,
-    "cubic_zirconia": _cubic_zirconia,
-    "moissanite": _moissanite,
-    "andalusite": _andalusite,
-    "water": _water,
-    "bk7": _bk7,
-    "fused_silica": _fused_silica,
-    "rose_bengal_10": _dye("rose_bengal", 10.0),
-    "rose_bengal_3.3": _dye("rose_bengal", 3.3),
-    "rose_bengal_1": _dye("rose_bengal", 1.0),
-    "fuchsine": _dye("fuchsine", 1.0),
+    **{name: functools.partial(_gem, name) for name in GEMS},
+    **{name: _dye(kind, percent) for name, (kind, percent) in LIBRARY_SOLUTIONS.items()},
 }
 
 #: other accepted spellings

@@ -51,6 +51,7 @@ import warp as wp
 
 from ..device import elementwise, get_device
 from ..errors import InputError
+from ..fields import oil_slick_thickness_f, soap_film_thickness_f, turbulence, turbulence_3d
 from ..materials.dispersion import MaterialTable, material_eval
 from ..optics.branches import Cand, add_child
 from ..optics.interface import backward_isotropic, child_of
@@ -60,14 +61,7 @@ from ..optics.jones import (
     s_vector,
 )
 from ..optics.microfacet import ggx_g1, ggx_sample_normal
-from ..optics.thinfilm import (
-    CoatingStack,
-    coating_amplitudes_scaled,
-    make_coating_stack,
-    oil_slick_thickness_f,
-    soap_film_thickness_f,
-    turbulence,
-)
+from ..optics.thinfilm import CoatingStack, coating_amplitudes_scaled, make_coating_stack
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -143,19 +137,6 @@ class FilmSurfaces:
 # ---------------------------------------------------------------------------------------------
 # @wp.func
 # ---------------------------------------------------------------------------------------------
-
-
-@wp.func
-def turbulence_3d(seed: int, p: wp.vec3f, octaves: int):
-    """Perlin's turbulence in 3-D, sum over octaves o of |noise(2^o p)| / 2^o (Perlin 1985);
-    the 3-D form of ``optics.thinfilm.turbulence`` for closed surfaces (a bubble)."""
-    state = wp.rand_init(seed)
-    total = wp.float32(0.0)  # a mutable loop variable
-    scale = wp.float32(1.0)  # a mutable loop variable
-    for _octave in range(octaves):
-        total += wp.abs(wp.noise(state, p * scale)) / scale
-        scale *= 2.0
-    return total
 
 
 @wp.func

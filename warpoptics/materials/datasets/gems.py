@@ -1,0 +1,96 @@
+"""The gem library's data: where each material's index comes from, and its absorption, as plain data.
+
+Each entry of :data:`GEMS` (in library order) has
+
+``index``     how n(λ) is obtained:
+              ``("page", page)``: a refractiveindex.info page (read offline), isotropic;
+              ``("pages", o_page, e_page)``: the ordinary and extraordinary pages of a uniaxial
+              crystal (optic axis +z);
+              ``("constants", n_o, n_e, dispersion)``: gemological constants at the sodium D line
+              and the dispersion n(430.8) − n(686.7), fitted by a two-term Cauchy formula;
+              ``("seed002",)``: the indices of the Guy & Soler §6.1 table (:mod:`.seed002`)
+``source``    the provenance string the material carries (index entries other than "page")
+``absorption`` absent (colourless, k = 0), ``"seed002"`` (the §6.1 absorbances), or
+              ``{"o": bands, "e": bands, "source": ...}`` with bands (centre nm, width nm,
+              peak alpha 1/mm) of Gaussian profiles
+
+Provenance
+----------
+- refractiveindex.info database pages as named (authors in the page names: Peter, Malitson,
+  Ghosh, Tropf, Wood & Nassau 1982 (cubic zirconia stabilised with 12 mol % yttria), Wang
+  (6H-SiC), Daimon (water, 20 °C), SCHOTT (N-BK7)).
+- GIA Gem Reference Guide (1995) and R. Webster, *Gems*, 5th ed. (1994), property tables:
+  zircon (high) n_o 1.925, n_e 1.984, dispersion 0.039; emerald n_o 1.583, n_e 1.577, 0.014;
+  topaz n_α 1.619, n_γ 1.627, 0.014.
+- S. Guy, C. Soler, ACM TOG 23(3) 2004, §6.1 table (garnet, tourmaline, peridot, andalusite,
+  and the absorbances of diamond and sapphire).
+- D. S. McClure, J. Chem. Phys. 36, 2757 (1962): Cr³⁺ in corundum, E⊥c bands 556/407 nm,
+  E∥c 570/400 nm.  D. L. Wood, K. Nassau, Am. Mineral. 53, 777 (1968): Cr³⁺ in beryl, E⊥c
+  430/600 nm, E∥c 420/640 nm.  Band positions from these; amplitudes and widths illustrative.
+"""
+
+from __future__ import annotations
+
+__all__ = ["GEMS", "CR3_BANDS_SOURCE"]
+
+#: the source string of every Cr³⁺ band spectrum
+CR3_BANDS_SOURCE = "Cr3+ bands (positions: literature; amplitudes illustrative)"
+
+GEMS: dict[str, dict] = {
+    "diamond": dict(index=("page", "main/C/Peter"), absorption="seed002"),
+    "sapphire": dict(
+        index=("pages", "main/Al2O3/Malitson-o", "main/Al2O3/Malitson-e"),
+        source="refractiveindex.info main/Al2O3/Malitson-o/-e",
+        absorption="seed002",
+    ),
+    "ruby": dict(
+        index=("pages", "main/Al2O3/Malitson-o", "main/Al2O3/Malitson-e"),
+        source="refractiveindex.info main/Al2O3/Malitson-o/-e",
+        absorption=dict(
+            o=((556.0, 30.0, 0.25), (407.0, 25.0, 0.30)),
+            e=((570.0, 30.0, 0.20), (400.0, 25.0, 0.22)),
+            source="Cr3+ bands after McClure 1962 (illustrative strength)",
+        ),
+    ),
+    "calcite": dict(
+        index=("pages", "main/CaCO3/Ghosh-o", "main/CaCO3/Ghosh-e"),
+        source="refractiveindex.info main/CaCO3/Ghosh-o/-e",
+    ),
+    "quartz": dict(
+        index=("pages", "main/SiO2/Ghosh-o", "main/SiO2/Ghosh-e"),
+        source="refractiveindex.info main/SiO2/Ghosh-o/-e",
+    ),
+    "zircon": dict(
+        index=("constants", 1.925, 1.984, 0.039),
+        source="high zircon, GIA: n_o 1.925, n_e 1.984 (nD), dispersion 0.039; Cauchy fit",
+    ),
+    "tourmaline": dict(index=("seed002",), absorption="seed002"),
+    "emerald": dict(
+        index=("constants", 1.583, 1.577, 0.014),
+        source="emerald (beryl), GIA: n_o 1.583, n_e 1.577 (nD), dispersion 0.014; Cauchy fit",
+        absorption=dict(
+            o=((600.0, 35.0, 0.15), (430.0, 25.0, 0.20)),
+            e=((640.0, 35.0, 0.12), (420.0, 25.0, 0.15)),
+            source="Cr3+ bands after Wood & Nassau 1968 (illustrative strength)",
+        ),
+    ),
+    "peridot": dict(index=("seed002",), absorption="seed002"),
+    "garnet": dict(index=("seed002",), absorption="seed002"),
+    "spinel": dict(index=("page", "main/MgAl2O4/Tropf")),
+    "topaz": dict(
+        index=("constants", 1.619, 1.627, 0.014),
+        source=(
+            "topaz (biaxial, treated as uniaxial): n_alpha 1.619 -> o, n_gamma 1.627 -> e (nD), "
+            "dispersion 0.014 (GIA); Cauchy fit"
+        ),
+    ),
+    "cubic_zirconia": dict(index=("page", "main/ZrO2/Wood")),
+    "moissanite": dict(
+        index=("pages", "main/SiC/Wang-6H-o", "main/SiC/Wang-6H-e"),
+        source="refractiveindex.info main/SiC/Wang-6H-o/-e (6H-SiC), extrapolated below 435.8 nm",
+    ),
+    "andalusite": dict(index=("seed002",), absorption="seed002"),
+    "water": dict(index=("page", "main/H2O/Daimon-20.0C")),
+    "bk7": dict(index=("page", "specs/SCHOTT-optical/N-BK7")),
+    "fused_silica": dict(index=("page", "main/SiO2/Malitson")),
+}

@@ -1,0 +1,81 @@
+"""Sweep backends: where jobs run.  Each takes the job function and its payloads and yields the
+results as they finish: in this process, in a process or thread pool, or on a Dask cluster.
+The job function is a parameter (the runner's :func:`~warpoptics.sweep.runner.run_job`), so
+that this module depends on nothing of the sweep; it must be importable by name in a worker
+process (spawned pools and Dask pickle it by reference).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+
+from ..errors import InputError
+
+__all__ = ["local_results", "pool_results", "dask_results"]
+
+
+def local_results(fn: Callable[[dict], dict], payloads) -> Iterator[dict]:
+    """``fn`` of each payload in turn, in this process."""
+    for p in payloads:
+        yield fn(p)
+
+
+def pool_results(fn: Callable[[dict], dict], payloads, workers: int, kind: str) -> Iterator[dict]:
+    """``fn`` of the payloads on a pool of ``workers``: ``kind`` "process" (spawned) or "thread"."""
+    import concurrent.futures as cf
+    import multiprocessing
+
+    if kind == "process":
+        ex = cf.ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
+    else:
+        ex = cf.ThreadPoolExecutor(max_workers=workers, thread_name_prefix="sweep")
+    futures = []
+    try:
+        if kind == "thread" and payloads:
+            # Warp modules load on this (the main) thread: the first job runs here
+            yield fn(payloads[0])
+            payloads = payloads[1:]
+        futures = [ex.submit(fn, p) for p in payloads]
+        for f in cf.as_completed(futures):
+            yield f.result()
+    finally:
+        for f in futures:
+            f.cancel()
+        ex.shutdown(wait=True, cancel_futures=True)
+
+
+def dask_results(
+    fn: Callable[[dict], dict], payloads, *, scheduler: str | None, dask_local: int | None
+) -> Iterator[dict]:
+    """``fn`` of the payloads on the Dask scheduler at ``scheduler`` or on a local cluster of
+    ``dask_local`` worker processes (one thread each)."""
+    try:
+        from distributed import Client, LocalCluster, as_completed
+    except ImportError:
+        raise InputError(
+            "Dask is not installed: pip install 'warpoptics[distributed]' (dask[distributed])",
+            field="--scheduler" if scheduler else "--dask-local",
+        ) from None
+    cluster = None
+    if scheduler:
+        client = Client(scheduler)
+    else:
+        cluster = LocalCluster(
+            n_workers=int(dask_local),
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=40,
+        )
+        client = Client(cluster)
+    try:
+        futures = [
+            client.submit(fn, p, key=f"warpoptics-job-{p['job']['key']}-{i}", pure=False)
+            for i, p in enumerate(payloads)
+        ]
+        for fut in as_completed(futures):
+            yield fut.result()
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
