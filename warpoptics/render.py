@@ -227,6 +227,27 @@ class Image:
             return write_png(p, self.display())
         raise InputError("unsupported image format", field="output", value=str(path), allowed=".exr, .png, .jpg, .tif")
 
+    # Jupyter rich display: a render shows itself inline (IPython calls these on the last value
+    # of a cell).  The PNG is display(): exposure, tone curve, sRGB encoding, as save(".png").
+    def _repr_png_(self) -> bytes:
+        import io
+
+        from matplotlib.image import imsave
+
+        buf = io.BytesIO()
+        imsave(buf, np.clip(self.display(), 0.0, 1.0), format="png")
+        return buf.getvalue()
+
+    def _repr_html_(self) -> str:
+        import base64
+
+        h, w = self.xyz.shape[:2]
+        data = base64.b64encode(self._repr_png_()).decode("ascii")
+        # small renders are scaled up without blurring their pixels
+        scale = max(1, 256 // max(w, h, 1))
+        return (f'<img src="data:image/png;base64,{data}" width="{w * scale}" height="{h * scale}" '
+                f'style="image-rendering: pixelated" alt="warpoptics render {w}x{h}"/>')
+
 
 def _build_objects(scene: Scene, device):
     from . import materials as wo_materials
