@@ -1262,7 +1262,7 @@ class SweepRunner:
             results = _local_results(payloads)
         bar = None
         if self.progress:
-            from tqdm import tqdm
+            from tqdm.auto import tqdm  # a widget in Jupyter, text in a terminal
 
             bar = tqdm(
                 total=total,
