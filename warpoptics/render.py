@@ -235,7 +235,8 @@ class Image:
         from matplotlib.image import imsave
 
         buf = io.BytesIO()
-        imsave(buf, np.clip(self.display(), 0.0, 1.0), format="png")
+        # rounded to 8 bits here (imsave would truncate floats)
+        imsave(buf, np.round(np.clip(self.display(), 0.0, 1.0) * 255.0).astype(np.uint8), format="png")
         return buf.getvalue()
 
     def _repr_html_(self) -> str:
