@@ -65,3 +65,28 @@ def test_notebook_renders_inline(tmp_path):
     # the kernel ran this tree's warpoptics (PYTHONPATH), not another install
     texts = [out.get("text", "") for cell in nb.cells for out in cell.get("outputs", [])]
     assert any(f"({SIZE}, {SIZE}, 3)" in t for t in texts)
+
+
+def test_progress_bar_from_tqdm_auto(monkeypatch):
+    """render(progress=True) takes its bar from tqdm.auto (a widget in Jupyter, text elsewhere):
+    a recording stand-in put there sees every row, and the image is the one without a bar."""
+    import tqdm.auto
+
+    made = []
+
+    class Recorder(tqdm.auto.tqdm):
+        def __init__(self, *args, **kw):
+            super().__init__(*args, **kw)
+            made.append(self)
+
+    monkeypatch.setattr(tqdm.auto, "tqdm", Recorder)
+    scene = wo.Scene.from_dict({
+        "camera": {"position": [0.0, -22.0, 30.0], "look_at": [0.0, 0.0, 0.0], "fov": 15.0, "width": 8,
+                   "height": 8},
+        "render": {"spectral": "rgb3", "spp": 1, "max_depth": 4},
+        "object": [{"shape": "round_brilliant", "diameter": 6.5, "material": "diamond"}],
+    })
+    a = wo.render(scene, progress=True)
+    assert len(made) == 1 and made[0].total == 8 and made[0].n == 8
+    b = wo.render(scene)
+    assert np.array_equal(a.xyz, b.xyz)
