@@ -10,8 +10,9 @@
   zenith: an observer's head (or a camera) blocking the light from straight above a face-up
   stone, which GIA's brightness work discusses as observer obstruction.
 
-The layout is warpoptics.stages.environment's (u = 0.5 + atan2(y, x) / 2 pi, v = acos(z) / pi,
-row 0 at the zenith); values are linear sRGB (white = D65 in the renderer).
+The layout is warpoptics.stages.environment's default lat-long convention, Blender's (u = 0.5 -
+atan2(y, x) / 2 pi, v = acos(z) / pi, row 0 at the zenith); values are linear sRGB (white = D65
+in the renderer).
 
     python scripts/make_sweep_maps.py [--width 1024] [--folder scenes/sweeps]
 """
@@ -25,15 +26,11 @@ from pathlib import Path
 import numpy as np
 
 from warpoptics.film.image import write_exr
+from warpoptics.stages.environment import latlong_directions
 
 
 def directions(width: int) -> np.ndarray:
-    h = width // 2
-    theta = ((np.arange(h) + 0.5) / h)[:, None] * math.pi
-    phi = (((np.arange(width) + 0.5) / width)[None, :] - 0.5) * 2 * math.pi
-    return np.stack(
-        [np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta) * np.ones_like(phi)], -1
-    )
+    return latlong_directions(width, width // 2)
 
 
 def spots_map(

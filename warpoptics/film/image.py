@@ -236,3 +236,23 @@ class Image:
         if ext in (".png", ".jpg", ".jpeg", ".tif", ".tiff"):
             return write_png(p, self.display())
         raise InputError("unsupported image format", field="output", value=str(path), allowed=".exr, .png, .jpg, .tif")
+
+    def _repr_png_(self) -> bytes:
+        import io
+
+        from matplotlib.image import imsave
+
+        buf = io.BytesIO()
+        # rounded to 8 bits here (imsave would truncate floats)
+        imsave(buf, np.round(np.clip(self.display(), 0.0, 1.0) * 255.0).astype(np.uint8), format="png")
+        return buf.getvalue()
+
+    def _repr_html_(self) -> str:
+        import base64
+
+        h, w = self.xyz.shape[:2]
+        data = base64.b64encode(self._repr_png_()).decode("ascii")
+        # small renders are scaled up without blurring their pixels
+        scale = max(1, 256 // max(w, h, 1))
+        return (f'<img src="data:image/png;base64,{data}" width="{w * scale}" height="{h * scale}" '
+                f'style="image-rendering: pixelated" alt="warpoptics render {w}x{h}"/>')

@@ -15,8 +15,10 @@ Conventions and how they are matched (each checked in ``tests/test_mitsuba.py``)
   uniform jitter inside each pixel.
 - Environment: Mitsuba's ``envmap`` is y-up with ``u = atan2(x, -z) / 2 pi``, ``v = acos(y) / pi``,
   texel columns centred at ``(i + 0.5) / W`` and texel *rows at* ``v = j / (H - 1)``.  Ours is
-  z-up, ``u = 0.5 + atan2(y, x) / 2 pi``, rows centred at ``(j + 0.5) / H``; the two
-  parametrisations have opposite handedness.  We therefore *bake* a map for Mitsuba: each
+  z-up, read in one of :data:`~warpoptics.stages.environment.LATLONG_CONVENTIONS` (Blender's
+  ``u = 0.5 - atan2(y, x) / 2 pi`` by default), rows centred at ``(j + 0.5) / H``; the row
+  placement differs by up to half a texel near the poles, and a map's convention and rotation
+  must be carried over.  We therefore *bake* a map for Mitsuba: each
   Mitsuba texel direction, turned to the world by the proper rotation :data:`ENVMAP_TO_WORLD`
   (Mitsuba local y -> world z), is evaluated through our own ``environment_radiance`` (one
   formula, one place) and integrated against the CIE 1931 functions to XYZ, then linear sRGB
@@ -64,7 +66,7 @@ from ..errors import InputError
 from ..atomic import atomic_path
 from ..scene import Scene
 from ..spectra import SpectralTables, cmf_xyz, spectral_tables
-from ..stages.environment import Environment, EnvironmentLight, environment_radiance
+from ..stages.environment import Environment, EnvironmentLight, environment_radiance, latlong_directions
 from .objects import build_objects
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -158,26 +160,20 @@ def mitsuba_directions(width: int, height: int) -> np.ndarray:
     return local @ ENVMAP_TO_WORLD.T
 
 
-def latlong_directions(width: int, height: int) -> np.ndarray:
-    """World directions ``(height, width, 3)`` of the texel centres of *our* lat-long maps (z up,
-    u = 0.5 + atan2(y, x) / 2 pi, v = acos(z) / pi, centres at (i + 0.5) / W, (j + 0.5) / H)."""
-    phi = 2.0 * np.pi * ((np.arange(width) + 0.5) / width - 0.5)[None, :]
-    theta = np.pi * ((np.arange(height) + 0.5) / height)[:, None]
-    return np.stack(
-        np.broadcast_arrays(
-            np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta) + 0 * phi
-        ),
-        axis=-1,
-    )
-
-
 def bake_latlong(
-    light: EnvironmentLight, width: int = 1024, height: int = 512, *, step: float = 1.0, device=None
+    light: EnvironmentLight,
+    width: int = 1024,
+    height: int = 512,
+    *,
+    convention: str = "blender",
+    step: float = 1.0,
+    device=None,
 ) -> np.ndarray:
-    """Our environment (procedural or not) as one of our lat-long maps ``(height, width, 3)``,
-    linear sRGB >= 0 (for an EXR that both renderers read)."""
+    """Our environment (procedural or not) as a lat-long map ``(height, width, 3)`` in
+    ``convention`` (not rotated: read it back with ``rotation = 0``), linear sRGB >= 0 (for an
+    EXR that both renderers read, or that Blender shows as we do with the default convention)."""
     rgb = environment_rgb(
-        light, latlong_directions(width, height).astype(np.float32), step=step, device=device
+        light, latlong_directions(width, height, convention).astype(np.float32), step=step, device=device
     )
     return np.ascontiguousarray(np.maximum(rgb, 0.0), dtype=np.float32)
 

@@ -329,7 +329,7 @@ class Renderer:
         rounds = 2 if r.adaptive else 1
         bar = None
         if progress:
-            from tqdm import tqdm
+            from tqdm.auto import tqdm  # a widget in Jupyter, text in a terminal
 
             bar = tqdm(total=f.height * rounds, unit="row", desc="render", leave=False, dynamic_ncols=True)
         t0 = time.perf_counter()

@@ -21,7 +21,7 @@ from .. import validate as val
 from ..errors import InputError
 from ..film.views import parse_view
 from ..geometry import cuts
-from ..stages.environment import EnvironmentConfig
+from ..stages.environment import LATLONG_CONVENTIONS, EnvironmentConfig
 from ..stages.surfaces import BSDF_KINDS, LAMP_KINDS, MIS_MODES, LampConfig, SurfaceConfig
 from .coating import film_config
 
@@ -318,7 +318,7 @@ def object_configs(table: dict, index: int, file, base_dir: Path) -> list[Object
     ]
 
 
-_LIGHT_KEYS = {"type", "map", "intensity", "tint", "rotation", "polarizer"}
+_LIGHT_KEYS = {"type", "map", "intensity", "tint", "rotation", "polarizer", "convention"}
 
 
 def light_config(
@@ -352,6 +352,10 @@ def light_config(
             raise InputError("must be >= 0", file=file, field=prefix + "tint", value=list(kw["tint"]))
     if "rotation" in table:
         kw["rotation_deg"] = float(val.number(table["rotation"], file=file, field=prefix + "rotation"))
+    if "convention" in table:
+        # how the lat-long map is laid out (stages/environment.py: blender, mitsuba, mirrored)
+        kw["convention"] = val.choice(table["convention"], tuple(LATLONG_CONVENTIONS), file=file,
+                                      field=prefix + "convention")
     if "polarizer" in table and table["polarizer"] != "none":
         # an ideal linear polarizer in front of the light (polariscope), degrees on the image
         kw["polarizer"] = float(val.number(table["polarizer"], file=file, field=prefix + "polarizer"))

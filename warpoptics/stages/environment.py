@@ -8,11 +8,39 @@ Kinds (``Environment.kind``):
 - ``studio``: dark surroundings with soft boxes overhead and at the sides, like the light boxes
   over a plane of seed 001;
 - ``sky``: a smooth blue sky over a grey ground;
-- ``latlong``: an equirectangular RGB map (EXR/HDR through OpenImageIO), z up, u = 0.5 + atan2(y,
-  x) / 2 pi, v = acos(z) / pi (row 0 at the zenith).
+- ``latlong``: an equirectangular RGB map (EXR/HDR/PNG through OpenImageIO), read in one of the
+  :data:`LATLONG_CONVENTIONS` (``EnvironmentConfig.convention``).
+
+Lat-long conventions (z up; u = column / width from the left edge, v = row / height from the top,
+row 0 at the zenith, v = acos(z) / pi in all of them):
+
+- ``"blender"`` (the default): u = 0.5 - atan2(y, x) / 2 pi.  The centre column (u = 0.5) looks
+  along +x, u = 0.25 along +y, u = 0.75 along -y, the left and right edges along -x.  Seen from
+  inside, the panorama is not mirrored: a camera looking along +x (z up) has -y on its right and
+  sees the columns right of the centre there.  This is how Blender's world Environment Texture
+  (equirectangular: ``u = -atan2(y, x) / 2 pi + 0.5``, Cycles' ``direction_to_equirectangular``)
+  and viewers of Poly Haven HDRIs place a panorama, so a downloaded map renders as it does there.
+- ``"mitsuba"``: the map as Mitsuba 3's ``envmap`` shows it with ``to_world = rotate(x, 90 deg)``
+  (its local y-up frame turned to z up; its own mapping is u = atan2(x, -z) / 2 pi, v = acos(y) /
+  pi): u = 0 looks along +y, u = 0.25 along +x, u = 0.5 along -y, u = 0.75 along -x -- Blender's
+  layout turned by 90 deg about z (also the layout of OpenEXR's ``LatLongMap`` turned to z up).
+- ``"mirrored"``: u = 0.5 + atan2(y, x) / 2 pi (+x at the centre, +y at u = 0.75): the mirror
+  image of ``"blender"``, which no rotation can undo -- warpoptics' mapping before Blender's was
+  adopted, for maps made for it.
+
+``rotation`` (degrees) turns the map about +z, counter-clockwise seen from above, after the
+convention has placed it: content that the convention puts along +x appears along +y at 90 deg.
+The convention and the rotation are one world -> map matrix (:func:`latlong_frame`), so the
+kernel reads every convention with Blender's formula and nothing is compiled per convention.
 
 RGB radiance (maps, procedural colours) becomes a spectrum through D65 x the Mallett–Yuksel sRGB
 basis (``spectra.rgb_spectrum_value``), so an RGB-white environment is D65.
+
+References:
+    Blender manual, Shader nodes > Textures > Environment Texture (projection Equirectangular);
+    Blender source ``gpu_shader_material_tex_environment.glsl`` (``node_tex_environment_
+    equirectangular``).  Mitsuba 3 documentation, emitter ``envmap`` and ``src/emitters/envmap.cpp``
+    (``direction_to_uv``).
 """
 
 from __future__ import annotations
@@ -30,7 +58,8 @@ from ..spectra import SpectralTables, illuminant_value, rgb_spectrum_value, samp
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
 __all__ = ["Environment", "EnvironmentConfig", "EnvironmentLight", "environment_radiance",
-           "environment_coefficients", "environment_basis", "spectral_response", "ENV_KINDS"]
+           "environment_coefficients", "environment_basis", "spectral_response", "ENV_KINDS",
+           "LATLONG_CONVENTIONS", "latlong_frame", "latlong_uv", "latlong_directions"]
 
 ENV_KINDS = {"constant": 0, "dome": 1, "studio": 2, "sky": 3, "latlong": 4}
 _CONSTANT = wp.constant(0)
@@ -39,13 +68,59 @@ _STUDIO = wp.constant(2)
 _SKY = wp.constant(3)
 _LATLONG = wp.constant(4)
 
+#: Lat-long map conventions (module docstring), each as the matrix that turns world directions
+#: into the frame in which Blender's formula reads the map: "mitsuba" is Blender's layout turned
+#: by +90 deg about z (atan2(y, x) grows by pi / 2), "mirrored" is y -> -y (a reflection).
+LATLONG_CONVENTIONS = {
+    "blender": np.eye(3),
+    "mitsuba": np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]),
+    "mirrored": np.diag([1.0, -1.0, 1.0]),
+}
+
+
+def latlong_frame(convention: str = "blender", rotation_deg: float = 0.0) -> np.ndarray:
+    """World -> map-frame matrix (3x3) of a lat-long map in ``convention`` turned by
+    ``rotation_deg`` about +z: the map is read at ``u = 0.5 - atan2(m_y, m_x) / 2 pi``,
+    ``v = acos(m_z) / pi`` of ``m = M d``."""
+    if convention not in LATLONG_CONVENTIONS:
+        raise InputError("unknown lat-long convention", field="light.convention", value=convention,
+                         allowed=", ".join(LATLONG_CONVENTIONS))
+    a = math.radians(rotation_deg)
+    c, s = math.cos(a), math.sin(a)
+    unrotate = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])  # rotation by -angle about z
+    return LATLONG_CONVENTIONS[convention] @ unrotate
+
+
+def latlong_uv(directions, convention: str = "blender", rotation_deg: float = 0.0) -> np.ndarray:
+    """Map coordinates ``(..., 2)`` (u from the left edge, v from the top, both in [0, 1]) at which
+    a lat-long map in ``convention`` is read toward world ``directions`` ``(..., 3)`` -- the
+    NumPy twin of the kernel's lookup (tests check the two against each other)."""
+    d = np.asarray(directions, dtype=np.float64)
+    d = d / np.linalg.norm(d, axis=-1, keepdims=True)
+    m = d @ latlong_frame(convention, rotation_deg).T
+    u = np.mod(0.5 - np.arctan2(m[..., 1], m[..., 0]) / (2.0 * np.pi), 1.0)
+    v = np.arccos(np.clip(m[..., 2], -1.0, 1.0)) / np.pi
+    return np.stack([u, v], axis=-1)
+
+
+def latlong_directions(width: int, height: int, convention: str = "blender",
+                       rotation_deg: float = 0.0) -> np.ndarray:
+    """World directions ``(height, width, 3)`` of the texel centres ((i + 0.5) / W, (j + 0.5) / H)
+    of a ``width x height`` lat-long map in ``convention``: the inverse of :func:`latlong_uv`."""
+    phi = 2.0 * np.pi * (0.5 - (np.arange(width) + 0.5) / width)[None, :]
+    theta = np.pi * ((np.arange(height) + 0.5) / height)[:, None]
+    m = np.stack(np.broadcast_arrays(np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi),
+                                     np.cos(theta) + 0.0 * phi), axis=-1)
+    # M is orthogonal: world = M^T m
+    return m @ latlong_frame(convention, rotation_deg)
+
 
 @wp.struct
 class Environment:
     kind: int
     intensity: float
     tint: wp.vec3f  # linear-sRGB multiplier of procedural maps and lat-long maps
-    rotation: wp.mat33f  # world -> map frame
+    rotation: wp.mat33f  # world -> map frame (latlong_frame: convention and rotation about z)
     texture: wp.array2d(dtype=wp.vec3f)  # lat-long map (height, width), linear sRGB
     width: int
     height: int
@@ -93,7 +168,8 @@ def _sky_rgb(d: wp.vec3f):
 
 @wp.func
 def _latlong_rgb(env: Environment, d: wp.vec3f):
-    u = 0.5 + wp.atan2(d[1], d[0]) / (2.0 * wp.pi)
+    # Blender's equirectangular layout in the map frame (module docstring; latlong_uv in NumPy)
+    u = 0.5 - wp.atan2(d[1], d[0]) / (2.0 * wp.pi)
     v = wp.acos(wp.clamp(d[2], -1.0, 1.0)) / wp.pi
     x = u * float(env.width) - 0.5
     y = v * float(env.height) - 0.5
@@ -161,7 +237,8 @@ def spectral_response(env: Environment, t: SpectralTables, wavelength: float, we
 
 
 @wp.kernel
-def _response_kernel(env: Environment, t: SpectralTables, strategy: int, n: int, out: wp.array(dtype=wp.mat33d)):
+def _response_kernel(env: Environment, t: SpectralTables, strategy: int, n: int,
+                     out: wp.array(dtype=wp.mat33d)):
     # one row of the quadrature: the midpoints u = (j + 1/2) / n of one stratum-free draw
     j = wp.tid()
     wl, w = sample_wavelength(t, strategy, (float(j) + 0.5) / float(n), 0, 1)
@@ -179,12 +256,15 @@ def environment_radiance(env: Environment, t: SpectralTables, direction: wp.vec3
 @dataclass(frozen=True)
 class EnvironmentConfig:
     """Settings of the environment light (scene ``[[light]] type = "environment"`` or
-    ``"constant"``).  ``map`` is a built-in name or a path to an .exr/.hdr lat-long image."""
+    ``"constant"``).  ``map`` is a built-in name or a path to an .exr/.hdr lat-long image;
+    ``convention`` how that image is laid out (:data:`LATLONG_CONVENTIONS`, see the module
+    docstring; procedural maps are defined in world directions and ignore it)."""
 
     map: str = "studio"
     intensity: float = 1.0
     tint: tuple[float, float, float] = (1.0, 1.0, 1.0)
-    rotation_deg: float = 0.0  # rotation of the map about z
+    rotation_deg: float = 0.0  # rotation of the map about +z, counter-clockwise seen from above
+    convention: str = "blender"
     # an ideal linear polarizer facing the camera in front of the light: transmission axis in
     # degrees from image right toward image up (None: unpolarized light); see optics.polarizer
     polarizer: float | None = None
@@ -202,6 +282,9 @@ class EnvironmentConfig:
                                                and math.isfinite(self.polarizer)):
             raise InputError("must be an angle in degrees or \"none\"", file=self.source,
                              field="light.polarizer", value=self.polarizer)
+        if self.convention not in LATLONG_CONVENTIONS:
+            raise InputError("unknown lat-long convention", file=self.source, field="light.convention",
+                             value=self.convention, allowed=", ".join(LATLONG_CONVENTIONS))
 
 
 class EnvironmentLight:
@@ -220,10 +303,10 @@ class EnvironmentLight:
             tex = self._load_map(name)
         env.intensity = float(config.intensity)
         env.tint = wp.vec3f(*config.tint)
-        a = math.radians(config.rotation_deg)
-        c, s = math.cos(a), math.sin(a)
-        # world -> map: rotate by -angle about z
-        env.rotation = wp.mat33f(c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0)
+        # world -> map: rotate by -angle about z, then the convention (lat-long maps only: the
+        # procedural maps are defined in world directions)
+        convention = config.convention if env.kind == ENV_KINDS["latlong"] else "blender"
+        env.rotation = wp.mat33f(*(float(x) for x in latlong_frame(convention, config.rotation_deg).ravel()))
         env.texture = wp.array(tex, dtype=wp.vec3f, device=self.device)
         env.height, env.width = tex.shape[0], tex.shape[1]
         env.polarizer = wp.vec3f(0.0, 0.0, 0.0)  # unpolarized (the Renderer sets a polarizer)

@@ -302,7 +302,7 @@ class SweepRunner:
             results = local_results(run_job, payloads)
         bar = None
         if self.progress:
-            from tqdm import tqdm
+            from tqdm.auto import tqdm  # a widget in Jupyter, text in a terminal
 
             bar = tqdm(
                 total=total,
