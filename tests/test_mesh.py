@@ -103,3 +103,18 @@ def test_file_errors(tmp_path):
     bad.write_bytes(b"solid junk\nthis is not an stl\n")
     with pytest.raises(InputError):
         load_mesh(bad)
+
+
+def test_facet_planes_of_a_real_design_loaded_from_a_file(tmp_path):
+    # facets are found by plane: reloaded from a PLY (float32, no metadata) a real design has the
+    # facets it was built with, the convex fast path stays available
+    from pathlib import Path
+
+    from warpoptics.geometry import gemcad
+
+    gem = gemcad.read(Path(__file__).parent / "data" / "gemcad" / "forfun.asc", diameter=6.5)
+    gem.export(tmp_path / "g.ply")
+    m = load_mesh(tmp_path / "g.ply")
+    planes, _ = facet_planes(m)
+    assert len(planes) == len(gem.metadata["planes"]) == 56
+    assert m.is_convex

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import inspect
 import os
+import sys
+import warnings
 
 from ..errors import InputError
 
@@ -62,7 +64,12 @@ def run(args) -> int:
             raise InputError(
                 "a GemCAD design takes only --diameter", field="--" + sorted(extra)[0].replace("_", "-")
             )
-        mesh = gemcad.read(src, diameter=given.get("diameter", 1.0))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            design = gemcad.read_design(src)
+        for w in caught:
+            print(f"warning: {w.message}", file=sys.stderr)
+        mesh = gemcad.design_to_mesh(design, given.get("diameter", 1.0), source=src)
     else:
         if src not in cuts.SHAPES:
             raise InputError(
@@ -91,7 +98,9 @@ def run(args) -> int:
 
     with atomic_path(out) as tmp:  # a crash never leaves a half-written mesh
         if ext == ".asc":
-            gemcad.write(mesh, tmp)
+            # a design read from a file is written as it was read (index, titles, notes, gear),
+            # not re-derived from its mesh
+            gemcad.write(mesh.metadata.get("design", mesh), tmp)
         else:
             mesh.export(tmp, file_type=ext.lstrip("."))
     n_facets = len(mesh.metadata.get("planes", []))

@@ -3,7 +3,7 @@
 Format (GemCAD for Windows text export; Windows-1252, CRLF line ends)::
 
     GemCad 5.0
-    g 96 0.0                 index gear teeth, reference angle (deg)
+    g 96 0.0                 index gear teeth (signed), index offset (teeth)
     y 8 y                    symmetry, mirror (y|n)
     I 2.417000               refractive index
     H <text>                 header / title lines (repeatable)
@@ -18,20 +18,41 @@ positive: crown, +-90: girdle), the distance of the facet planes from the stone'
 ``n <name>`` after an index naming that facet and ``G <instruction>`` ending the record.  Lines
 that start with none of the record letters continue the open ``a`` record (long index lists).
 
-Geometry: index ``i`` is the facet azimuth ``phi = 90 deg - (360 i / gear + reference)``,
-measured counter-clockwise from +x in the x-y plane: index 0 (= gear) points to +y and indices
-increase clockwise seen from above, as in GemCAD's crown view.  The same formula serves crown and
-pavilion.  A facet at angle ``theta`` has the outward normal
+The ``g`` line: the first number is the tooth count of the index gear, its sign the direction
+in which the indices run; the second is an *offset in teeth*, "the index which will appear at
+the bottom" (GemCad 4.51 manual, Index gear (g) key: "Gears with positive numbers of teeth
+increase counter clockwise and gears with negative numbers of teeth increase clockwise ... An
+offset of zero causes the I.D. position to be at the bottom"), i.e. a rotation of the whole
+design by ``offset * 360 / gear`` degrees, as other readers compute it (mbparker/gemcad-file-reader,
+``GemCadAscImport.GenerateCutPlanes``: ``rollAngleOffset = gearLocation * 360 / gear``).  A bare
+``96 0.0`` line before the first tier is a gear line without its keyword (a corpus quirk that
+suitable-name/indicatrix's reader also accepts).
+
+Geometry: index ``i`` is the facet azimuth ``phi = 90 deg - 360 deg (i - offset) / gear`` (gear
+signed), counter-clockwise from +x in the x-y plane.  For ``g 96 0`` index 0 (= 96) points to +y
+and indices increase clockwise seen from above (index 24 is +x), as in GemCAD's crown view;
+``g -96 48`` (GemCAD for Windows' usual header) gives the same stone mirrored, and ``g 64 64``
+the same as ``g 64 0``.  The manual's top view is this frame seen from below (a mirror image: it
+changes no length, width, depth or volume, only the handedness of designs without mirror
+symmetry).  The same formula serves crown and pavilion.  A facet at angle ``theta`` has the outward normal
 ``(sin|theta| cos phi, sin|theta| sin phi, +-cos theta)`` (+ crown, - pavilion) and is the plane
 ``n . x = distance``.  The stone is the intersection of all these half-spaces, scaled so that its
 girdle width (the smaller of its x and y extents) is the requested diameter in mm.
 
 The reader accepts UTF-8 with a byte-order mark, LF, CRLF or CR line ends, glued keywords
-(``g96``) and continuation lines; the writer emits Windows-1252 with CRLF, like GemCAD.
+(``g96``) and continuation lines; the writer emits Windows-1252 with CRLF, like GemCAD, and keeps
+every record it read (``I``, ``H``, ``F``, names, instructions, the gear's sign and offset): one
+:func:`dumps` of a parsed file is a fixed point of parse and dumps.  A facet listed twice (the
+same plane from two ``a`` records, as in the "Shah (Replica)" of the PC catalogue) is merged
+into its first occurrence with a warning naming both lines, as other readers deduplicate planes
+(suitable-name/indicatrix: ``planes_from_asc_schedule`` dedup).  Binary ``.gem`` project files
+are refused with a one-line message.
 
 References
 ----------
-- R. W. Strickland, *GemCad* user manual (file format of the ``.asc`` export).
+- R. W. Strickland, *GemCad User's Manual*, version 4.51 (1992; HTML edition 2000), Index gear
+  (g) key; *GemCad for Windows User's Guide* (file format of the ``.asc`` export).
+- mbparker/gemcad-file-reader (MIT), ``LibGemcadFileReader/Concrete/GemCadAscImport.cs``.
 """
 
 from __future__ import annotations
@@ -40,6 +61,7 @@ import dataclasses
 import math
 import os
 import re
+import warnings
 
 import numpy as np
 import trimesh
@@ -70,6 +92,7 @@ class Tier:
     names: dict[int, str] = dataclasses.field(default_factory=dict)  # position in indices -> name
     instruction: str = ""
     pavilion_zero: bool = False  # angle written as "-0": a culet
+    line: int = 0  # line of the record in the file it was read from (0: not read from a file)
 
     @property
     def is_culet(self) -> bool:
@@ -82,11 +105,15 @@ class Tier:
 
 @dataclasses.dataclass
 class Design:
-    """A GemCAD design: header records and tiers."""
+    """A GemCAD design: header records and tiers.
+
+    ``gear`` is signed (its sign the direction the indices run), ``offset`` the index offset in
+    teeth of the ``g`` line (see module doc); ``refractive_index`` the ``I`` line.
+    """
 
     tiers: list[Tier]
     gear: int = 96
-    reference_angle: float = 0.0
+    offset: float = 0.0
     symmetry: int = 1
     mirror: bool = False
     refractive_index: float = 1.54
@@ -94,34 +121,93 @@ class Design:
     footnotes: list[str] = dataclasses.field(default_factory=list)
     version: str = "5.0"
 
-    def planes(self) -> tuple[np.ndarray, np.ndarray, list[str]]:
-        """Facet planes ``(normals (K,3), distances (K,), names)`` in design units (see module doc)."""
-        normals, dist, names = [], [], []
+    @property
+    def index(self) -> float:
+        """The refractive index the design was made for (its ``I`` line)."""
+        return self.refractive_index
+
+    @property
+    def title(self) -> str:
+        """The first ``H`` line (GemCAD's title), or ``""``."""
+        return self.headers[0] if self.headers else ""
+
+    def azimuth(self, idx: float) -> float:
+        """Azimuth (radians, counter-clockwise from +x) of the facet normal at gear index ``idx``."""
+        return math.radians(90.0 - 360.0 * (idx - self.offset) / self.gear)
+
+    def facets(self) -> list[tuple[int, int, np.ndarray, float, str]]:
+        """One ``(tier, position, unit normal, distance, name)`` per facet plane, in design units."""
+        out = []
         for t, tier in enumerate(self.tiers):
-            base = next(iter(tier.names.values()), f"tier {t + 1}")  # a tier's (first) name
+            base = next(iter(tier.names.values()), None)
             if tier.angle == 0:
-                if tier.is_culet:
-                    normals.append((0.0, 0.0, -1.0))
-                    dist.append(abs(tier.distance))
-                    names.append(next(iter(tier.names.values()), "culet"))
-                else:
-                    normals.append((0.0, 0.0, 1.0))
-                    dist.append(tier.distance)
-                    names.append(next(iter(tier.names.values()), "table"))
+                culet = tier.is_culet
+                nrm = np.array([0.0, 0.0, -1.0 if culet else 1.0])
+                out.append((t, 0, nrm, abs(tier.distance) if culet else tier.distance,
+                            base or ("culet" if culet else "table")))
                 continue
             th = math.radians(abs(tier.angle))
-            sz = 1.0 if tier.angle > 0 else -1.0
+            sz, st = (1.0 if tier.angle > 0 else -1.0) * math.cos(th), math.sin(th)
             for j, idx in enumerate(tier.indices):
-                phi = math.radians(90.0 - (360.0 * idx / self.gear + self.reference_angle))
-                normals.append(
-                    (math.sin(th) * math.cos(phi), math.sin(th) * math.sin(phi), sz * math.cos(th))
-                )
-                dist.append(tier.distance)
-                names.append(f"{tier.names.get(j, base)} @{_fmt_index(idx)}")
-        return np.array(normals, dtype=np.float64).reshape(-1, 3), np.array(dist, dtype=np.float64), names
+                phi = self.azimuth(idx)
+                nrm = np.array([st * math.cos(phi), st * math.sin(phi), sz])
+                name = tier.names.get(j, base or f"tier {t + 1}")
+                out.append((t, j, nrm, tier.distance, f"{name} @{_fmt_index(idx)}"))
+        return out
+
+    def planes(self) -> tuple[np.ndarray, np.ndarray, list[str]]:
+        """Facet planes ``(normals (K,3), distances (K,), names)`` in design units (see module doc)."""
+        f = self.facets()
+        normals = np.array([x[2] for x in f], dtype=np.float64).reshape(-1, 3)
+        return normals, np.array([x[3] for x in f], dtype=np.float64), [x[4] for x in f]
+
+    def merge_duplicates(self, source: str | None = None) -> list[str]:
+        """Drop facets that repeat an earlier one's plane (and tiers left empty); warn about each.
+
+        Two facets are the same plane when their normals and distances agree to 1e-9 (design
+        units; far below the 6-8 decimals of the format, far above the round-off of the
+        trigonometry).  Returns the warning messages.
+        """
+        seen: dict[tuple, int] = {}
+        drop: dict[int, set[int]] = {}
+        messages = []
+        for t, j, nrm, dist, name in self.facets():
+            key = tuple(np.round(np.append(nrm, dist), 9) + 0.0)
+            if key in seen:
+                first = self.tiers[seen[key]]
+                here = self.tiers[t]
+                where = f"line {here.line}" if here.line else f"tier {t + 1}"
+                was = f"line {first.line}" if first.line else f"tier {seen[key] + 1}"
+                msg = f"{where}: facet {name} repeats the plane of {was}; merged"
+                messages.append(f"{source}: {msg}" if source else msg)
+                drop.setdefault(t, set()).add(j)
+            else:
+                seen[key] = t
+        tiers = []
+        for t, tier in enumerate(self.tiers):
+            gone = drop.get(t, set())
+            if not gone:
+                tiers.append(tier)
+                continue
+            if tier.angle == 0:
+                continue  # a table or culet repeated: one plane, the whole record goes
+            keep = [j for j in range(len(tier.indices)) if j not in gone]
+            if not keep:
+                continue
+            renum = {old: new for new, old in enumerate(keep)}
+            names = {renum[j]: nm for j, nm in tier.names.items() if j in renum}
+            lost = [nm for j, nm in tier.names.items() if j not in renum]
+            if lost and not names:  # a tier's name sits after its first index: keep it on the tier
+                names = {0: lost[0]}
+            tiers.append(dataclasses.replace(tier, indices=[tier.indices[j] for j in keep], names=names))
+        self.tiers = tiers
+        for msg in messages:
+            warnings.warn(msg, UserWarning, stacklevel=3)
+        return messages
 
 
 _KEY = re.compile(r"^(GemCad|[gyIHFa])(?=$|[\s\-+\d.])")
+_BARE_GEAR = re.compile(r"^[-+]?\d+\s+[-+]?\d*\.?\d+$")
 
 
 def _num(tok: str, source, lineno: int, what: str) -> float:
@@ -134,11 +220,30 @@ def _num(tok: str, source, lineno: int, what: str) -> float:
     return v
 
 
-def parse(text: str, *, source: str | None = None) -> Design:
-    """Parse the text of a ``.asc`` design (already decoded)."""
+def _gear_line(design: Design, tok: list[str], source, lineno: int) -> None:
+    if not tok:
+        raise InputError(f"line {lineno}: 'g' needs the gear tooth count", file=source)
+    gear = _num(tok[0], source, lineno, "the gear tooth count")
+    if gear == 0 or gear != int(gear) or abs(gear) > 720:
+        raise InputError(
+            f"line {lineno}: bad index gear",
+            file=source,
+            value=tok[0],
+            allowed="a non-zero integer up to 720 (negative: indices run the other way)",
+        )
+    design.gear = int(gear)
+    design.offset = _num(tok[1], source, lineno, "the index offset") if len(tok) > 1 else 0.0
+
+
+def parse(text: str, *, source: str | None = None, merge: bool = True) -> Design:
+    """Parse the text of a ``.asc`` design (already decoded).
+
+    ``merge``: merge repeated facets (:meth:`Design.merge_duplicates`, with a warning each).
+    """
     text = text.lstrip("\ufeff").replace("\r\n", "\n").replace("\r", "\n")
     design = Design(tiers=[])
     seen_header = False
+    seen_gear = False
     open_tier: Tier | None = None
     in_instruction = False
     for lineno, raw in enumerate(text.split("\n"), start=1):
@@ -159,6 +264,8 @@ def parse(text: str, *, source: str | None = None) -> Design:
                 file=source,
                 value=line[:40],
             )
+        if key is None and not seen_gear and not design.tiers and _BARE_GEAR.match(line):
+            key = "g"  # "96 0.0": a gear line without its keyword
         if key == "H":
             design.headers.append(rest)
             open_tier = None
@@ -166,21 +273,8 @@ def parse(text: str, *, source: str | None = None) -> Design:
             design.footnotes.append(rest)
             open_tier = None
         elif key == "g":
-            tok = rest.split()
-            if not tok:
-                raise InputError(f"line {lineno}: 'g' needs the gear tooth count", file=source)
-            gear = _num(tok[0], source, lineno, "the gear tooth count")
-            if gear == 0 or gear != int(gear) or abs(gear) > 720:
-                raise InputError(
-                    f"line {lineno}: bad index gear",
-                    file=source,
-                    value=tok[0],
-                    allowed="a non-zero integer up to 720",
-                )
-            design.gear = abs(int(gear))
-            design.reference_angle = (
-                _num(tok[1], source, lineno, "the reference angle") if len(tok) > 1 else 0.0
-            )
+            _gear_line(design, rest.split(), source, lineno)
+            seen_gear = True
             open_tier = None
         elif key == "y":
             tok = rest.split()
@@ -214,6 +308,7 @@ def parse(text: str, *, source: str | None = None) -> Design:
                 distance=dist,
                 indices=[],
                 pavilion_zero=angle == 0 and tok[0].lstrip().startswith("-"),
+                line=lineno,
             )
             design.tiers.append(open_tier)
             in_instruction = _parse_tail(open_tier, tok[2:], source, lineno)
@@ -233,6 +328,11 @@ def parse(text: str, *, source: str | None = None) -> Design:
         raise InputError("empty file or not a GemCAD .asc file", file=source)
     if not design.tiers:
         raise InputError("the design has no facet tiers ('a' records)", file=source)
+    for tier in design.tiers:
+        if tier.angle != 0 and not tier.indices:
+            raise InputError(f"line {tier.line}: a tier has no gear indices", file=source)
+    if merge:
+        design.merge_duplicates(source)
     return design
 
 
@@ -264,11 +364,25 @@ def read_design(path: str | os.PathLike) -> Design:
             data = f.read()
     except FileNotFoundError:
         raise InputError("no such file", file=path) from None
+    if _is_binary(data):
+        raise InputError("binary GemCad .gem files are not supported; export .asc from GemCad", file=path)
     if data.startswith(b"\xef\xbb\xbf"):
         text = data[3:].decode("utf-8", errors="replace")
     else:
         text = data.decode("cp1252", errors="replace")
     return parse(text, source=path)
+
+
+def _is_binary(data: bytes) -> bool:
+    """A GemCad ``.gem`` project (binary doubles) rather than ``.asc`` text: a NUL byte, or more
+    than 10 % control bytes other than tab/CR/LF, in the first kilobyte."""
+    head = data[:1024]
+    if data.lstrip(b"\xef\xbb\xbf").startswith(b"GemCad"):
+        return False
+    if b"\x00" in head:
+        return True
+    ctrl = sum(1 for c in head if c < 32 and c not in (9, 10, 13))
+    return len(head) > 0 and ctrl > 0.1 * len(head)
 
 
 def design_to_mesh(design: Design, diameter: float = 1.0, *, source: str | None = None) -> trimesh.Trimesh:
@@ -287,6 +401,7 @@ def design_to_mesh(design: Design, diameter: float = 1.0, *, source: str | None 
     mesh.metadata["symmetry"] = (design.symmetry, design.mirror)
     mesh.metadata["refractive_index"] = design.refractive_index
     mesh.metadata["design_scale"] = s  # mm per design unit
+    mesh.metadata["design"] = design
     mesh.metadata["shape"] = "gemcad"
     return mesh
 
@@ -299,7 +414,7 @@ def read(path: str | os.PathLike, diameter: float = 1.0) -> trimesh.Trimesh:
 
 def _fmt_index(idx: float) -> str:
     r = round(idx)
-    return str(int(r)) if abs(idx - r) < 1e-6 else f"{idx:.6f}".rstrip("0")
+    return str(int(r)) if idx == r else _fmt_short(idx)
 
 
 def _tier_name(name: str) -> str:
@@ -311,15 +426,18 @@ def design_from_mesh(
     mesh: trimesh.Trimesh,
     *,
     gear: int = 96,
-    refractive_index: float = 2.417,
+    refractive_index: float | None = None,
     title: str | None = None,
     unit: float | None = None,
 ) -> Design:
     """A design from a convex faceted mesh (its facet planes), distances in units of ``unit`` mm.
 
     ``unit`` defaults to half the girdle width, so distances are relative to the girdle radius.
-    Facets with equal angle and distance become one tier.
+    Facets with equal angle and distance become one tier.  ``refractive_index`` defaults to the
+    mesh's (a design read from a file keeps its ``I`` line), else diamond's 2.417.
     """
+    if refractive_index is None:
+        refractive_index = float(mesh.metadata.get("refractive_index", 2.417))
     from .mesh import facet_planes
 
     planes, _ = facet_planes(mesh)
@@ -375,18 +493,34 @@ def design_from_mesh(
     )
 
 
+def _fmt_fixed(v: float, decimals: int) -> str:
+    """``v`` with GemCAD's fixed decimals, or with all the digits it has if those would round it."""
+    text = f"{v:.{decimals}f}"
+    return text if float(text) == v else repr(float(v))
+
+
+def _fmt_short(v: float) -> str:
+    """Shortest text that reads back as ``v``, with at least one decimal (``48.0``, ``2.417``)."""
+    text = repr(float(v))
+    return text if ("." in text or "e" in text) else f"{text}.0"
+
+
 def dumps(design: Design) -> str:
-    """The ``.asc`` text of a design (LF line ends; :func:`write` converts to CRLF)."""
+    """The ``.asc`` text of a design (LF line ends; :func:`write` converts to CRLF).
+
+    Angles get GemCAD's six decimals and distances eight (more where the design has more), so
+    ``dumps(parse(dumps(d))) == dumps(d)`` and the planes are those of ``d``.
+    """
     out = [
         f"GemCad {design.version}",
-        f"g {design.gear} {design.reference_angle:.1f}",
+        f"g {design.gear} {_fmt_short(design.offset)}",
         f"y {design.symmetry} {'y' if design.mirror else 'n'}",
-        f"I {design.refractive_index:.6f}",
+        f"I {_fmt_short(design.refractive_index)}",
     ]
-    out += [f"H {h}" for h in design.headers]
+    out += [f"H {h}".rstrip() for h in design.headers]
     for t in design.tiers:
-        angle = "-0.000000" if t.pavilion_zero and t.angle == 0 else f"{t.angle:.6f}"
-        parts = [f"a {angle} {t.distance:.8f}"]
+        angle = "-0.000000" if t.pavilion_zero and t.angle == 0 else _fmt_fixed(t.angle, 6)
+        parts = [f"a {angle} {_fmt_fixed(t.distance, 8)}"]
         for j, idx in enumerate(t.indices):
             parts.append(_fmt_index(idx))
             if j in t.names:
@@ -394,7 +528,7 @@ def dumps(design: Design) -> str:
         if t.instruction:
             parts.append(f"G {t.instruction}")
         out.append(" ".join(parts))
-    out += [f"F {f}" for f in design.footnotes]
+    out += [f"F {f}".rstrip() for f in design.footnotes]
     return "\n".join(out) + "\n"
 
 

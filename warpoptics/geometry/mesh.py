@@ -218,9 +218,11 @@ def facet_planes(mesh: trimesh.Trimesh, *, angle_tol: float = 1e-5) -> tuple[np.
 
     Returns ``planes`` (K, 4) float64 rows ``[nx, ny, nz, d]`` (unit outward normal, ``n . x = d``
     on the facet) and ``face_facet`` (F,) int64.  Uses ``mesh.metadata`` when it carries them
-    (cuts and GemCAD designs), else groups edge-adjacent faces whose normals differ by less than
-    ``angle_tol`` radians into facets (1e-5 rad: above float32 round-off of files, far below
-    the degrees between the facets of a gem).
+    (cuts and GemCAD designs), else groups edge-adjacent faces into facets when their normals
+    differ by less than ``angle_tol`` radians or the smaller one's third vertex lies within
+    ``angle_tol`` times the mesh size of the larger one's plane (1e-5: above float32 round-off of
+    files, far below the degrees between the facets of a gem); the facet normal is the
+    area-weighted mean, so slivers do not tilt it.
     """
     md = mesh.metadata
     if "planes" in md and "face_facet" in md and len(md["face_facet"]) == len(mesh.faces):
@@ -230,7 +232,22 @@ def facet_planes(mesh: trimesh.Trimesh, *, angle_tol: float = 1e-5) -> tuple[np.
 
     nf = len(mesh.faces)
     adj = mesh.face_adjacency
-    same = adj[mesh.face_adjacency_angles < angle_tol]
+    # coplanar by plane, not by triangle normals: a sliver triangle (three nearly collinear
+    # vertices of a real design, its normal noise) lies in its neighbour's plane although its own
+    # normal is far off; test the unshared vertex of the smaller face against the larger's plane
+    area = mesh.area_faces
+    big = np.where(area[adj[:, 0]] >= area[adj[:, 1]], 0, 1)
+    rows = np.arange(len(adj))
+    f_big, f_small = adj[rows, big], adj[rows, 1 - big]
+    unshared = mesh.face_adjacency_unshared[rows, 1 - big]
+    off = np.einsum(
+        "ij,ij->i", mesh.vertices[unshared] - mesh.vertices[mesh.faces[f_big, 0]], mesh.face_normals[f_big]
+    )
+    size = float(np.max(mesh.extents)) if len(mesh.vertices) else 1.0
+    in_plane = (np.abs(off) < angle_tol * size) & (
+        np.einsum("ij,ij->i", mesh.face_normals[f_big], mesh.face_normals[f_small]) > 0  # not a fold
+    )
+    same = adj[(mesh.face_adjacency_angles < angle_tol) | in_plane]
     graph = coo_matrix((np.ones(len(same)), (same[:, 0], same[:, 1])), shape=(nf, nf))
     k, face_facet = connected_components(graph, directed=False)
     face_facet = face_facet.astype(np.int64)
