@@ -41,13 +41,29 @@ def _jobs(root: Path) -> list[tuple[str, list[str]]]:
     jobs = []
     for scene in sorted((root / "scenes").glob("*.toml")):
         for seed in (0, 1):
-            args = ["render", str(scene), "--width", str(SIZE), "--height", str(SIZE), "--spp", "2", "--set", "render.adaptive=false",
-                    "--set", f"render.seed={seed}"]
+            args = [
+                "render",
+                str(scene),
+                "--width",
+                str(SIZE),
+                "--height",
+                str(SIZE),
+                "--spp",
+                "2",
+                "--set",
+                "render.adaptive=false",
+                "--set",
+                f"render.seed={seed}",
+            ]
             jobs.append((f"{scene.stem}.seed{seed}", args))
     for scene in sorted((root / "scenes" / "bench").glob("*.toml")):
         for seed in (0, 1):
-            jobs.append((f"bench_{scene.stem}.seed{seed}",
-                         ["bench", str(scene), "--rays", "400", "--set", f"render.seed={seed}"]))
+            jobs.append(
+                (
+                    f"bench_{scene.stem}.seed{seed}",
+                    ["bench", str(scene), "--rays", "400", "--set", f"render.seed={seed}"],
+                )
+            )
     return jobs
 
 
@@ -101,12 +117,26 @@ def compare(before: Path, after: Path) -> int:
         ratio = 0.0 if identical else (diff / noise if noise > 0 else (0.0 if diff == 0 else float("inf")))
         worst = max(worst, ratio)
         verdict = "byte-identical" if identical else ("within noise" if ratio <= BOUND else "DIFFERENT")
-        rows.append({"image": stem, "verdict": verdict, "rms_diff": diff, "rms_seed_noise": noise,
-                     "ratio": ratio, "max_abs_diff": float(np.max(np.abs(x - y)))})
+        rows.append(
+            {
+                "image": stem,
+                "verdict": verdict,
+                "rms_diff": diff,
+                "rms_seed_noise": noise,
+                "ratio": ratio,
+                "max_abs_diff": float(np.max(np.abs(x - y))),
+            }
+        )
     for r in rows:
-        extra = "" if "ratio" not in r else (
-            f"  rms diff {r['rms_diff']:.3e}  seed noise {r['rms_seed_noise']:.3e}  ratio {r['ratio']:.3f}"
-            f"  max |diff| {r['max_abs_diff']:.3e}")
+        extra = (
+            ""
+            if "ratio" not in r
+            else (
+                f"  rms diff {r['rms_diff']:.3e}  seed noise {r['rms_seed_noise']:.3e}"
+                f"  ratio {r['ratio']:.3f}"
+                f"  max |diff| {r['max_abs_diff']:.3e}"
+            )
+        )
         print(f"{r['image']:32s} {r['verdict']:15s}{extra}")
     from warpoptics.atomic import atomic_path
 

@@ -330,17 +330,27 @@ def write_png(rep: Report, path: Path, layers=LAYERS, packages: bool = False) ->
     import matplotlib.pyplot as plt
 
     if packages:
+
         def group(m: str) -> str:
             return m.split(".")[0]
 
         layer_of = {group(m): rep.layer_of[m] for m in rep.modules if rep.layer_of.get(m) is not None}
-        edges = {(group(i.source), group(i.target)) for i in rep.imports
-                 if group(i.source) != group(i.target) and group(i.target) in layer_of
-                 and group(i.source) in layer_of}
+        edges = {
+            (group(i.source), group(i.target))
+            for i in rep.imports
+            if group(i.source) != group(i.target)
+            and group(i.target) in layer_of
+            and group(i.source) in layer_of
+        }
         up = {e for e in edges if (layer_of[e[1]] or 0) > (layer_of[e[0]] or 0)}
-        rep = Report(modules=sorted(layer_of), imports=[Import(a, b, "", 0) for a, b in sorted(edges)],
-                     layer_of=layer_of, circles=[], upward=[Import(a, b, "", 0) for a, b in sorted(up)],
-                     private=[])
+        rep = Report(
+            modules=sorted(layer_of),
+            imports=[Import(a, b, "", 0) for a, b in sorted(edges)],
+            layer_of=layer_of,
+            circles=[],
+            upward=[Import(a, b, "", 0) for a, b in sorted(up)],
+            private=[],
+        )
     rows = [[m for m in rep.modules if rep.layer_of[m] == k] for k in range(len(layers))]
     rows.append(rep.unplaced)
     width = max(len(r) for r in rows) or 1

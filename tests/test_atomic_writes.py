@@ -13,8 +13,8 @@ def test_writers_are_atomic(tmp_path, monkeypatch):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from warpoptics.geometry import cuts, gemcad
     from warpoptics.film.image import save_figure
+    from warpoptics.geometry import cuts, gemcad
 
     dest = tmp_path / "plot.png"
     dest.write_bytes(b"old")

@@ -18,9 +18,9 @@ import pytest
 import tmm
 
 import warpoptics as wo
+from warpoptics.errors import InputError
 from warpoptics.pipelines.bench import Bench, bench
 from warpoptics.scene.bench import BenchScene
-from warpoptics.errors import InputError
 from warpoptics.spectra import cmf
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -30,16 +30,41 @@ E_SUN = 2.0
 def _slab_scene(kind="perspective", caustics=True, paths=150_000, light=None, stone_shadows=None):
     el = math.radians(20.0)
     d = {
-        "camera": {"type": kind, "position": [0.0, -40.0, 40.0 * math.tan(el)], "look_at": [0.0, 0.0, 0.0],
-                   "up": [0.0, 0.0, 1.0], "fov": 20.0, "view_height": 14.0, "width": 24, "height": 24},
-        "render": {"spectral": "stratified", "wavelengths": 8, "spp": 2, "seed": 3, "max_depth": 12,
-                   "caustics": caustics, "caustic_paths": paths},
-        "light": [{"type": "constant", "intensity": 0.0},
-                  light or {"type": "directional", "direction": [0.0, 0.0, -1.0], "irradiance": E_SUN}],
+        "camera": {
+            "type": kind,
+            "position": [0.0, -40.0, 40.0 * math.tan(el)],
+            "look_at": [0.0, 0.0, 0.0],
+            "up": [0.0, 0.0, 1.0],
+            "fov": 20.0,
+            "view_height": 14.0,
+            "width": 24,
+            "height": 24,
+        },
+        "render": {
+            "spectral": "stratified",
+            "wavelengths": 8,
+            "spp": 2,
+            "seed": 3,
+            "max_depth": 12,
+            "caustics": caustics,
+            "caustic_paths": paths,
+        },
+        "light": [
+            {"type": "constant", "intensity": 0.0},
+            light or {"type": "directional", "direction": [0.0, 0.0, -1.0], "irradiance": E_SUN},
+        ],
         "surface": [{"type": "plane", "height": 0.0, "size": 200.0, "color": [1.0, 1.0, 1.0]}],
         # a 10 x 10 x 2 mm slab floating 5 mm above the table: its shadow is |x|, |y| < 5
-        "object": [{"shape": "plate", "width": 10.0, "length": 10.0, "thickness": 2.0,
-                    "material": {"cauchy": [N_GLASS]}, "position": [0.0, 0.0, 6.0]}],
+        "object": [
+            {
+                "shape": "plate",
+                "width": 10.0,
+                "length": 10.0,
+                "thickness": 2.0,
+                "material": {"cauchy": [N_GLASS]},
+                "position": [0.0, 0.0, 6.0],
+            }
+        ],
     }
     if stone_shadows is not None:
         d["render"]["stone_shadows"] = stone_shadows
@@ -84,11 +109,13 @@ def test_slab_caustic_matches_closed_form(device, kind):
     r = Renderer(Scene.from_dict(data), device=device)
     img = r.run()
     assert np.isfinite(img.xyz).all() and np.isfinite(img.stokes).all()
-    caustic = r.caustics.run(np.zeros_like(r.caustic_film)).reshape(img.xyz.shape)  # deterministic: the same film again
+    caustic = r.caustics.run(np.zeros_like(r.caustic_film)).reshape(
+        img.xyz.shape
+    )  # deterministic: the same film again
     camera_pass = img.xyz - caustic
     fp = np.abs(_footprints(data["camera"]))
-    inside = (fp.max(axis=(2, 3)) < 4.5)  # the whole pixel well inside the shadow |x|, |y| < 5
-    outside = (fp.max(axis=3).min(axis=2) > 5.3)  # the whole pixel well outside it
+    inside = fp.max(axis=(2, 3)) < 4.5  # the whole pixel well inside the shadow |x|, |y| < 5
+    outside = fp.max(axis=3).min(axis=2) > 5.3  # the whole pixel well outside it
     assert inside.sum() >= 40 and outside.sum() >= 200
     rr = ((N_GLASS - 1) / (N_GLASS + 1)) ** 2
     expected = E_SUN * (1 - rr) / (1 + rr) / math.pi
@@ -140,8 +167,14 @@ def test_spot_through_slab(device):
     """A spot 20 mm above the table, on the slab's axis, with a 15 degree cone (its light meets
     only the slab's top and bottom faces): the irradiance under the slab, refracted and
     multiply reflected, against the ray-geometry reference above."""
-    spot = {"type": "spot", "center": [0.0, 0.0, 20.0], "direction": [0.0, 0.0, -1.0], "intensity": 800.0,
-            "cone_angle": 15.0, "blend": 0.0}
+    spot = {
+        "type": "spot",
+        "center": [0.0, 0.0, 20.0],
+        "direction": [0.0, 0.0, -1.0],
+        "intensity": 800.0,
+        "cone_angle": 15.0,
+        "blend": 0.0,
+    }
     data = _slab_scene("perspective", light=spot, paths=150_000)
     data["camera"].update(fov=3.0, width=8, height=8)  # pixels within ~1.1 x 3.3 mm of the axis
     r = Renderer(Scene.from_dict(data), device=device)
@@ -158,8 +191,13 @@ def test_small_area_light_through_wide_slab(device):
     """A 1 x 1 mm light box (radiance L, facing down) 20 mm above the table: a Lambertian point
     of intensity L A cos(theta); its light through a 30 x 30 mm slab (walls far from the axis)
     against the same ray-geometry reference with the cosine."""
-    box = {"type": "area", "center": [0.0, 0.0, 20.0], "normal": [0.0, 0.0, -1.0], "size": [1.0, 1.0],
-           "radiance": 800.0}
+    box = {
+        "type": "area",
+        "center": [0.0, 0.0, 20.0],
+        "normal": [0.0, 0.0, -1.0],
+        "size": [1.0, 1.0],
+        "radiance": 800.0,
+    }
     data = _slab_scene("perspective", light=box, paths=400_000)
     data["object"][0].update(width=30.0, length=30.0)
     # a lower camera (10 degrees) that sees the table under the wide slab: at 20 degrees the table
@@ -204,16 +242,39 @@ def test_glass_sphere_focuses_and_conserves_power(device):
     radius = 2.0
     el = math.radians(20.0)  # the focus (3 mm below the centre) sees the camera past the sphere
     data = {
-        "camera": {"type": "perspective", "position": [0.0, -30.0, 30.0 * math.tan(el)],
-                   "look_at": [0.0, 0.0, 0.0], "up": [0.0, 0.0, 1.0], "fov": 10.0, "width": 24, "height": 24},
-        "render": {"spectral": "stratified", "wavelengths": 8, "spp": 1, "seed": 5, "max_depth": 64,
-                   "caustics": True, "caustic_paths": 80_000},
-        "light": [{"type": "constant", "intensity": 0.0},
-                  {"type": "directional", "direction": [0.0, 0.0, -1.0], "irradiance": E_SUN}],
+        "camera": {
+            "type": "perspective",
+            "position": [0.0, -30.0, 30.0 * math.tan(el)],
+            "look_at": [0.0, 0.0, 0.0],
+            "up": [0.0, 0.0, 1.0],
+            "fov": 10.0,
+            "width": 24,
+            "height": 24,
+        },
+        "render": {
+            "spectral": "stratified",
+            "wavelengths": 8,
+            "spp": 1,
+            "seed": 5,
+            "max_depth": 64,
+            "caustics": True,
+            "caustic_paths": 80_000,
+        },
+        "light": [
+            {"type": "constant", "intensity": 0.0},
+            {"type": "directional", "direction": [0.0, 0.0, -1.0], "irradiance": E_SUN},
+        ],
         "surface": [{"type": "plane", "height": 0.0, "size": 1000.0, "color": [1.0, 1.0, 1.0]}],
         # paraxial focus of a ball lens: n R / (2 (n - 1)) = 3 mm from the centre
-        "object": [{"shape": "sphere", "diameter": 2 * radius, "subdivisions": 5,
-                    "material": {"cauchy": [N_GLASS]}, "position": [0.0, 0.0, 3.0]}],
+        "object": [
+            {
+                "shape": "sphere",
+                "diameter": 2 * radius,
+                "subdivisions": 5,
+                "material": {"cauchy": [N_GLASS]},
+                "position": [0.0, 0.0, 3.0],
+            }
+        ],
     }
     r = Renderer(Scene.from_dict(data), device=device)
     img = r.run()
@@ -287,9 +348,25 @@ def test_caustics_scene_renders_from_the_cli(tmp_path):
     root = Path(__file__).resolve().parent.parent
     out = tmp_path / "c.exr"
     scene = str(root / "scenes" / "caustics.toml")
-    cmd = [sys.executable, "-m", "warpoptics.cli", "render", scene, "-o", str(out),
-           "--set", "camera.width=32", "--set", "camera.height=24", "--set", "render.caustic_paths=4000",
-           "--set", "render.spp=1", "--set", "render.wavelengths=4"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "warpoptics.cli",
+        "render",
+        scene,
+        "-o",
+        str(out),
+        "--set",
+        "camera.width=32",
+        "--set",
+        "camera.height=24",
+        "--set",
+        "render.caustic_paths=4000",
+        "--set",
+        "render.spp=1",
+        "--set",
+        "render.wavelengths=4",
+    ]
     res = subprocess.run(cmd, capture_output=True, text=True, timeout=600, cwd=root)
     assert res.returncode == 0, res.stderr[-2000:]
     from warpoptics.film.image import read_image

@@ -90,7 +90,9 @@ def test_tone_map_and_encoding():
     np.testing.assert_allclose(color.tone_map(x, curve="reinhard"), x / (1 + x))
     assert color.tone_map([1.0], exposure=1.0, curve="clip")[0] == 1.0
     # sRGB transfer function reference values (IEC 61966-2-1)
-    np.testing.assert_allclose(color.encode_srgb([0.0, 0.0031308, 0.18, 1.0]), [0.0, 0.04045, 0.4613561, 1.0], atol=1e-5)
+    np.testing.assert_allclose(
+        color.encode_srgb([0.0, 0.0031308, 0.18, 1.0]), [0.0, 0.04045, 0.4613561, 1.0], atol=1e-5
+    )
     with pytest.raises(ValueError, match="allowed"):
         color.tone_map(x, curve="aces2")
 

@@ -29,7 +29,9 @@ def test_tiled_equals_single_launch(device):
 
 def test_elementwise_broadcasts(device):
     @wp.kernel
-    def add_scale(offset: int, a: wp.array(dtype=wp.vec3f), b: wp.array(dtype=wp.float32), out: wp.array(dtype=wp.vec3f)):
+    def add_scale(
+        offset: int, a: wp.array(dtype=wp.vec3f), b: wp.array(dtype=wp.float32), out: wp.array(dtype=wp.vec3f)
+    ):
         i = wp.tid() + offset
         out[i] = a[i] * b[i]
 

@@ -40,8 +40,11 @@ def mitsuba_u(d):
 def test_axis_columns():
     """+x, +y, -x, -y land on the documented columns (u from the left edge), z up, v = 0 at the
     zenith: blender 0.5, 0.25, 0 | 1, 0.75; mitsuba 0.25, 0, 0.75, 0.5; mirrored 0.5, 0.75, 0, 0.25."""
-    table = {"blender": [0.5, 0.25, 0.0, 0.75], "mitsuba": [0.25, 0.0, 0.75, 0.5],
-             "mirrored": [0.5, 0.75, 0.0, 0.25]}
+    table = {
+        "blender": [0.5, 0.25, 0.0, 0.75],
+        "mitsuba": [0.25, 0.0, 0.75, 0.5],
+        "mirrored": [0.5, 0.75, 0.0, 0.25],
+    }
     for conv, expected in table.items():
         u = latlong_uv(AXES, conv)[:, 0]
         # u = 0 and u = 1 are the same column (the seam)
@@ -102,14 +105,28 @@ def test_camera_sees_the_right_side_on_the_right(tmp_path, device):
     img[:, w // 2 :] = [0.05, 0.05, 1.0]  # right half: blue
     path = tmp_path / "halves.exr"
     write_exr(path, img, ["R", "G", "B"])
-    scene = wo.Scene.from_dict({
-        "camera": {"position": [0.0, 0.0, 0.0], "look_at": [1.0, 0.0, 0.0], "up": [0.0, 0.0, 1.0],
-                   "fov": 60.0, "width": 16, "height": 8},
-        "render": {"spectral": "stratified", "wavelengths": 16, "spp": 1, "max_depth": 1},
-        "light": [{"type": "environment", "map": str(path)}],
-        "object": [{"shape": "cube", "size": 1.0, "position": [1.0e4, 1.0e4, 1.0e4],
-                    "material": {"cauchy": [1.5]}}],
-    })
+    scene = wo.Scene.from_dict(
+        {
+            "camera": {
+                "position": [0.0, 0.0, 0.0],
+                "look_at": [1.0, 0.0, 0.0],
+                "up": [0.0, 0.0, 1.0],
+                "fov": 60.0,
+                "width": 16,
+                "height": 8,
+            },
+            "render": {"spectral": "stratified", "wavelengths": 16, "spp": 1, "max_depth": 1},
+            "light": [{"type": "environment", "map": str(path)}],
+            "object": [
+                {
+                    "shape": "cube",
+                    "size": 1.0,
+                    "position": [1.0e4, 1.0e4, 1.0e4],
+                    "material": {"cauchy": [1.5]},
+                }
+            ],
+        }
+    )
     for conv, right_is_blue in (("blender", True), ("mirrored", False)):
         s = dataclasses.replace(scene, lights=(dataclasses.replace(scene.lights[0], convention=conv),))
         rgb = wo.render(s, device=device).rgb

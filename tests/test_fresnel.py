@@ -253,5 +253,5 @@ def test_absorbing_incident_medium_keeps_the_forward_wave(device):
     c = np.cos(np.radians(25.0))
     lossy = wo.optics.fresnel(c, 1.33 + 0.00075j, 1.0, device=device)
     clear = wo.optics.fresnel(c, 1.33, 1.0, device=device)
-    for a, b in zip(lossy, clear):
+    for a, b in zip(lossy, clear, strict=True):
         assert abs(abs(a) - abs(b)) < 1e-4

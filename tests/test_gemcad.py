@@ -221,8 +221,14 @@ def reference_solid(path):
         th = math.radians(abs(angle))
         for i in idx:
             phi = math.radians(-90 + 360 * (i - offset) / gear)
-            planes.append((math.sin(th) * math.cos(phi), math.sin(th) * math.sin(phi),
-                           math.copysign(math.cos(th), angle), dist))
+            planes.append(
+                (
+                    math.sin(th) * math.cos(phi),
+                    math.sin(th) * math.sin(phi),
+                    math.copysign(math.cos(th), angle),
+                    dist,
+                )
+            )
     p = np.unique(np.round(np.array(planes), 12), axis=0)
     hs = HalfspaceIntersection(np.column_stack([p[:, :3], -p[:, 3]]), np.zeros(3))
     hull = ConvexHull(hs.intersections)
@@ -305,9 +311,20 @@ def test_asc_round_trip_is_a_fixed_point(name):
 def test_cli_asc_to_asc_keeps_the_design(tmp_path):
     out = tmp_path / "t.asc"
     r = subprocess.run(
-        [sys.executable, "-m", "warpoptics.cli", "cut", str(DATA / "trichecker12.asc"), "--diameter", "6.5",
-         "-o", str(out)],
-        capture_output=True, text=True, check=False,
+        [
+            sys.executable,
+            "-m",
+            "warpoptics.cli",
+            "cut",
+            str(DATA / "trichecker12.asc"),
+            "--diameter",
+            "6.5",
+            "-o",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
     )
     assert r.returncode == 0, r.stderr
     text = out.read_bytes().decode("cp1252")

@@ -36,8 +36,9 @@ def _sorted_triangles(tri):
 @pytest.mark.parametrize("suffix", [".glb", ".gltf"])
 def test_round_trip_keeps_geometry_and_optics(tmp_path, stone, suffix):
     mesh, mat = stone
-    path = gltf.export_gltf(tmp_path / f"gem{suffix}", mesh, mat, film_ior=1.38, film_thickness_nm=120.0,
-                            name="spinel")
+    path = gltf.export_gltf(
+        tmp_path / f"gem{suffix}", mesh, mat, film_ior=1.38, film_thickness_nm=120.0, name="spinel"
+    )
     (gem,) = gltf.import_gltf(path)
     # geometry in mm again: the same facets (float32 metres in the file: ~1e-6 mm)
     assert len(gem.mesh.faces) == len(mesh.faces)
@@ -45,8 +46,9 @@ def test_round_trip_keeps_geometry_and_optics(tmp_path, stone, suffix):
     assert gem.mesh.is_watertight
     assert gem.mesh.volume == pytest.approx(mesh.volume, rel=1e-6)
     # optics as written (JSON float64)
-    ref = gltf.gem_optics(mat, size_mm=float(np.max(mesh.extents)), film_ior=1.38, film_thickness_nm=120.0,
-                          name="spinel")
+    ref = gltf.gem_optics(
+        mat, size_mm=float(np.max(mesh.extents)), film_ior=1.38, film_thickness_nm=120.0, name="spinel"
+    )
     o = gem.optics
     assert o.name == "spinel"
     assert o.ior == pytest.approx(ref.ior, rel=1e-12) and o.abbe == pytest.approx(ref.abbe, rel=1e-12)
@@ -147,8 +149,9 @@ def _validator():
     node = shutil.which("node")
     if node is None:
         return None, None
-    probe = subprocess.run([node, "-e", "require.resolve('gltf-validator')"], capture_output=True,
-                           env=os.environ.copy())
+    probe = subprocess.run(
+        [node, "-e", "require.resolve('gltf-validator')"], capture_output=True, env=os.environ.copy()
+    )
     return (node, os.environ.copy()) if probe.returncode == 0 else (None, None)
 
 
@@ -171,8 +174,9 @@ def test_khronos_validator(tmp_path, stone, suffix):
         pytest.skip("node with the npm package gltf-validator not available")
     mesh, mat = stone
     path = gltf.export_gltf(tmp_path / f"gem{suffix}", mesh, mat, film_ior=1.38, film_thickness_nm=120.0)
-    proc = subprocess.run([node, "-e", VALIDATE_JS, str(path)], capture_output=True, text=True, env=env,
-                          timeout=120)
+    proc = subprocess.run(
+        [node, "-e", VALIDATE_JS, str(path)], capture_output=True, text=True, env=env, timeout=120
+    )
     assert proc.returncode == 0, proc.stderr
     issues = json.loads(proc.stdout)
     assert issues["numErrors"] == 0 and issues["numWarnings"] == 0, issues["messages"]

@@ -3,8 +3,8 @@ import os
 import numpy as np
 import pytest
 
-from warpoptics.errors import InputError
 from warpoptics.atomic import atomic_path
+from warpoptics.errors import InputError
 from warpoptics.film.image import read_image, write_exr, write_png
 
 

@@ -291,10 +291,15 @@ def test_material_table_mixed_scene(device):
     axes = table.optic_axis.numpy()
     assert np.allclose(axes, [0, 0, 1])
     assert table.uniaxial.numpy().tolist() == [0, 1, 0, 1]
-    # rgb3: the seed-002 triplets (read as 1/mm, SEED002_ALPHA_PER_MM) for sapphire; eq. 9 of alpha for the dye
+    # rgb3: the seed-002 triplets (read as 1/mm, SEED002_ALPHA_PER_MM) for sapphire; eq. 9 of alpha
+    # for the dye
     rgb_o, rgb_e = table.rgb3_alpha_o.numpy(), table.rgb3_alpha_e.numpy()
-    assert np.allclose(rgb_o[1], np.array(M.SEED002_GEMS["sapphire"]["K_o"]) * M.SEED002_ALPHA_PER_MM, rtol=1e-6)
-    assert np.allclose(rgb_e[1], np.array(M.SEED002_GEMS["sapphire"]["K_e"]) * M.SEED002_ALPHA_PER_MM, rtol=1e-6)
+    assert np.allclose(
+        rgb_o[1], np.array(M.SEED002_GEMS["sapphire"]["K_o"]) * M.SEED002_ALPHA_PER_MM, rtol=1e-6
+    )
+    assert np.allclose(
+        rgb_e[1], np.array(M.SEED002_GEMS["sapphire"]["K_e"]) * M.SEED002_ALPHA_PER_MM, rtol=1e-6
+    )
     # the dye: eq. 9 of its alpha with the sRGB CMFs (the renderer's rgb3 channels), the red and
     # blue channels (negative lobes under the 549 nm band, eq. 9 < 0) clamped at 0: no gain
     dye = M.rose_bengal_absorption(10.0)

@@ -25,9 +25,9 @@ import pytest
 mi = pytest.importorskip("mitsuba")
 
 import warpoptics as wo  # noqa: E402
-from warpoptics.pipelines import mitsuba_export as mx  # noqa: E402
 from warpoptics.color import SRGB_TO_XYZ  # noqa: E402
 from warpoptics.film.image import write_exr  # noqa: E402
+from warpoptics.pipelines import mitsuba_export as mx  # noqa: E402
 
 PASSES = 6
 
@@ -226,12 +226,24 @@ def panorama_pair(tmp_path, convention, device, file_map=None):
     for look in ([1.0, 0.0, 0.15], [0.2, -1.0, 0.15]):
         scene = wo.Scene.from_dict(
             {
-                "camera": {"position": [0.0, 0.0, 0.0], "look_at": look, "up": [0.0, 0.0, 1.0],
-                           "fov": 90.0, "width": 48, "height": 32},
+                "camera": {
+                    "position": [0.0, 0.0, 0.0],
+                    "look_at": look,
+                    "up": [0.0, 0.0, 1.0],
+                    "fov": 90.0,
+                    "width": 48,
+                    "height": 32,
+                },
                 "render": {"spectral": "stratified", "wavelengths": 32, "spp": 4, "max_depth": 2},
                 "light": [{"type": "environment", "map": str(path)}],
-                "object": [{"shape": "cube", "size": 1.0, "position": [1.0e4, 1.0e4, 1.0e4],
-                            "material": {"cauchy": [1.5]}}],
+                "object": [
+                    {
+                        "shape": "cube",
+                        "size": 1.0,
+                        "position": [1.0e4, 1.0e4, 1.0e4],
+                        "material": {"cauchy": [1.5]},
+                    }
+                ],
             }
         )
         # the convention set on the parsed scene (render() without overrides keeps it)
@@ -243,14 +255,24 @@ def panorama_pair(tmp_path, convention, device, file_map=None):
         T = mi.ScalarTransform4f
         d = {
             "type": "scene",
-            "light": {"type": "envmap", "filename": str(file_map or path),
-                      "to_world": MITSUBA_TO_WORLD[convention if file_map is None else "blender"](T)},
+            "light": {
+                "type": "envmap",
+                "filename": str(file_map or path),
+                "to_world": MITSUBA_TO_WORLD[convention if file_map is None else "blender"](T),
+            },
             "integrator": {"type": "path", "max_depth": 2, "hide_emitters": False},
             "sensor": {
-                "type": "perspective", "fov": float(cam.fov), "fov_axis": "y",
+                "type": "perspective",
+                "fov": float(cam.fov),
+                "fov_axis": "y",
                 "to_world": T().look_at(origin=list(cam.position), target=list(cam.look_at), up=list(cam.up)),
-                "film": {"type": "hdrfilm", "width": cam.width, "height": cam.height,
-                         "rfilter": {"type": "box"}, "pixel_format": "rgb"},
+                "film": {
+                    "type": "hdrfilm",
+                    "width": cam.width,
+                    "height": cam.height,
+                    "rfilter": {"type": "box"},
+                    "pixel_format": "rgb",
+                },
                 "sampler": {"type": "independent", "sample_count": 16},
             },
         }

@@ -41,13 +41,16 @@ def test_image_rich_display_is_its_png():
 
 def test_notebook_renders_inline(tmp_path):
     nb = nbformat.read(ROOT / "docs" / "notebook.ipynb", as_version=4)
-    env = {"WARPOPTICS_NOTEBOOK_SIZE": str(SIZE),
-           "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    env = {
+        "WARPOPTICS_NOTEBOOK_SIZE": str(SIZE),
+        "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""),
+    }
     old = {k: os.environ.get(k) for k in env}
     os.environ.update(env)  # the kernel is a subprocess that inherits the environment
     try:
-        client = nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
-                                         resources={"metadata": {"path": str(tmp_path)}})
+        client = nbclient.NotebookClient(
+            nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}
+        )
         client.execute()
     finally:
         for k, v in old.items():
@@ -55,8 +58,13 @@ def test_notebook_renders_inline(tmp_path):
                 os.environ.pop(k, None)
             else:
                 os.environ[k] = v
-    pngs = [out["data"]["image/png"] for cell in nb.cells if cell.cell_type == "code"
-            for out in cell.get("outputs", []) if "image/png" in out.get("data", {})]
+    pngs = [
+        out["data"]["image/png"]
+        for cell in nb.cells
+        if cell.cell_type == "code"
+        for out in cell.get("outputs", [])
+        if "image/png" in out.get("data", {})
+    ]
     assert len(pngs) == 1
     px = _decode_png(base64.b64decode(pngs[0]))
     assert px.shape[:2] == (SIZE, SIZE)
@@ -80,12 +88,19 @@ def test_progress_bar_from_tqdm_auto(monkeypatch):
             made.append(self)
 
     monkeypatch.setattr(tqdm.auto, "tqdm", Recorder)
-    scene = wo.Scene.from_dict({
-        "camera": {"position": [0.0, -22.0, 30.0], "look_at": [0.0, 0.0, 0.0], "fov": 15.0, "width": 8,
-                   "height": 8},
-        "render": {"spectral": "rgb3", "spp": 1, "max_depth": 4},
-        "object": [{"shape": "round_brilliant", "diameter": 6.5, "material": "diamond"}],
-    })
+    scene = wo.Scene.from_dict(
+        {
+            "camera": {
+                "position": [0.0, -22.0, 30.0],
+                "look_at": [0.0, 0.0, 0.0],
+                "fov": 15.0,
+                "width": 8,
+                "height": 8,
+            },
+            "render": {"spectral": "rgb3", "spp": 1, "max_depth": 4},
+            "object": [{"shape": "round_brilliant", "diameter": 6.5, "material": "diamond"}],
+        }
+    )
     a = wo.render(scene, progress=True)
     assert len(made) == 1 and made[0].total == 8 and made[0].n == 8
     b = wo.render(scene)

@@ -251,7 +251,9 @@ def test_multi_object_scene_with_instance_transforms(device):
             # from inside faces along the ray (own float64 ray-triangle test; no rtree needed)
             up = np.broadcast_to(np.array([0.0, 0.0, 1.0]), p_obj.shape)
             t_in, tri_in = triangles_closest(m, p_obj, up)
-            inside = np.isfinite(t_in) & (np.einsum("ij,ij->i", m.face_normals[np.maximum(tri_in, 0)], up) > 0)
+            inside = np.isfinite(t_in) & (
+                np.einsum("ij,ij->i", m.face_normals[np.maximum(tri_in, 0)], up) > 0
+            )
             p_obj = p_obj[inside]
         p_world = trimesh.transform_points(p_obj, xf).astype(np.float32)
         dd = rng.normal(size=(len(p_world), 3))
@@ -314,18 +316,34 @@ _SCALAR_EXIT = query._EXIT_HEAD + query._EXIT_SCALAR + "    return k_best;\n"
 
 @wp.func_native(_SCALAR_EXIT)
 def _exit_plane_scalar(
-    blocks: wp.array(dtype=wp.float32), start: wp.int32, nblocks: wp.int32, ox: wp.float32, oy: wp.float32,
-    oz: wp.float32, dx: wp.float32, dy: wp.float32, dz: wp.float32,
+    blocks: wp.array(dtype=wp.float32),
+    start: wp.int32,
+    nblocks: wp.int32,
+    ox: wp.float32,
+    oy: wp.float32,
+    oz: wp.float32,
+    dx: wp.float32,
+    dy: wp.float32,
+    dz: wp.float32,
 ) -> wp.int32: ...
 
 
 @wp.kernel
-def _exit_planes_both(geom: query.SceneGeometry, o: wp.array(dtype=wp.vec3f), d: wp.array(dtype=wp.vec3f),
-                      simd: wp.array(dtype=wp.int32), scalar: wp.array(dtype=wp.int32)):
+def _exit_planes_both(
+    geom: query.SceneGeometry,
+    o: wp.array(dtype=wp.vec3f),
+    d: wp.array(dtype=wp.vec3f),
+    simd: wp.array(dtype=wp.int32),
+    scalar: wp.array(dtype=wp.int32),
+):
     i = wp.tid()
     s, n = geom.block_start[0], geom.block_count[0]
-    simd[i] = query.convex_exit_plane(geom.plane_blocks, s, n, o[i][0], o[i][1], o[i][2], d[i][0], d[i][1], d[i][2])
-    scalar[i] = _exit_plane_scalar(geom.plane_blocks, s, n, o[i][0], o[i][1], o[i][2], d[i][0], d[i][1], d[i][2])
+    simd[i] = query.convex_exit_plane(
+        geom.plane_blocks, s, n, o[i][0], o[i][1], o[i][2], d[i][0], d[i][1], d[i][2]
+    )
+    scalar[i] = _exit_plane_scalar(
+        geom.plane_blocks, s, n, o[i][0], o[i][1], o[i][2], d[i][0], d[i][1], d[i][2]
+    )
 
 
 def test_exit_plane_scalar_body_matches_simd():
@@ -339,9 +357,18 @@ def test_exit_plane_scalar_body_matches_simd():
     assert scene.geometry.block_count.numpy()[0] == 5
     n = len(o)
     a, b = wp.zeros(n, dtype=wp.int32, device="cpu"), wp.zeros(n, dtype=wp.int32, device="cpu")
-    wp.launch(_exit_planes_both, dim=n, device="cpu",
-              inputs=[scene.geometry, wp.array(o, dtype=wp.vec3f, device="cpu"),
-                      wp.array(d, dtype=wp.vec3f, device="cpu"), a, b])
+    wp.launch(
+        _exit_planes_both,
+        dim=n,
+        device="cpu",
+        inputs=[
+            scene.geometry,
+            wp.array(o, dtype=wp.vec3f, device="cpu"),
+            wp.array(d, dtype=wp.vec3f, device="cpu"),
+            a,
+            b,
+        ],
+    )
     simd, scalar = a.numpy(), b.numpy()
     assert n > 15_000 and (simd >= 0).all()
     np.testing.assert_array_equal(simd, scalar)

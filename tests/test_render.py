@@ -11,9 +11,20 @@ import pytest
 import warpoptics as wo
 
 FURNACE = {
-    "camera": {"position": [0.0, -30.0, 20.0], "look_at": [0.0, 0.0, 0.0], "fov": 14.0, "width": 16, "height": 16},
-    "render": {"spectral": "stratified", "wavelengths": 4, "max_depth": 256, "split_threshold": 0.002,
-               "rr_threshold": 1e-4},
+    "camera": {
+        "position": [0.0, -30.0, 20.0],
+        "look_at": [0.0, 0.0, 0.0],
+        "fov": 14.0,
+        "width": 16,
+        "height": 16,
+    },
+    "render": {
+        "spectral": "stratified",
+        "wavelengths": 4,
+        "max_depth": 256,
+        "split_threshold": 0.002,
+        "rr_threshold": 1e-4,
+    },
     "light": [{"type": "constant", "intensity": 1.0}],
     # absorption_scale = 0: a clear stone (the library diamond has seed 002's 0.001/mm)
     "object": [{"shape": "round_brilliant", "diameter": 6.5, "material": "diamond", "absorption_scale": 0.0}],
@@ -38,8 +49,11 @@ def furnace_ratio(data, device):
 @pytest.mark.parametrize("polarization", [True, False])
 @pytest.mark.parametrize("material", ["diamond", {"cauchy": [2.0]}])
 def test_white_furnace(device, polarization, material):
-    data = {**FURNACE, "render": {**FURNACE["render"], "polarization": polarization},
-            "object": [{**FURNACE["object"][0], "material": material}]}
+    data = {
+        **FURNACE,
+        "render": {**FURNACE["render"], "polarization": polarization},
+        "object": [{**FURNACE["object"][0], "material": material}],
+    }
     ratio, img = furnace_ratio(data, device)
     inside = img.alpha > 0
     assert inside.sum() > 40  # the stone covers part of the view
@@ -49,16 +63,28 @@ def test_white_furnace(device, polarization, material):
     np.testing.assert_allclose(img.stokes[..., 0], img.xyz[..., 1], rtol=1e-5)
 
 
-@pytest.mark.parametrize("material,mode,polarization", [
-    ("calcite", "exact", True), ("calcite", "exact", False), ("quartz", "approx", True), ("zircon", "approx", False),
-])
+@pytest.mark.parametrize(
+    "material,mode,polarization",
+    [
+        ("calcite", "exact", True),
+        ("calcite", "exact", False),
+        ("quartz", "approx", True),
+        ("zircon", "approx", False),
+    ],
+)
 def test_white_furnace_uniaxial(device, material, mode, polarization):
     """Birefringent stones conserve energy too: o/e splitting with generalized Fresnel
     coefficients (exact) or eq. 10 (approx), optic axis oblique to every facet."""
-    data = {**FURNACE, "render": {**FURNACE["render"], "polarization": polarization, "birefringence": mode},
-            "object": [{**FURNACE["object"][0], "material": material, "optic_axis": [0.3, 0.5, 0.8]}]}
+    data = {
+        **FURNACE,
+        "render": {**FURNACE["render"], "polarization": polarization, "birefringence": mode},
+        "object": [{**FURNACE["object"][0], "material": material, "optic_axis": [0.3, 0.5, 0.8]}],
+    }
     ratio, img = furnace_ratio(data, device)
-    print(f"furnace {material} {mode} polarized={polarization}: Y/Y0 min {ratio.min():.4f} max {ratio.max():.4f}")
+    print(
+        f"furnace {material} {mode} polarized={polarization}: "
+        f"Y/Y0 min {ratio.min():.4f} max {ratio.max():.4f}"
+    )
     # exact: measured 0.9998-1.0002; eq. 10 is not exactly energy-conserving: 0.9994-1.0011
     tol = 0.002 if mode == "exact" else 0.005
     assert ratio.min() > 1 - tol and ratio.max() < 1 + tol
@@ -67,9 +93,14 @@ def test_white_furnace_uniaxial(device, material, mode, polarization):
 def test_pleochroism_depends_on_the_optic_axis(device):
     """Tourmaline (seed 002 §6.1, eq. 7): the e-wave sees K^e, the o-wave K^o, so the colour of the
     stone changes when its optic axis turns from the view direction to across it."""
-    base = {**FURNACE, "render": {**FURNACE["render"], "max_depth": 12, "spectral": "rgb3", "wavelengths": 3},
-            "camera": {**FURNACE["camera"], "position": [0.0, 0.0, 40.0], "up": [0.0, 1.0, 0.0]},
-            "object": [{"shape": "plate", "width": 6.0, "length": 6.0, "thickness": 4.0, "material": "tourmaline"}]}
+    base = {
+        **FURNACE,
+        "render": {**FURNACE["render"], "max_depth": 12, "spectral": "rgb3", "wavelengths": 3},
+        "camera": {**FURNACE["camera"], "position": [0.0, 0.0, 40.0], "up": [0.0, 1.0, 0.0]},
+        "object": [
+            {"shape": "plate", "width": 6.0, "length": 6.0, "thickness": 4.0, "material": "tourmaline"}
+        ],
+    }
     cols = {}
     for name, axis in (("along", [0.0, 0.0, 1.0]), ("across", [1.0, 0.0, 0.0])):
         data = {**base, "object": [{**base["object"][0], "optic_axis": axis}]}
@@ -84,8 +115,19 @@ def test_pleochroism_depends_on_the_optic_axis(device):
 
 
 def test_furnace_with_absorption_is_darker(device):
-    data = {**FURNACE, "object": [{**FURNACE["object"][0], "absorption_scale": 1.0, "material": {
-        "base": "diamond", "bands": [{"center_nm": 560.0, "width_nm": 40.0, "peak_alpha_per_mm": 1.0}]}}]}
+    data = {
+        **FURNACE,
+        "object": [
+            {
+                **FURNACE["object"][0],
+                "absorption_scale": 1.0,
+                "material": {
+                    "base": "diamond",
+                    "bands": [{"center_nm": 560.0, "width_nm": 40.0, "peak_alpha_per_mm": 1.0}],
+                },
+            }
+        ],
+    }
     ratio, img = furnace_ratio(data, device)
     inside = img.alpha > 0.99
     assert ratio[inside].max() < 0.95
@@ -97,7 +139,13 @@ def test_furnace_with_absorption_is_darker(device):
 
 
 STUDIO = {
-    "camera": {"position": [0.0, -22.0, 30.0], "look_at": [0.0, 0.0, -0.3], "fov": 15.0, "width": 20, "height": 20},
+    "camera": {
+        "position": [0.0, -22.0, 30.0],
+        "look_at": [0.0, 0.0, -0.3],
+        "fov": 15.0,
+        "width": 20,
+        "height": 20,
+    },
     "render": {"spectral": "stratified", "wavelengths": 6, "max_depth": 12},
     "light": [{"type": "environment", "map": "studio"}],
     "object": [{"shape": "round_brilliant", "diameter": 6.5, "material": "diamond"}],
@@ -122,12 +170,26 @@ def test_brewster_reflection_is_horizontally_polarized(device):
     theta = math.atan(n)  # Brewster angle from the normal
     d = 40.0
     data = {
-        "camera": {"type": "orthographic", "position": [0.0, -d * math.sin(theta), d * math.cos(theta)],
-                   "look_at": [0.0, 0.0, 0.0], "view_height": 2.0, "width": 8, "height": 8},
+        "camera": {
+            "type": "orthographic",
+            "position": [0.0, -d * math.sin(theta), d * math.cos(theta)],
+            "look_at": [0.0, 0.0, 0.0],
+            "view_height": 2.0,
+            "width": 8,
+            "height": 8,
+        },
         "render": {"spectral": "rgb3", "max_depth": 32},
         "light": [{"type": "environment", "map": "dome"}],
-        "object": [{"shape": "plate", "width": 200.0, "length": 200.0, "thickness": 2.0,
-                    "material": {"cauchy": [n]}, "position": [0.0, 0.0, -1.0]}],
+        "object": [
+            {
+                "shape": "plate",
+                "width": 200.0,
+                "length": 200.0,
+                "thickness": 2.0,
+                "material": {"cauchy": [n]},
+                "position": [0.0, 0.0, -1.0],
+            }
+        ],
     }
     img = wo.render(scene(data), device=device)
     s1 = img.stokes[..., 1] / img.stokes[..., 0]
@@ -140,8 +202,11 @@ def test_brewster_reflection_is_horizontally_polarized(device):
 def test_importance_and_uniform_converge_to_the_same_image(device):
     # a smooth light (the dome) keeps the comparison about spectral sampling, not about finding
     # the studio's small bright strips
-    base = {**STUDIO, "camera": {**STUDIO["camera"], "width": 12, "height": 12},
-            "light": [{"type": "environment", "map": "dome"}]}
+    base = {
+        **STUDIO,
+        "camera": {**STUDIO["camera"], "width": 12, "height": 12},
+        "light": [{"type": "environment", "map": "dome"}],
+    }
     imgs = {}
     for mode in ("uniform", "importance"):
         data = {**base, "render": {**base["render"], "spectral": mode, "wavelengths": 128, "seed": 3}}
@@ -194,9 +259,12 @@ def test_shared_spectrum_path_matches_one_trace_per_wavelength(device):
     image means of X, Y, Z and S1 with the standard error measured from 6 seeds of each (4 sigma)."""
     from warpoptics.pipelines.render import Renderer
 
-    data = {**FURNACE, "light": [{"type": "environment", "map": "studio"}],
-            "render": {**FURNACE["render"], "wavelengths": 8, "spp": 2, "max_depth": 12},
-            "object": [{**FURNACE["object"][0], "material": {"cauchy": [1.9]}}]}
+    data = {
+        **FURNACE,
+        "light": [{"type": "environment", "map": "studio"}],
+        "render": {**FURNACE["render"], "wavelengths": 8, "spp": 2, "max_depth": 12},
+        "object": [{**FURNACE["object"][0], "material": {"cauchy": [1.9]}}],
+    }
     sc = scene(data)
     assert Renderer(sc, device=device).shared_spectrum
     assert not Renderer(sc.with_overrides({"object.0.material": "diamond"}), device=device).shared_spectrum
@@ -275,15 +343,32 @@ def test_adaptive_sampling_is_unbiased_and_less_noisy(device):
     image means agree within 4 standard errors.  At the same spp their noise (seed-to-seed, the
     benchmark's measure) is lower: measured 0.82x of uniform on this 32x32 view (bench_diamond
     at 256x256: 0.53x); asserted < 0.9x."""
-    data = {**FURNACE, "light": [{"type": "environment", "map": "studio"}],
-            "camera": {**FURNACE["camera"], "width": 32, "height": 32},
-            "render": {**FURNACE["render"], "wavelengths": 2, "spp": 32, "max_depth": 12, "split_threshold": 0.05},
-            "object": [{**FURNACE["object"][0], "material": {"cauchy": [2.4173]}}]}
+    data = {
+        **FURNACE,
+        "light": [{"type": "environment", "map": "studio"}],
+        "camera": {**FURNACE["camera"], "width": 32, "height": 32},
+        "render": {
+            **FURNACE["render"],
+            "wavelengths": 2,
+            "spp": 32,
+            "max_depth": 12,
+            "split_threshold": 0.05,
+        },
+        "object": [{**FURNACE["object"][0], "material": {"cauchy": [2.4173]}}],
+    }
     sc = scene(data)
 
     def passes(adaptive):
-        return np.array([wo.render(sc.with_overrides({"render.adaptive": adaptive}), seed=s + 1 + 100 * adaptive,
-                                   device=device).xyz[..., 1] for s in range(8)])
+        return np.array(
+            [
+                wo.render(
+                    sc.with_overrides({"render.adaptive": adaptive}),
+                    seed=s + 1 + 100 * adaptive,
+                    device=device,
+                ).xyz[..., 1]
+                for s in range(8)
+            ]
+        )
 
     a, u = passes(True), passes(False)
     se2 = a.var(0, ddof=1) / len(a) + u.var(0, ddof=1) / len(u)
@@ -292,8 +377,10 @@ def test_adaptive_sampling_is_unbiased_and_less_noisy(device):
     rms_z = float(np.sqrt((z**2).mean()))
     ratio = float(np.sqrt(a.var(0, ddof=1).mean() / u.var(0, ddof=1).mean()))
     zm = (a.mean() - u.mean()) / np.sqrt(a.mean((1, 2)).var(ddof=1) / 8 + u.mean((1, 2)).var(ddof=1) / 8)
-    print(f"adaptive vs uniform: {noisy.sum()} noisy pixels, rms z {rms_z:.3f}, image-mean z {zm:.2f}, "
-          f"noise ratio {ratio:.3f}")
+    print(
+        f"adaptive vs uniform: {noisy.sum()} noisy pixels, rms z {rms_z:.3f}, image-mean z {zm:.2f}, "
+        f"noise ratio {ratio:.3f}"
+    )
     assert noisy.sum() > 50
     assert 0.8 < rms_z < 1.5  # t-like: variances from 2 x 5 degrees of freedom
     assert abs(zm) < 4.0

@@ -178,8 +178,10 @@ def test_shadows_through_stones(device):
     assert clear < open_y
     # diamond n_D = 2.417 (dispersion moves R(45 deg) by < 0.3 %); the 2 % covers it and noise
     want = (1 - _fresnel_r(s, 2.417)) ** 2
-    print(f"shadow of a clear plate {clear / open_y:.4f} of open table ((1-R)^2 = {want:.4f}), absorbing "
-          f"{absorbing / open_y:.4f}")
+    print(
+        f"shadow of a clear plate {clear / open_y:.4f} of open table ((1-R)^2 = {want:.4f}), absorbing "
+        f"{absorbing / open_y:.4f}"
+    )
     assert clear / open_y == pytest.approx(want, rel=0.02)
 
 

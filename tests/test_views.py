@@ -21,8 +21,8 @@ import pytest
 
 import warpoptics as wo
 from warpoptics.errors import InputError
-from warpoptics.optics.polarizer import analyze, mueller_polarizer, sheet_polarizer_stokes
 from warpoptics.film.views import analyzer, apply_view, dichroscope, parse_view, polariscope
+from warpoptics.optics.polarizer import analyze, mueller_polarizer, sheet_polarizer_stokes
 
 ROOT = Path(__file__).resolve().parents[1]
 

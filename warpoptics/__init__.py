@@ -18,7 +18,22 @@ try:
 except _metadata.PackageNotFoundError:  # running from a source tree without install
     __version__ = "0.0.0+unknown"
 
-from . import color, device, errors, film, geometry, materials, metrics, optics, pipelines, scene, spectra, stages, sweep, validate
+from . import (
+    color,
+    device,
+    errors,
+    film,
+    geometry,
+    materials,
+    metrics,
+    optics,
+    pipelines,
+    scene,
+    spectra,
+    stages,
+    sweep,
+    validate,
+)
 from .errors import InputError
 from .film.image import Image
 from .geometry import cuts

@@ -36,7 +36,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"warpoptics {__version__}")
     parser.add_argument("--debug", action="store_true", help="show Python tracebacks on errors")
-    parser.add_argument("--device", default=None, help='Warp device ("cpu", "cuda:0"); default $WARPOPTICS_DEVICE or cpu')
+    parser.add_argument(
+        "--device", default=None, help='Warp device ("cpu", "cuda:0"); default $WARPOPTICS_DEVICE or cpu'
+    )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in SUBCOMMAND_MODULES:
         importlib.import_module(name).register(sub)

@@ -133,9 +133,7 @@ def launch_tiled(
     # Compile/load the module on the calling thread before fanning out.
     load_module(kernel, dev)
     futures = [
-        _pool(threads).submit(
-            wp.launch, kernel, dim=min(tile_size, dim - s), inputs=[s, *inputs], device=dev
-        )
+        _pool(threads).submit(wp.launch, kernel, dim=min(tile_size, dim - s), inputs=[s, *inputs], device=dev)
         for s in starts
     ]
     for f in futures:
@@ -205,7 +203,9 @@ def elementwise(
         length = _dtype_length(dtype)
         if length > 1:
             if a.ndim == 0 or a.shape[-1] != length:
-                raise ValueError(f"expected an array with a last axis of length {length}, got shape {a.shape}")
+                raise ValueError(
+                    f"expected an array with a last axis of length {length}, got shape {a.shape}"
+                )
             shapes.append(a.shape[:-1])
         else:
             shapes.append(a.shape)

@@ -163,7 +163,7 @@ def run_interleaved(runners: list, budgets: list[float], min_passes: int, max_pa
     while True:
         todo = [
             (sum(r.times) / max(b, 1e-9), i)
-            for i, (r, b) in enumerate(zip(runners, budgets))
+            for i, (r, b) in enumerate(zip(runners, budgets, strict=True))
             if len(r.ims) < max_passes and (len(r.ims) < min_passes or sum(r.times) < b)
         ]
         if not todo:
@@ -200,11 +200,19 @@ def main(argv=None) -> int:
     ap.add_argument(
         "--wavelengths", type=int, help="our stratified wavelengths per spp (default: the scene's)"
     )
-    ap.add_argument("--spp", type=int, default=32,
-                    help="our spp per pass (x the scene's 8 wavelengths, adaptive: about 0.9 %% noise per pass)")
+    ap.add_argument(
+        "--spp",
+        type=int,
+        default=32,
+        help="our spp per pass (x the scene's 8 wavelengths, adaptive: about 0.9 %% noise per pass)",
+    )
     ap.add_argument("--ours-seconds", type=float, default=900.0, help="time budget of our passes")
-    ap.add_argument("--uniform-seconds", type=float, default=0.0,
-                    help="also run ours without adaptive sampling for this budget (0: not)")
+    ap.add_argument(
+        "--uniform-seconds",
+        type=float,
+        default=0.0,
+        help="also run ours without adaptive sampling for this budget (0: not)",
+    )
     ap.add_argument("--mitsuba-seconds", type=float, default=900.0, help="time budget of Mitsuba's passes")
     ap.add_argument("--mitsuba-spp", type=int, default=64, help="Mitsuba spp per pass")
     ap.add_argument(
@@ -316,23 +324,35 @@ def main(argv=None) -> int:
     row("passes", lambda c: f"{c['passes']}")
     row("seconds per pass (median)", lambda c: f"{c['seconds_per_pass']:.3f}")
     row("rel. RMSE of one pass", lambda c: f"{c['rel_noise_one_pass']:.4f}")
-    row("half-split check measured / predicted",
-        lambda c: f"{c['half_split_rel_rmse_measured']:.4f} / {c['half_split_rel_rmse_predicted']:.4f}")
+    row(
+        "half-split check measured / predicted",
+        lambda c: f"{c['half_split_rel_rmse_measured']:.4f} / {c['half_split_rel_rmse_predicted']:.4f}",
+    )
     row("samples per pixel to target", lambda c: f"{c['samples_to_target']:.0f}")
-    row("**seconds to target**", lambda c: f"**{c['seconds_to_target']:.1f}**"
-        + (" (one pass)" if c["one_pass_reaches_target"] else ""))
-    row("speed-up (Mitsuba time / this)", lambda c: f"{res['mitsuba']['seconds_to_target'] / c['seconds_to_target']:.2f}")
+    row(
+        "**seconds to target**",
+        lambda c: (
+            f"**{c['seconds_to_target']:.1f}**" + (" (one pass)" if c["one_pass_reaches_target"] else "")
+        ),
+    )
+    row(
+        "speed-up (Mitsuba time / this)",
+        lambda c: f"{res['mitsuba']['seconds_to_target'] / c['seconds_to_target']:.2f}",
+    )
     print()
     print(
-        f"converged images (ours: {orun.name}): relative RMSE {100 * a['converged_rel_rmse']:.2f} % (2-sigma upper "
+        f"converged images (ours: {orun.name}): relative RMSE "
+        f"{100 * a['converged_rel_rmse']:.2f} % (2-sigma upper "
         f"bound {100 * a['converged_rel_rmse_upper_2sigma']:.2f} %, target < 2 %); raw RMSE of the two means "
         f"{100 * a['raw_rel_rmse_of_means']:.2f} % (noise included); mean Y {a['mean_y_ours']:.5f} vs "
         f"{a['mean_y_mitsuba']:.5f} ({100 * a['mean_rel_diff']:+.3f} %)"
     )
     if urun is not None:
         u = res["agreement_uniform"]
-        print(f"ours uniform vs Mitsuba: converged relative RMSE {100 * u['converged_rel_rmse']:.2f} % "
-              f"(2-sigma upper {100 * u['converged_rel_rmse_upper_2sigma']:.2f} %)")
+        print(
+            f"ours uniform vs Mitsuba: converged relative RMSE {100 * u['converged_rel_rmse']:.2f} % "
+            f"(2-sigma upper {100 * u['converged_rel_rmse_upper_2sigma']:.2f} %)"
+        )
     if args.json:
         from warpoptics.film.image import atomic_path
 

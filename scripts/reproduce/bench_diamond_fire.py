@@ -33,8 +33,8 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
 
     from warpoptics.pipelines.bench import bench
-    from warpoptics.scene.bench import BenchScene
     from warpoptics.pipelines.render import Image
+    from warpoptics.scene.bench import BenchScene
 
     over = {}
     if args.rays:

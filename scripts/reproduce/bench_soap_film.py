@@ -51,9 +51,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--device", default=None)
     args = ap.parse_args(argv)
 
+    from warpoptics.color import delta_e2000
     from warpoptics.pipelines.bench import bench
     from warpoptics.scene.bench import BenchScene
-    from warpoptics.color import delta_e2000
 
     scene = BenchScene.load(SCENE)
     base = {"source.rays": args.rays} if args.rays else {}

@@ -9,7 +9,7 @@ atomically.
     python scripts/reproduce/gallery_scenes.py soap_bubble          # seed 004 fig. 6: a bubble in 3D
     python scripts/reproduce/gallery_scenes.py diamonds_on_table    # seed 001: two gems, two light boxes
     python scripts/reproduce/gallery_scenes.py calcite              # the double image of a calcite rhomb
-    python scripts/reproduce/gallery_scenes.py caustics             # a gem's fire thrown on the table (light tracer)
+    python scripts/reproduce/gallery_scenes.py caustics             # a gem's fire on the table (light tracer)
     python scripts/reproduce/gallery_scenes.py mystic_topaz | oil_slick | morpho
     python scripts/reproduce/gallery_scenes.py dof --quick          # tiny, for the tests
 """
@@ -57,9 +57,16 @@ def main(argv=None) -> int:
         img = wo.render(ROOT / "scenes" / file, width=w, height=h, device=args.device, **over)
     img.save(out)
     s = img.stats
-    readout = {"scene": f"scenes/{file}", "width": w, "height": h, "wall_seconds": round(t.seconds, 2),
-               "render_seconds": round(s["seconds"], 2), "rays": s["rays"],
-               "rays_per_second": round(s["rays_per_second"]), "mean_Y": float(img.xyz[..., 1].mean())}
+    readout = {
+        "scene": f"scenes/{file}",
+        "width": w,
+        "height": h,
+        "wall_seconds": round(t.seconds, 2),
+        "render_seconds": round(s["seconds"], 2),
+        "rays": s["rays"],
+        "rays_per_second": round(s["rays_per_second"]),
+        "mean_Y": float(img.xyz[..., 1].mean()),
+    }
     print(json.dumps(readout))
     if not args.quick:
         write_json(out.with_suffix(".json"), readout)

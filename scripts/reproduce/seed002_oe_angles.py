@@ -81,8 +81,12 @@ def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--grid", type=int, default=46, help="grid points per axis angle (>= 4)")
     p.add_argument("--device", default=None)
-    p.add_argument("-o", "--output", default=None,
-                   help="also draw the table as a PNG (the gallery's docs/gallery/seed002_oe_angles.png)")
+    p.add_argument(
+        "-o",
+        "--output",
+        default=None,
+        help="also draw the table as a PNG (the gallery's docs/gallery/seed002_oe_angles.png)",
+    )
     args = p.parse_args(argv)
     if args.grid < 4:
         print("error: --grid must be >= 4", file=sys.stderr)
@@ -107,8 +111,18 @@ def main(argv: list[str] | None = None) -> int:
         dn_fit *= paper_angle / a_fit
         err = 100.0 * np.tan(np.radians(angle))
         rows.append((name, no, ne, source))
-        cells.append([name, f"{no:.3f}", f"{ne:.3f}", f"{angle:.3f}", f"{paper_angle:.3f}", f"{err:.2f} %",
-                      f"{paper_err:.3f} %", f"{dn_fit:+.4f}"])
+        cells.append(
+            [
+                name,
+                f"{no:.3f}",
+                f"{ne:.3f}",
+                f"{angle:.3f}",
+                f"{paper_angle:.3f}",
+                f"{err:.2f} %",
+                f"{paper_err:.3f} %",
+                f"{dn_fit:+.4f}",
+            ]
+        )
         print(
             f"{name:11s} {no:6.3f} {ne:6.3f} {angle:11.3f} {paper_angle:7.3f} {err:6.2f}% {paper_err:6.3f}% "
             f"{dn_fit:+22.4f}  ({arg[0]:.1f}, {arg[1]:.1f}; {arg[2]:.1f}) deg"
@@ -132,7 +146,9 @@ def main(argv: list[str] | None = None) -> int:
         table.auto_set_font_size(False)
         table.set_fontsize(8)
         table.scale(1.0, 1.3)
-        ax.set_title("Guy & Soler 2004 §4.2: largest angle between o and e rays, ours vs the paper", fontsize=9)
+        ax.set_title(
+            "Guy & Soler 2004 §4.2: largest angle between o and e rays, ours vs the paper", fontsize=9
+        )
         save_figure(fig, args.output)
         print(f"wrote {args.output}")
     return 0

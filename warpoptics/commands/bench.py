@@ -12,9 +12,9 @@ _FORMATS = (".exr", ".png", ".jpg", ".jpeg", ".tif", ".tiff")
 
 
 def run(args) -> int:
+    from ..errors import InputError
     from ..pipelines.bench import Bench
     from ..scene.bench import BenchScene
-    from ..errors import InputError
     from ..scene.load import parse_value
 
     out = Path(args.output)

@@ -83,8 +83,12 @@ def run(args) -> int:
 
         ext = args.plot.rsplit(".", 1)[-1].lower() if "." in args.plot else "png"
         if ext not in FIGURE_FORMATS:
-            raise InputError("unsupported plot format", field="--plot", value=args.plot,
-                             allowed=", ".join(f".{f}" for f in FIGURE_FORMATS))
+            raise InputError(
+                "unsupported plot format",
+                field="--plot",
+                value=args.plot,
+                allowed=", ".join(f".{f}" for f in FIGURE_FORMATS),
+            )
     print("\n".join(_summary(mat)))
     if args.plot:
         _plot(mat, args.plot)

@@ -25,9 +25,9 @@ def _check_writable(out: str) -> None:
 
 
 def run(args) -> int:
-    from ..scene.bench import is_bench_scene
     from ..errors import InputError
     from ..pipelines.render import Renderer
+    from ..scene.bench import is_bench_scene
     from ..scene.load import Scene, parse_value
 
     if is_bench_scene(args.scene):
@@ -50,8 +50,9 @@ def run(args) -> int:
         # refuse an image that cannot fit in memory before the pixel-count limits, with an estimate
         from ..pipelines.render import check_render_memory
 
-        check_render_memory(kw.get("width", scene.camera.width), kw.get("height", scene.camera.height),
-                            file=args.scene)
+        check_render_memory(
+            kw.get("width", scene.camera.width), kw.get("height", scene.camera.height), file=args.scene
+        )
     _check_writable(out)
     if overrides or kw:
         scene = scene.with_overrides(overrides, **kw)
@@ -62,8 +63,12 @@ def run(args) -> int:
 
         kind, _ = parse_view(view)
         if kind == "polariscope" and scene.lights[0].polarizer is None:
-            raise InputError("a polariscope view needs polarized light", field="--view", value=view,
-                             allowed="--set light.0.polarizer=ANGLE (degrees)")
+            raise InputError(
+                "a polariscope view needs polarized light",
+                field="--view",
+                value=view,
+                allowed="--set light.0.polarizer=ANGLE (degrees)",
+            )
     renderer = Renderer(scene, device=args.device)
     image = renderer.run(progress=not args.quiet and sys.stderr.isatty() or args.progress)
     if view is not None:
@@ -73,8 +78,11 @@ def run(args) -> int:
     print(
         f"{out}: {s['width']}x{s['height']}, {s['seconds']:.2f} s, {s['rays'] / 1e6:.2f} M rays, "
         f"{s['rays_per_second'] / 1e6:.2f} M rays/s"
-        + (f", adaptive: {s['spp_mean']:.1f} spp per pixel on average, {s['spp_max']} at most"
-           if scene.render.adaptive else "")
+        + (
+            f", adaptive: {s['spp_mean']:.1f} spp per pixel on average, {s['spp_max']} at most"
+            if scene.render.adaptive
+            else ""
+        )
     )
     return 0
 
@@ -86,12 +94,19 @@ def register(sub) -> None:
     p.add_argument("--width", type=int, help="override camera.width")
     p.add_argument("--height", type=int, help="override camera.height")
     p.add_argument("--spp", type=int, help="override render.spp")
-    p.add_argument("--set", action="append", metavar="KEY=VALUE",
-                   help="override any scene value by dotted path, e.g. --set object.0.pavilion_angle=41")
-    p.add_argument("--view", metavar="VIEW",
-                   help="polarization view: analyzer:ANGLE (degrees from image right toward up), "
-                        "polariscope (crossed; polariscope:parallel), dichroscope[:ANGLE] (two orthogonal "
-                        "analyzers side by side) or none; default the scene's [view]")
+    p.add_argument(
+        "--set",
+        action="append",
+        metavar="KEY=VALUE",
+        help="override any scene value by dotted path, e.g. --set object.0.pavilion_angle=41",
+    )
+    p.add_argument(
+        "--view",
+        metavar="VIEW",
+        help="polarization view: analyzer:ANGLE (degrees from image right toward up), "
+        "polariscope (crossed; polariscope:parallel), dichroscope[:ANGLE] (two orthogonal "
+        "analyzers side by side) or none; default the scene's [view]",
+    )
     p.add_argument("--progress", action="store_true", help="show a progress bar even when not on a terminal")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=run)

@@ -75,11 +75,14 @@ def draw(path, *, start: float = 380.0, stop: float = 780.0, device=None) -> dic
 
 def run(args) -> int:
     res = draw(args.output, device=args.device)
-    inside = (np.asarray(res["xyz"])[:, 1] > 0.01)
+    inside = np.asarray(res["xyz"])[:, 1] > 0.01
     for key, name in (("naive", "per-channel clip"), ("smits_meyer", "Smits–Meyer clip")):
         dh = res[f"hue_shift_{key}"][inside]
         dy = np.abs(res[f"dY_{key}"][inside])
-        print(f"{name:18s} hue change mean {dh.mean():5.1f} deg, max {dh.max():5.1f} deg; |dY| max {dy.max():.4f}")
+        print(
+            f"{name:18s} hue change mean {dh.mean():5.1f} deg, max {dh.max():5.1f} deg; "
+            f"|dY| max {dy.max():.4f}"
+        )
     print(f"wrote {args.output}")
     return 0
 

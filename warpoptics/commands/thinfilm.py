@@ -62,8 +62,8 @@ def draw_table(table, path, *, n_film: float | None = None) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..color import clip_naive, encode_srgb
     from ..atomic import atomic_path
+    from ..color import clip_naive, encode_srgb
 
     x = table.axis
     lo, hi = float(x[0]), float(x[-1])

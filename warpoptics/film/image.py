@@ -19,8 +19,7 @@ from .. import color
 from ..atomic import atomic_path
 from ..errors import InputError
 
-__all__ = ["Image", "save_figure", "write_image", "write_exr", "write_png", "read_image",
-           "FIGURE_FORMATS"]
+__all__ = ["Image", "save_figure", "write_image", "write_exr", "write_png", "read_image", "FIGURE_FORMATS"]
 
 # EXR header attribute of the light's polarizer angle (Image.save / Image.load)
 _SOURCE_ATTR = "warpoptics:source_polarizer"
@@ -35,8 +34,14 @@ def _as_hwc(pixels) -> np.ndarray:
     return a
 
 
-def write_image(path, pixels, *, channel_names: Sequence[str] | None = None, dtype: str | None = None,
-                attributes: dict | None = None) -> Path:
+def write_image(
+    path,
+    pixels,
+    *,
+    channel_names: Sequence[str] | None = None,
+    dtype: str | None = None,
+    attributes: dict | None = None,
+) -> Path:
     """Write ``pixels`` (height, width, channels) atomically; the format follows the extension.
 
     ``dtype`` is an OpenImageIO type name ("float", "half", "uint8", "uint16"); default "float"
@@ -135,8 +140,12 @@ def save_figure(fig, path: str | os.PathLike, *, field: str = "-o", **kw) -> Pat
     path = Path(path)
     fmt = path.suffix.lower().lstrip(".") or "png"
     if fmt not in FIGURE_FORMATS:
-        raise InputError("unsupported plot format", field=field, value=str(path),
-                         allowed=", ".join(f".{f}" for f in FIGURE_FORMATS))
+        raise InputError(
+            "unsupported plot format",
+            field=field,
+            value=str(path),
+            allowed=", ".join(f".{f}" for f in FIGURE_FORMATS),
+        )
     with atomic_path(path) as tmp:
         fig.savefig(tmp, format=fmt, **kw)
     return path
@@ -181,7 +190,9 @@ class Image:
         need = ["X", "Y", "Z", "S0", "S1", "S2", "S3"]
         missing = [n for n in need if n not in idx]
         if missing:
-            raise InputError(f"not a warpoptics render (missing channels {', '.join(missing)})", file=str(path))
+            raise InputError(
+                f"not a warpoptics render (missing channels {', '.join(missing)})", file=str(path)
+            )
 
         def ch(*keys):
             return np.stack([pixels[..., idx[k]] for k in keys], axis=-1).astype(np.float64)
@@ -231,11 +242,15 @@ class Image:
                 s = np.asarray(self.stokes_xyz, dtype=np.float64)
                 data = np.concatenate([data, s[..., 0, :], s[..., 2, :]], axis=-1)
                 names += [f"stokes_{c}.S{i}" for c in "XZ" for i in range(4)]
-                attributes = {} if self.source_polarizer is None else {_SOURCE_ATTR: float(self.source_polarizer)}
+                attributes = (
+                    {} if self.source_polarizer is None else {_SOURCE_ATTR: float(self.source_polarizer)}
+                )
             return write_exr(p, data.astype(np.float32), names, attributes=attributes)
         if ext in (".png", ".jpg", ".jpeg", ".tif", ".tiff"):
             return write_png(p, self.display())
-        raise InputError("unsupported image format", field="output", value=str(path), allowed=".exr, .png, .jpg, .tif")
+        raise InputError(
+            "unsupported image format", field="output", value=str(path), allowed=".exr, .png, .jpg, .tif"
+        )
 
     def _repr_png_(self) -> bytes:
         import io
@@ -254,5 +269,7 @@ class Image:
         data = base64.b64encode(self._repr_png_()).decode("ascii")
         # small renders are scaled up without blurring their pixels
         scale = max(1, 256 // max(w, h, 1))
-        return (f'<img src="data:image/png;base64,{data}" width="{w * scale}" height="{h * scale}" '
-                f'style="image-rendering: pixelated" alt="warpoptics render {w}x{h}"/>')
+        return (
+            f'<img src="data:image/png;base64,{data}" width="{w * scale}" height="{h * scale}" '
+            f'style="image-rendering: pixelated" alt="warpoptics render {w}x{h}"/>'
+        )

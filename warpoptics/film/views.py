@@ -71,13 +71,18 @@ def parse_view(
     kind, _, arg = spec.strip().partition(":")
     kind = kind.strip().lower()
     if kind not in VIEW_KINDS:
-        raise InputError("unknown view", field=field, value=spec,
-                         allowed="none, analyzer:ANGLE, polariscope[:parallel], dichroscope[:ANGLE]")
+        raise InputError(
+            "unknown view",
+            field=field,
+            value=spec,
+            allowed="none, analyzer:ANGLE, polariscope[:parallel], dichroscope[:ANGLE]",
+        )
     arg = arg.strip()
     if kind == "polariscope":
         if arg not in ("", "crossed", "parallel"):
-            raise InputError("unknown polariscope setting", field=field, value=spec,
-                             allowed="crossed, parallel")
+            raise InputError(
+                "unknown polariscope setting", field=field, value=spec, allowed="crossed, parallel"
+            )
         return kind, arg or "crossed"
     if kind == "none":
         return kind, None
@@ -96,8 +101,11 @@ def parse_view(
 
 def _stokes_xyz(image) -> np.ndarray:
     if image.stokes_xyz is None:
-        raise InputError("this image has no per-channel Stokes vectors (render it with warpoptics.render, or "
-                         "load an EXR written by Image.save)", field="view")
+        raise InputError(
+            "this image has no per-channel Stokes vectors (render it with warpoptics.render, or "
+            "load an EXR written by Image.save)",
+            field="view",
+        )
     return np.asarray(image.stokes_xyz, dtype=np.float64)
 
 
@@ -105,8 +113,12 @@ def _from_stokes(image, s_xyz: np.ndarray, alpha: np.ndarray, view: str):
     stats = dict(image.stats)
     stats["view"] = view
     return dataclasses.replace(
-        image, xyz=np.ascontiguousarray(s_xyz[..., 0]), stokes=np.ascontiguousarray(s_xyz[..., 1, :]),
-        alpha=alpha, stokes_xyz=s_xyz, stats=stats,
+        image,
+        xyz=np.ascontiguousarray(s_xyz[..., 0]),
+        stokes=np.ascontiguousarray(s_xyz[..., 1, :]),
+        alpha=alpha,
+        stokes_xyz=s_xyz,
+        stats=stats,
     )
 
 
@@ -121,8 +133,12 @@ def polariscope(image, *, parallel: bool = False, device=None):
     """Crossed (or ``parallel``) polarizers: the analyzer at the light's polarizer angle + 90°
     (+ 0°).  Needs an image rendered with polarized light (``[[light]] polarizer = angle``)."""
     if image.source_polarizer is None:
-        raise InputError("a polariscope view needs polarized light: render with [[light]] polarizer = ANGLE "
-                         "(degrees), e.g. --set light.0.polarizer=45", field="view", value="polariscope")
+        raise InputError(
+            "a polariscope view needs polarized light: render with [[light]] polarizer = ANGLE "
+            "(degrees), e.g. --set light.0.polarizer=45",
+            field="view",
+            value="polariscope",
+        )
     out = analyzer(image, image.source_polarizer + (0.0 if parallel else 90.0), device=device)
     out.stats["view"] = "polariscope:" + ("parallel" if parallel else "crossed")
     return out
@@ -161,4 +177,6 @@ def apply_view(image, kind: str | None, angle: float | None = None, *, device=No
 def polarizer_world_axis(right, up, angle_deg: float) -> np.ndarray:
     """The absorbing axis (world, unit) of the light's sheet polarizer: the sheet faces the camera
     (``right``, ``up``: the camera's world axes), its transmission axis at ``angle_deg`` on the image."""
-    return sheet_absorbing_axis(np.asarray(right, dtype=np.float64), np.asarray(up, dtype=np.float64), angle_deg)
+    return sheet_absorbing_axis(
+        np.asarray(right, dtype=np.float64), np.asarray(up, dtype=np.float64), angle_deg
+    )

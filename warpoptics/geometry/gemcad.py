@@ -143,8 +143,15 @@ class Design:
             if tier.angle == 0:
                 culet = tier.is_culet
                 nrm = np.array([0.0, 0.0, -1.0 if culet else 1.0])
-                out.append((t, 0, nrm, abs(tier.distance) if culet else tier.distance,
-                            base or ("culet" if culet else "table")))
+                out.append(
+                    (
+                        t,
+                        0,
+                        nrm,
+                        abs(tier.distance) if culet else tier.distance,
+                        base or ("culet" if culet else "table"),
+                    )
+                )
                 continue
             th = math.radians(abs(tier.angle))
             sz, st = (1.0 if tier.angle > 0 else -1.0) * math.cos(th), math.sin(th)

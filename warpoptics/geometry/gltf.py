@@ -49,8 +49,13 @@ __all__ = ["GltfOptics", "GltfGem", "gem_optics", "export_gltf", "import_gltf", 
 
 #: Fraunhofer d, F, C lines (nm): the Abbe number's wavelengths (as materials.abbe_number)
 LAMBDA_D, LAMBDA_F, LAMBDA_C = 587.56, 486.13, 656.27
-EXTENSIONS = ("KHR_materials_ior", "KHR_materials_dispersion", "KHR_materials_transmission",
-              "KHR_materials_volume", "KHR_materials_iridescence")
+EXTENSIONS = (
+    "KHR_materials_ior",
+    "KHR_materials_dispersion",
+    "KHR_materials_transmission",
+    "KHR_materials_volume",
+    "KHR_materials_iridescence",
+)
 _MM_PER_M = 1000.0
 _ABSORPTION = {"illuminant": "D65", "cmfs": "srgb"}  # alpha_c: the renderer's linear-sRGB channels
 
@@ -93,8 +98,14 @@ class GltfGem:
     optics: GltfOptics
 
 
-def gem_optics(material, *, size_mm: float, film_ior: float | None = None,
-               film_thickness_nm: float | None = None, name: str = "gem") -> GltfOptics:
+def gem_optics(
+    material,
+    *,
+    size_mm: float,
+    film_ior: float | None = None,
+    film_thickness_nm: float | None = None,
+    name: str = "gem",
+) -> GltfOptics:
     """The glTF parameters of a warpoptics ``material`` for a stone of largest extent
     ``size_mm`` (see the module docstring); ``film_*``: one thin-film coating."""
     from ..materials import Uniaxial, rgb_absorbance
@@ -110,17 +121,27 @@ def gem_optics(material, *, size_mm: float, film_ior: float | None = None,
 
         def alpha(wl):
             return np.asarray(material.alpha(wl), dtype=np.float64)
+
     dn = float(n[1] - n[2])
     abbe = (float(n[0]) - 1.0) / dn if dn > 1e-12 else math.inf
     a = np.maximum(rgb_absorbance(alpha, **_ABSORPTION), 0.0)  # negative CMF lobes: no gain
     if not (math.isfinite(size_mm) and size_mm > 0):
         raise InputError("must be a finite length > 0 (mm)", field="size_mm", value=size_mm)
     if (film_ior is None) != (film_thickness_nm is None):
-        raise InputError("a film needs both its index and its thickness", field="film_ior",
-                         value=(film_ior, film_thickness_nm))
-    return GltfOptics(ior=float(n[0]), abbe=abbe, absorption_rgb=tuple(float(v) for v in a),
-                      thickness_mm=float(size_mm), film_ior=film_ior, film_thickness_nm=film_thickness_nm,
-                      name=name)
+        raise InputError(
+            "a film needs both its index and its thickness",
+            field="film_ior",
+            value=(film_ior, film_thickness_nm),
+        )
+    return GltfOptics(
+        ior=float(n[0]),
+        abbe=abbe,
+        absorption_rgb=tuple(float(v) for v in a),
+        thickness_mm=float(size_mm),
+        film_ior=film_ior,
+        film_thickness_nm=film_thickness_nm,
+        name=name,
+    )
 
 
 def _extensions(o: GltfOptics) -> dict:
@@ -134,8 +155,9 @@ def _extensions(o: GltfOptics) -> dict:
     }
     if max(o.absorption_rgb) > 0:
         ext["KHR_materials_volume"]["attenuationDistance"] = d_m
-        ext["KHR_materials_volume"]["attenuationColor"] = [math.exp(-a * o.thickness_mm)
-                                                           for a in o.absorption_rgb]
+        ext["KHR_materials_volume"]["attenuationColor"] = [
+            math.exp(-a * o.thickness_mm) for a in o.absorption_rgb
+        ]
     if o.film_ior is not None:
         ext["KHR_materials_iridescence"] = {
             "iridescenceFactor": 1.0,
@@ -158,9 +180,16 @@ def _set_view_targets(tree: dict) -> None:
                 views[view]["target"] = target
 
 
-def export_gltf(path, mesh: trimesh.Trimesh, material=None, *, optics: GltfOptics | None = None,
-                film_ior: float | None = None, film_thickness_nm: float | None = None,
-                name: str = "gem") -> Path:
+def export_gltf(
+    path,
+    mesh: trimesh.Trimesh,
+    material=None,
+    *,
+    optics: GltfOptics | None = None,
+    film_ior: float | None = None,
+    film_thickness_nm: float | None = None,
+    name: str = "gem",
+) -> Path:
     """Write ``mesh`` (mm) with ``material`` (a warpoptics material; or ready ``optics``) as
     glTF 2.0: ``.glb`` binary or ``.gltf`` JSON with embedded buffers.  Returns the path."""
     p = Path(path)
@@ -171,15 +200,22 @@ def export_gltf(path, mesh: trimesh.Trimesh, material=None, *, optics: GltfOptic
         if material is None:
             raise InputError("give a material or optics", field="material")
         size = float(np.max(mesh.extents))
-        optics = gem_optics(material, size_mm=size, film_ior=film_ior, film_thickness_nm=film_thickness_nm,
-                            name=name)
+        optics = gem_optics(
+            material, size_mm=size, film_ior=film_ior, film_thickness_nm=film_thickness_nm, name=name
+        )
     # flat facets: every triangle its own three vertices, so the exported normals are face normals
-    flat = trimesh.Trimesh(np.asarray(mesh.triangles).reshape(-1, 3) / _MM_PER_M,
-                           np.arange(3 * len(mesh.faces)).reshape(-1, 3), process=False)
+    flat = trimesh.Trimesh(
+        np.asarray(mesh.triangles).reshape(-1, 3) / _MM_PER_M,
+        np.arange(3 * len(mesh.faces)).reshape(-1, 3),
+        process=False,
+    )
     flat.vertex_normals = np.repeat(np.asarray(mesh.face_normals), 3, axis=0)
     mat_name = f"warpoptics:{name}"
-    flat.visual = trimesh.visual.TextureVisuals(material=trimesh.visual.material.PBRMaterial(
-        name=mat_name, baseColorFactor=[1.0, 1.0, 1.0, 1.0], metallicFactor=0.0, roughnessFactor=0.0))
+    flat.visual = trimesh.visual.TextureVisuals(
+        material=trimesh.visual.material.PBRMaterial(
+            name=mat_name, baseColorFactor=[1.0, 1.0, 1.0, 1.0], metallicFactor=0.0, roughnessFactor=0.0
+        )
+    )
     scene = trimesh.Scene()
     scene.add_geometry(flat, geom_name=name, node_name=name)
 
@@ -229,11 +265,14 @@ def _optics_of(m: dict, name: str) -> GltfOptics:
         absorption = tuple(max(0.0, -math.log(max(float(c), 1e-30)) / d_mm) for c in colour)
     film = ext.get("KHR_materials_iridescence")
     return GltfOptics(
-        ior=ior, abbe=20.0 / disp if disp > 0 else math.inf, absorption_rgb=absorption,
+        ior=ior,
+        abbe=20.0 / disp if disp > 0 else math.inf,
+        absorption_rgb=absorption,
         thickness_mm=thickness_mm or 1.0,
         film_ior=float(film.get("iridescenceIor", 1.3)) if film else None,
         film_thickness_nm=float(film.get("iridescenceThicknessMaximum", 400.0)) if film else None,
-        name=name.removeprefix("warpoptics:"))
+        name=name.removeprefix("warpoptics:"),
+    )
 
 
 def import_gltf(path) -> list[GltfGem]:

@@ -69,7 +69,9 @@ def load_mesh(
         if not np.isfinite(scale) or scale <= 0:
             raise InputError("scale must be a positive number", field="scale", value=scale)
         loaded.apply_scale(float(scale))
-    return validate_mesh(loaded, name=path, repair=repair, min_size=min_size, max_size=max_size, closed=closed)
+    return validate_mesh(
+        loaded, name=path, repair=repair, min_size=min_size, max_size=max_size, closed=closed
+    )
 
 
 def validate_mesh(

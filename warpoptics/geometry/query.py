@@ -232,14 +232,27 @@ _EXIT_SCALAR = r"""
         }
     }
 """
-_EXIT_PLANE = (_EXIT_HEAD + "#if defined(__clang__) && !defined(__CUDA_ARCH__)\n" + _EXIT_SIMD + "#else\n"
-               + _EXIT_SCALAR + "#endif\n    return k_best;\n")
+_EXIT_PLANE = (
+    _EXIT_HEAD
+    + "#if defined(__clang__) && !defined(__CUDA_ARCH__)\n"
+    + _EXIT_SIMD
+    + "#else\n"
+    + _EXIT_SCALAR
+    + "#endif\n    return k_best;\n"
+)
 
 
 @wp.func_native(_EXIT_PLANE)
 def convex_exit_plane(
-    blocks: wp.array(dtype=wp.float32), start: wp.int32, nblocks: wp.int32, ox: wp.float32, oy: wp.float32,
-    oz: wp.float32, dx: wp.float32, dy: wp.float32, dz: wp.float32,
+    blocks: wp.array(dtype=wp.float32),
+    start: wp.int32,
+    nblocks: wp.int32,
+    ox: wp.float32,
+    oy: wp.float32,
+    oz: wp.float32,
+    dx: wp.float32,
+    dy: wp.float32,
+    dz: wp.float32,
 ) -> wp.int32:
     """Index of the plane through which a ray starting INSIDE a convex polyhedron leaves it
     (planes in SoA blocks, see ``SceneGeometry.plane_blocks``); -1 if none (a degenerate
@@ -253,8 +266,17 @@ def convex_exit_hit(
 ):
     """Exit of a ray that starts INSIDE convex object ``k`` (object space): ``(t, plane)`` or
     ``(t_max, -1)``; for an inside origin the same as :func:`convex_closest_hit`."""
-    f = convex_exit_plane(geom.plane_blocks, geom.block_start[k], geom.block_count[k], origin[0], origin[1],
-                          origin[2], direction[0], direction[1], direction[2])
+    f = convex_exit_plane(
+        geom.plane_blocks,
+        geom.block_start[k],
+        geom.block_count[k],
+        origin[0],
+        origin[1],
+        origin[2],
+        direction[0],
+        direction[1],
+        direction[2],
+    )
     if f < 0:
         return t_max, -1
     p = geom.planes[geom.plane_start[k] + f]
@@ -537,8 +559,14 @@ class GeometryScene:
             v = np.asarray(mesh.vertices, dtype=np.float64)
             center = 0.5 * (v.min(axis=0) + v.max(axis=0))
             spheres.append([*center, float(np.max(np.linalg.norm(v - center, axis=1)))])
-            shared[key] = (self.meshes[-1], plane_start[-1], plane_count[-1], face_start[-1], spheres[-1],
-                           use)
+            shared[key] = (
+                self.meshes[-1],
+                plane_start[-1],
+                plane_count[-1],
+                face_start[-1],
+                spheres[-1],
+                use,
+            )
         #: number of distinct meshes (BVHs) on the device; instances share one
         self.unique_meshes = len(shared)
         if not objs:

@@ -47,12 +47,17 @@ def material_from_spec(spec: Any) -> Material:
             hint = f"; did you mean {close[0]!r}?" if close else ""
             raise InputError(f"unknown key{hint}", field=k, allowed=", ".join(sorted(_KEYS)))
     if ("base" in spec) == ("cauchy" in spec):
-        raise InputError("an inline material needs exactly one of base = \"<library name>\" or cauchy = [A, B, ...]",
-                         field="base")
+        raise InputError(
+            'an inline material needs exactly one of base = "<library name>" or cauchy = [A, B, ...]',
+            field="base",
+        )
     if "cauchy" in spec:
         c = spec["cauchy"]
-        if not isinstance(c, list) or not c or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
-                                                       and np.isfinite(v) for v in c):
+        if (
+            not isinstance(c, list)
+            or not c
+            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) for v in c)
+        ):
             raise InputError("must be a list of numbers [A, B, ...]", field="cauchy", value=c)
         if c[0] < 1.0:
             raise InputError("the index must be >= 1", field="cauchy", value=c)
@@ -70,18 +75,27 @@ def material_from_spec(spec: Any) -> Material:
                 raise InputError("must be a table", field=f"bands.{i}", value=b)
             for k in b:
                 if k not in _BAND_KEYS:
-                    raise InputError("unknown key", field=f"bands.{i}.{k}", allowed=", ".join(sorted(_BAND_KEYS)))
+                    raise InputError(
+                        "unknown key", field=f"bands.{i}.{k}", allowed=", ".join(sorted(_BAND_KEYS))
+                    )
             for k in ("center_nm", "width_nm", "peak_alpha_per_mm"):
                 if k in b and (isinstance(b[k], bool) or not isinstance(b[k], (int, float))):
                     raise InputError("must be a number", field=f"bands.{i}.{k}", value=b[k])
             try:
-                parsed.append(Band(float(b["center_nm"]), float(b["width_nm"]), float(b["peak_alpha_per_mm"]),
-                                   b.get("shape", "gaussian")))
+                parsed.append(
+                    Band(
+                        float(b["center_nm"]),
+                        float(b["width_nm"]),
+                        float(b["peak_alpha_per_mm"]),
+                        b.get("shape", "gaussian"),
+                    )
+                )
             except KeyError as exc:
                 raise InputError("missing key", field=f"bands.{i}.{exc.args[0]}") from None
             except InputError as exc:
-                raise InputError(exc.message, field=f"bands.{i}.{exc.field}", value=exc.value,
-                                 allowed=exc.allowed) from None
+                raise InputError(
+                    exc.message, field=f"bands.{i}.{exc.field}", value=exc.value, allowed=exc.allowed
+                ) from None
         absorption = AbsorptionSpectrum.from_bands(parsed, wavelength_range_nm=(300.0, 900.0), name="bands")
     if "absorption_rgb" in spec:
         if absorption is not None:
@@ -91,16 +105,26 @@ def material_from_spec(spec: Any) -> Material:
     if not isinstance(kk, bool):
         raise InputError("must be true or false", field="kramers_kronig", value=kk)
     if kk and absorption is None:
-        raise InputError("kramers_kronig needs an absorption (bands or absorption_rgb)", field="kramers_kronig")
+        raise InputError(
+            "kramers_kronig needs an absorption (bands or absorption_rgb)", field="kramers_kronig"
+        )
     if absorption is not None:
         mat = anomalous(mat, absorption) if kk else with_absorption(mat, absorption)
     if "optic_axis" in spec:
         ax = np.asarray(spec["optic_axis"], dtype=float)
         if ax.shape != (3,) or not np.isfinite(ax).all() or np.linalg.norm(ax) == 0:
-            raise InputError("must be a non-zero vector [x, y, z]", field="optic_axis", value=spec["optic_axis"])
+            raise InputError(
+                "must be a non-zero vector [x, y, z]", field="optic_axis", value=spec["optic_axis"]
+            )
         if not isinstance(mat, Uniaxial):
-            raise InputError("an optic axis needs a uniaxial base material", field="optic_axis",
-                             value=spec["base"])
-        mat = Uniaxial(mat.ordinary, mat.extraordinary, optic_axis=tuple(ax / np.linalg.norm(ax)), name=mat.name,
-                       source=mat.source)
+            raise InputError(
+                "an optic axis needs a uniaxial base material", field="optic_axis", value=spec["base"]
+            )
+        mat = Uniaxial(
+            mat.ordinary,
+            mat.extraordinary,
+            optic_axis=tuple(ax / np.linalg.norm(ax)),
+            name=mat.name,
+            source=mat.source,
+        )
     return mat

@@ -109,7 +109,9 @@ def alpha_from_k(k, wavelength_nm, *, device=None) -> np.ndarray:
 
 def k_from_alpha(alpha_per_mm, wavelength_nm, *, device=None) -> np.ndarray:
     """Extinction coefficient k from alpha (1/mm, base e) at λ (nm): alpha λ / 4 pi."""
-    return _convert(nonnegative_array("alpha_per_mm", alpha_per_mm), wavelength_array(wavelength_nm), 1, device)
+    return _convert(
+        nonnegative_array("alpha_per_mm", alpha_per_mm), wavelength_array(wavelength_nm), 1, device
+    )
 
 
 def alpha_from_absorbance_per_cm(absorbance_per_cm, *, device=None) -> np.ndarray:

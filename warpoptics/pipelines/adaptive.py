@@ -1,6 +1,7 @@
 """Adaptive sampling: where a pass spends its pixel samples.
 
-A pass first takes ``pilot`` samples (spp; default a quarter of ``spp``) in every pixel.  Each pixel's noise per sample (the
+A pass first takes ``pilot`` samples (spp; default a quarter of ``spp``) in every pixel.  Each
+pixel's noise per sample (the
 variance of its per-spp XYZ, summed over X, Y, Z) and cost per sample (rays traced, plus one for
 the camera ray's fixed work) then decide how many samples it gets in all, N_i >= pilot,
 proportional to (variance / cost)^0.4 — the allocation that minimises the image's summed
@@ -37,14 +38,24 @@ def _neighbours(a: np.ndarray, reduce) -> np.ndarray:
     h, w = a.shape
     pad = np.full((h + 2, w + 2), np.nan)
     pad[1:-1, 1:-1] = a
-    stack = [pad[1 + dy : 1 + dy + h, 1 + dx : 1 + dx + w] for dy in (-1, 0, 1) for dx in (-1, 0, 1)
-             if dy or dx]
+    stack = [
+        pad[1 + dy : 1 + dy + h, 1 + dx : 1 + dx + w] for dy in (-1, 0, 1) for dx in (-1, 0, 1) if dy or dx
+    ]
     with np.errstate(all="ignore"):
         return reduce(np.stack(stack), axis=0)
 
 
-def allocate(sums: np.ndarray, squares: np.ndarray, rays: np.ndarray, *, pilot: int, spp: int, traces: int,
-             seed: int = 0, max_factor: float = 64.0) -> np.ndarray:
+def allocate(
+    sums: np.ndarray,
+    squares: np.ndarray,
+    rays: np.ndarray,
+    *,
+    pilot: int,
+    spp: int,
+    traces: int,
+    seed: int = 0,
+    max_factor: float = 64.0,
+) -> np.ndarray:
     """Samples per pixel (int32, shape (H, W), each >= ``pilot``) for a pass of mean cost ``spp``.
 
     ``sums``/``squares`` (H, W, 3): sums of the per-spp XYZ and of their squares over the

@@ -60,10 +60,10 @@ from pathlib import Path
 import numpy as np
 import warp as wp
 
+from ..atomic import atomic_path
 from ..color import SRGB_TO_XYZ, xyz_to_rgb
 from ..device import elementwise, get_device
 from ..errors import InputError
-from ..atomic import atomic_path
 from ..scene import Scene
 from ..spectra import SpectralTables, cmf_xyz, spectral_tables
 from ..stages.environment import Environment, EnvironmentLight, environment_radiance, latlong_directions

@@ -39,8 +39,14 @@ from .objects import build_objects, world_axes
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
-__all__ = ["render", "Renderer", "FilmParams", "estimate_render_bytes", "available_memory_bytes",
-           "check_render_memory"]
+__all__ = [
+    "render",
+    "Renderer",
+    "FilmParams",
+    "estimate_render_bytes",
+    "available_memory_bytes",
+    "check_render_memory",
+]
 
 
 @wp.struct
@@ -147,8 +153,12 @@ def _render_pixels(
             sq += wp.cw_mul(group, group)
             group = wp.vec3d(0.0, 0.0, 0.0)
         stokes += wp.vec4d(wp.float64(s[0]), wp.float64(s[1]), wp.float64(s[2]), wp.float64(s[3])) * scale
-        stokes_x += wp.vec4d(wp.float64(sx[0]), wp.float64(sx[1]), wp.float64(sx[2]), wp.float64(sx[3])) * scale
-        stokes_z += wp.vec4d(wp.float64(sz[0]), wp.float64(sz[1]), wp.float64(sz[2]), wp.float64(sz[3])) * scale
+        stokes_x += (
+            wp.vec4d(wp.float64(sx[0]), wp.float64(sx[1]), wp.float64(sx[2]), wp.float64(sx[3])) * scale
+        )
+        stokes_z += (
+            wp.vec4d(wp.float64(sz[0]), wp.float64(sz[1]), wp.float64(sz[2]), wp.float64(sz[3])) * scale
+        )
         hits += float(hit)
         rays += nr
     xyz_out[pix] = xyz_out[pix] + xyz
@@ -203,7 +213,9 @@ def check_render_memory(
         raise InputError(
             f"the image would need about {need / 2**30:.1f} GiB of memory but only {avail / 2**30:.1f} GiB "
             "is available; render a smaller image or crop it",
-            file=file, field="camera.width x camera.height", value=f"{width}x{height}",
+            file=file,
+            field="camera.width x camera.height",
+            value=f"{width}x{height}",
         )
     return need
 
@@ -238,9 +250,14 @@ class Renderer:
         else:  # surfaces only: a placeholder material table (no object refers to it)
             self.materials, ids = build_material_table([material_from_spec("diamond")], self.device)
             ids = []
-        films = build_film_surfaces([ob.film for ob in scene.objects],
-                                    [(ob.shape, dict(ob.params)) for ob in scene.objects], meshes, mats,
-                                    file=scene.path, device=self.device)
+        films = build_film_surfaces(
+            [ob.film for ob in scene.objects],
+            [(ob.shape, dict(ob.params)) for ob in scene.objects],
+            meshes,
+            mats,
+            file=scene.path,
+            device=self.device,
+        )
         self.camera = Camera(scene.camera)
         self.environment = EnvironmentLight(scene.lights[0], self.device)
         self.source_polarizer = scene.lights[0].polarizer
@@ -248,28 +265,46 @@ class Renderer:
             # polarized illumination (a polariscope): the sheet faces the camera (film/views.py);
             # polarized light needs the polarized (Jones) renderer
             if not r.polarization:
-                raise InputError("polarized light needs render.polarization = true", file=scene.path,
-                                 field="light.0.polarizer", value=self.source_polarizer)
+                raise InputError(
+                    "polarized light needs render.polarization = true",
+                    file=scene.path,
+                    field="light.0.polarizer",
+                    value=self.source_polarizer,
+                )
             p = self.camera.params
-            axis = polarizer_world_axis(np.array(p.right, dtype=np.float64), np.array(p.up, dtype=np.float64),
-                                        self.source_polarizer)
+            axis = polarizer_world_axis(
+                np.array(p.right, dtype=np.float64), np.array(p.up, dtype=np.float64), self.source_polarizer
+            )
             self.environment.struct.polarizer = wp.vec3f(*axis.astype(np.float32))
-        self.surfaces = SurfaceStage(scene.surfaces, scene.lamps, max_diffuse=r.diffuse_depth, mis=r.mis,
-                                     # caustics own the light through stones: stones then block NEE
-                                     stone_shadows=r.stone_shadows and not r.caustics,
-                                     environment=self.environment,
-                                     source=scene.path, device=self.device)
+        self.surfaces = SurfaceStage(
+            scene.surfaces,
+            scene.lamps,
+            max_diffuse=r.diffuse_depth,
+            mis=r.mis,
+            # caustics own the light through stones: stones then block NEE
+            stone_shadows=r.stone_shadows and not r.caustics,
+            environment=self.environment,
+            source=scene.path,
+            device=self.device,
+        )
         self.tables = spectral_tables(self.device)
-        self.trace_config = TraceConfig(max_depth=r.max_depth, split_threshold=r.split_threshold,
-                                        max_splits=r.max_splits,
-                                        rr_threshold=r.rr_threshold, polarized=r.polarization,
-                                        birefringence=r.birefringence)
+        self.trace_config = TraceConfig(
+            max_depth=r.max_depth,
+            split_threshold=r.split_threshold,
+            max_splits=r.max_splits,
+            rr_threshold=r.rr_threshold,
+            polarized=r.polarization,
+            birefringence=r.birefringence,
+        )
         self.trace_params = default_params(
             np.asarray(ids, dtype=np.int32),
             np.array([ob.absorption_scale for ob in scene.objects], dtype=np.float32),
             world_axes(scene.objects, built, file=scene.path),
-            config=self.trace_config, ambient=(r.ambient_index, 0.0), rgb3=r.spectral == "rgb3",
-            device=self.device, films=films,
+            config=self.trace_config,
+            ambient=(r.ambient_index, 0.0),
+            rgb3=r.spectral == "rgb3",
+            device=self.device,
+            films=films,
         )
         film = FilmParams()
         film.width, film.height = self.camera.width, self.camera.height
@@ -283,18 +318,24 @@ class Renderer:
         # a scene whose every material has one index and no absorption at all wavelengths traces
         # one path tree per sample for the whole spectrum (exact: the tree does not depend on
         # the wavelength); rgb3 keeps its three indices by definition
-        self.shared_spectrum = (r.spectral != "rgb3" and shared_spectrum is not False
-                                and _non_dispersive(mats)
-                                # films: a film's r and t depend on the wavelength (stages/coated.py)
-                                and not any(getattr(ob, "film", None) for ob in scene.objects)
-                                # surfaces and lamps: spectral albedos, one random path per wavelength
-                                and not scene.surfaces and not scene.lamps)
+        self.shared_spectrum = (
+            r.spectral != "rgb3"
+            and shared_spectrum is not False
+            and _non_dispersive(mats)
+            # films: a film's r and t depend on the wavelength (stages/coated.py)
+            and not any(getattr(ob, "film", None) for ob in scene.objects)
+            # surfaces and lamps: spectral albedos, one random path per wavelength
+            and not scene.surfaces
+            and not scene.lamps
+        )
         film.shared = 1 if self.shared_spectrum else 0
         # the whole spectrum at every leaf, integrated exactly (no spectral noise); a shared
         # scene's `wavelengths` then only multiplies the pixel samples per spp
         film.response = wp.mat33f(
             self.environment.exact_response(self.tables, r.spectral).astype(np.float32).ravel().tolist()
-            if self.shared_spectrum else np.zeros(9).tolist())
+            if self.shared_spectrum
+            else np.zeros(9).tolist()
+        )
         self.film = film
         film.spp_begin = 0
         film.adaptive = 0
@@ -310,13 +351,27 @@ class Renderer:
         self.stokes_xyz = wp.zeros((n, 3), dtype=wp.vec4d, device=self.device)
         self.caustics = None  # caustics hook: the light tracer (stages/caustics.py)
         if r.caustics:
-            self.caustics = caustic_stage(scene, built, ids, camera=self.camera, surfaces=self.surfaces,
-                                          geometry=self.geometry, materials=self.materials, tables=self.tables,
-                                          device=self.device)
+            self.caustics = caustic_stage(
+                scene,
+                built,
+                ids,
+                camera=self.camera,
+                surfaces=self.surfaces,
+                geometry=self.geometry,
+                materials=self.materials,
+                tables=self.tables,
+                device=self.device,
+            )
             self.caustic_film = np.zeros((n, 3), dtype=np.float64)  # the light tracer's output, reused
 
-    def run(self, *, progress: bool = False, threads: int | None = None, tile_size: int | None = None,
-            rows_per_chunk: int | None = None) -> Image:
+    def run(
+        self,
+        *,
+        progress: bool = False,
+        threads: int | None = None,
+        tile_size: int | None = None,
+        rows_per_chunk: int | None = None,
+    ) -> Image:
         f = self.film
         r = self.scene.render
         load_module(_render_pixels, self.device)  # compile (first run) outside the timed region
@@ -342,18 +397,45 @@ class Renderer:
                     f.spp = self.pilot  # the pilot: the same samples everywhere
                 elif r.adaptive:
                     # every pixel's count from its neighbours' pilot (adaptive.py)
-                    spp = allocate(self.xyz.numpy().reshape(h, w, 3), self.sq.numpy().reshape(h, w, 3),
-                                   self.rays.numpy().reshape(h, w), pilot=self.pilot, spp=r.spp,
-                                   traces=f.count, seed=r.seed)
+                    spp = allocate(
+                        self.xyz.numpy().reshape(h, w, 3),
+                        self.sq.numpy().reshape(h, w, 3),
+                        self.rays.numpy().reshape(h, w),
+                        pilot=self.pilot,
+                        spp=r.spp,
+                        traces=f.count,
+                        seed=r.seed,
+                    )
                     self.spp_end.assign(spp.ravel())
                     f.round, f.adaptive, f.spp_begin = 1, 1, self.pilot
-                inputs = [self.camera.params, f, self.trace_params, self.geometry.geometry, self.materials,
-                          self.environment.struct, self.surfaces.struct, self.tables, polarized, self.spp_end,
-                          self.xyz, self.sq, self.stokes, self.alpha, self.rays, self.stokes_xyz]
+                inputs = [
+                    self.camera.params,
+                    f,
+                    self.trace_params,
+                    self.geometry.geometry,
+                    self.materials,
+                    self.environment.struct,
+                    self.surfaces.struct,
+                    self.tables,
+                    polarized,
+                    self.spp_end,
+                    self.xyz,
+                    self.sq,
+                    self.stokes,
+                    self.alpha,
+                    self.rays,
+                    self.stokes_xyz,
+                ]
                 for row0 in chunks:
                     rows = min(rows_per_chunk, f.height - row0)
-                    launch_tiled(_render_pixels, rows * f.width, [row0 * f.width, *inputs], device=self.device,
-                                 threads=threads, tile_size=tile_size)
+                    launch_tiled(
+                        _render_pixels,
+                        rows * f.width,
+                        [row0 * f.width, *inputs],
+                        device=self.device,
+                        threads=threads,
+                        tile_size=tile_size,
+                    )
                     if bar is not None:
                         bar.update(rows)
         finally:
@@ -377,16 +459,39 @@ class Renderer:
         if not (np.isfinite(xyz).all() and np.isfinite(stokes).all()):
             bad = int((~np.isfinite(xyz)).any(axis=-1).sum())
             raise FloatingPointError(f"{bad} pixels are not finite: this is a bug, please report the scene")
-        stats = {"seconds": elapsed, "rays": rays, "rays_per_second": rays / elapsed if elapsed > 0 else math.inf,
-                 "width": w, "height": h, "spp_mean": float(spp.mean()), "spp_max": int(spp.max()),
-                 **caustic_stats}
+        stats = {
+            "seconds": elapsed,
+            "rays": rays,
+            "rays_per_second": rays / elapsed if elapsed > 0 else math.inf,
+            "width": w,
+            "height": h,
+            "spp_mean": float(spp.mean()),
+            "spp_max": int(spp.max()),
+            **caustic_stats,
+        }
         self.spp_per_pixel = spp
-        return Image(xyz=xyz, stokes=stokes, alpha=alpha, exposure=r.exposure, tone=r.tone, stats=stats,
-                     stokes_xyz=stokes_xyz, source_polarizer=self.source_polarizer)
+        return Image(
+            xyz=xyz,
+            stokes=stokes,
+            alpha=alpha,
+            exposure=r.exposure,
+            tone=r.tone,
+            stats=stats,
+            stokes_xyz=stokes_xyz,
+            source_polarizer=self.source_polarizer,
+        )
 
 
-def render(scene: Scene | str | Path, *, device=None, progress: bool = False, threads: int | None = None,
-           tile_size: int | None = None, overrides: dict | None = None, **kw) -> Image:
+def render(
+    scene: Scene | str | Path,
+    *,
+    device=None,
+    progress: bool = False,
+    threads: int | None = None,
+    tile_size: int | None = None,
+    overrides: dict | None = None,
+    **kw,
+) -> Image:
     """Render a scene (a :class:`Scene` or a path to a TOML file) with the standard pipeline.
 
     Keyword overrides: ``width``, ``height`` (camera) and any ``[render]`` field (``spp``,

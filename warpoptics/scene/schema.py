@@ -354,8 +354,9 @@ def light_config(
         kw["rotation_deg"] = float(val.number(table["rotation"], file=file, field=prefix + "rotation"))
     if "convention" in table:
         # how the lat-long map is laid out (stages/environment.py: blender, mitsuba, mirrored)
-        kw["convention"] = val.choice(table["convention"], tuple(LATLONG_CONVENTIONS), file=file,
-                                      field=prefix + "convention")
+        kw["convention"] = val.choice(
+            table["convention"], tuple(LATLONG_CONVENTIONS), file=file, field=prefix + "convention"
+        )
     if "polarizer" in table and table["polarizer"] != "none":
         # an ideal linear polarizer in front of the light (polariscope), degrees on the image
         kw["polarizer"] = float(val.number(table["polarizer"], file=file, field=prefix + "polarizer"))

@@ -84,7 +84,9 @@ def _unit(v, field: str) -> np.ndarray:
     a = np.asarray(v, dtype=np.float64)
     n = float(np.linalg.norm(a))
     if a.shape != (3,) or not np.isfinite(a).all() or n == 0.0:
-        raise InputError("must be a non-zero vector [x, y, z]", field=field, value=[float(x) for x in np.ravel(a)])
+        raise InputError(
+            "must be a non-zero vector [x, y, z]", field=field, value=[float(x) for x in np.ravel(a)]
+        )
     return a / n
 
 

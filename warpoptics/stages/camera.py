@@ -55,7 +55,9 @@ def camera_ray(cam: CameraParams, px: float, py: float, lens_u: float, lens_v: f
     if cam.kind == _ORTHO:
         origin = cam.position + cam.right * (sx * cam.half_width) + cam.up * (sy * cam.half_height)
     else:
-        direction = wp.normalize(cam.forward + cam.right * (sx * cam.tan_half_x) + cam.up * (sy * cam.tan_half_y))
+        direction = wp.normalize(
+            cam.forward + cam.right * (sx * cam.tan_half_x) + cam.up * (sy * cam.tan_half_y)
+        )
         if cam.kind == _THIN_LENS:
             # point on the plane of focus, then a ray to it from a point on the aperture disc
             focus = cam.position + direction * (cam.focus_distance / wp.dot(direction, cam.forward))
@@ -106,9 +108,13 @@ class CameraConfig:
         fwd = np.subtract(self.look_at, self.position)
         if np.linalg.norm(fwd) == 0:
             raise self._err("look_at", self.look_at, "equals camera.position; the camera has no direction")
-        if np.linalg.norm(np.cross(fwd, self.up)) < 1e-9 * np.linalg.norm(fwd) * max(np.linalg.norm(self.up), 1e-30):
+        if np.linalg.norm(np.cross(fwd, self.up)) < 1e-9 * np.linalg.norm(fwd) * max(
+            np.linalg.norm(self.up), 1e-30
+        ):
             raise self._err("up", self.up, "is zero or parallel to the viewing direction")
-        if self.focus_distance is not None and not (self.focus_distance > 0 and math.isfinite(self.focus_distance)):
+        if self.focus_distance is not None and not (
+            self.focus_distance > 0 and math.isfinite(self.focus_distance)
+        ):
             raise self._err("focus_distance", self.focus_distance, "must be > 0 mm")
 
 

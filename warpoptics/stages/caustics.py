@@ -423,8 +423,10 @@ def _luminance(rgb) -> float:
 
 def _solid_angles(centres, radii, point) -> float:
     """Approximate total solid angle (pi r^2 / d^2, at most pi) of the target spheres from a point."""
-    return sum(math.pi * rk**2 / max(float(np.sum((ck - point) ** 2)), rk**2)
-               for ck, rk in zip(centres, radii, strict=True))
+    return sum(
+        math.pi * rk**2 / max(float(np.sum((ck - point) ** 2)), rk**2)
+        for ck, rk in zip(centres, radii, strict=True)
+    )
 
 
 def _bounding_spheres(meshes) -> tuple[np.ndarray, np.ndarray]:
@@ -475,8 +477,22 @@ class CausticStage:
     camera film; :attr:`ledger` the summed ledger (``CAUSTIC_LEDGER``) of the last run, relative
     to one path's emitted power (divide by ``paths`` for fractions)."""
 
-    def __init__(self, config: CausticConfig, *, meshes, lamps, object_material, absorption_scale,
-                 object_axis, camera, surfaces, geometry, materials, tables, device=None):
+    def __init__(
+        self,
+        config: CausticConfig,
+        *,
+        meshes,
+        lamps,
+        object_material,
+        absorption_scale,
+        object_axis,
+        camera,
+        surfaces,
+        geometry,
+        materials,
+        tables,
+        device=None,
+    ):
         cfg = config
         self.config = config
         self.device = get_device(device)
@@ -517,8 +533,11 @@ class CausticStage:
         cp = CausticParams()
         cp.num_lamps = len(lamp_prob)
         cp.lamp_prob = wp.array(lamp_prob.astype(np.float32), dtype=wp.float32, device=dev)
-        cp.lamp_cdf = wp.array(np.concatenate([[0.0], np.cumsum(lamp_prob)[:-1], [1.0]]).astype(np.float32),
-                               dtype=wp.float32, device=dev)
+        cp.lamp_cdf = wp.array(
+            np.concatenate([[0.0], np.cumsum(lamp_prob)[:-1], [1.0]]).astype(np.float32),
+            dtype=wp.float32,
+            device=dev,
+        )
         nt = max(len(radii), 1)
         cp.num_targets = len(radii)
         cent = centres if len(radii) else np.zeros((1, 3))
@@ -546,9 +565,14 @@ class CausticStage:
             np.asarray(absorption_scale, np.float32) if len(absorption_scale) else np.ones(1, np.float32),
             np.asarray(object_axis, np.float32).reshape(-1, 3) if len(object_axis) else np.zeros((1, 3)),
             -np.ones(max(len(object_material), 1), dtype=np.int32),  # no coatings (pipelines/caustics.py)
-            config=ForwardConfig(max_depth=cfg.max_depth, split_threshold=cfg.split_threshold,
-                                 max_deposits=cfg.max_deposits, seed=cfg.seed),
-            ambient=(cfg.ambient_index, 0.0), device=dev,
+            config=ForwardConfig(
+                max_depth=cfg.max_depth,
+                split_threshold=cfg.split_threshold,
+                max_deposits=cfg.max_deposits,
+                seed=cfg.seed,
+            ),
+            ambient=(cfg.ambient_index, 0.0),
+            device=dev,
         )
         self.coatings = make_coating_stack([[]], device=dev)
         self.ledger = np.zeros(len(CAUSTIC_LEDGER))
@@ -560,8 +584,9 @@ class CausticStage:
         self._dep_xyz = wp.zeros(self._chunk * md, dtype=wp.vec3f, device=dev)
         self._ledger = wp.zeros((self._chunk, len(CAUSTIC_LEDGER)), dtype=wp.float64, device=dev)
 
-    def run(self, film: np.ndarray, *, threads: int | None = None,
-            tile_size: int | None = None) -> np.ndarray:
+    def run(
+        self, film: np.ndarray, *, threads: int | None = None, tile_size: int | None = None
+    ) -> np.ndarray:
         """Trace the light paths and write the caustic film into the caller's ``film`` ((H*W, 3)
         float64, overwritten); returns it."""
         cam = self.camera.params
@@ -580,10 +605,27 @@ class CausticStage:
         dep_pix, dep_xyz, ledger = self._dep_pix, self._dep_xyz, self._ledger
         for base in range(0, self.paths, chunk):
             nb = min(chunk, self.paths - base)
-            launch_tiled(_caustic_kernel, nb,
-                         [base, self.params, self.forward, self.geometry, self.materials, self.coatings,
-                          self.surfaces, cam, self.tables, dep_pix, dep_xyz, ledger],
-                         device=dev, threads=threads, tile_size=tile_size)
+            launch_tiled(
+                _caustic_kernel,
+                nb,
+                [
+                    base,
+                    self.params,
+                    self.forward,
+                    self.geometry,
+                    self.materials,
+                    self.coatings,
+                    self.surfaces,
+                    cam,
+                    self.tables,
+                    dep_pix,
+                    dep_xyz,
+                    ledger,
+                ],
+                device=dev,
+                threads=threads,
+                tile_size=tile_size,
+            )
             pix = dep_pix.numpy()[: nb * md]
             xyz = dep_xyz.numpy()[: nb * md]
             keep = pix >= 0

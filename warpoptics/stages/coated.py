@@ -286,14 +286,18 @@ def film_surface_children(
         # light from the other side passes straight on (no refraction: the same medium)
         rs, rp, ts, tp = coating_amplitudes_scaled(fs.stack, coat, wavelength, cos_a, n_a, n_a, front, scale)
         m_t, w_t = child_of(m, w, k_out, bx, s, ts, tp, 1.0, polarized)
-        cand, energies, count = add_child(cand, energies, count, x + d * eps, d, s, m_t, w_t, in_a, depth + 1, -1, -d)
+        cand, energies, count = add_child(
+            cand, energies, count, x + d * eps, d, s, m_t, w_t, in_a, depth + 1, -1, -d
+        )
     if wp.dot(d_r, nrm) > 0.0:
         # light from A: the stack's front faces A, except on the back of a shell (A on both sides)
         rs, rp, ts, tp = coating_amplitudes_scaled(
             fs.stack, coat, wavelength, cos_a, n_a, n_sub, 1 - front, scale
         )
         m_r, w_r = child_of(m, w, k_out, bx, s, rs, rp, weight, polarized)
-        cand, energies, count = add_child(cand, energies, count, x + d_r * eps, d_r, s, m_r, w_r, in_a, depth + 1, -1, -d_r)
+        cand, energies, count = add_child(
+            cand, energies, count, x + d_r * eps, d_r, s, m_r, w_r, in_a, depth + 1, -1, -d_r
+        )
     return cand, energies, count, rng
 
 
@@ -358,13 +362,48 @@ def _film_event_kernel(
             nrm = -n_out
             a_is_front = 0
         cand, e, count = backward_isotropic(
-            cand, jones_identity(), 1.0, bx, d, n_out, nrm, n_a, n_b, position[i], 1.0e-4, in_a, in_b, 0, polarized,
-            fs.stack, coat, wavelength[i], scale, a_is_front
+            cand,
+            jones_identity(),
+            1.0,
+            bx,
+            d,
+            n_out,
+            nrm,
+            n_a,
+            n_b,
+            position[i],
+            1.0e-4,
+            in_a,
+            in_b,
+            0,
+            polarized,
+            fs.stack,
+            coat,
+            wavelength[i],
+            scale,
+            a_is_front,
         )
     else:
         cand, e, count, rng = film_surface_children(
-            cand, fs, mats, mat_id, obj, jones_identity(), 1.0, bx, d, n_out, n_a, position[i],
-            wp.identity(n=4, dtype=wp.float32), 1.0e-4, in_a, 0, polarized, wavelength[i], rng
+            cand,
+            fs,
+            mats,
+            mat_id,
+            obj,
+            jones_identity(),
+            1.0,
+            bx,
+            d,
+            n_out,
+            n_a,
+            position[i],
+            wp.identity(n=4, dtype=wp.float32),
+            1.0e-4,
+            in_a,
+            0,
+            polarized,
+            wavelength[i],
+            rng,
         )
     dir0[i] = wp.vec3f(cand[0, 3], cand[0, 4], cand[0, 5])
     dir1[i] = wp.vec3f(cand[1, 3], cand[1, 4], cand[1, 5])
@@ -391,6 +430,7 @@ def _thickness_kernel(
 # ---------------------------------------------------------------------------------------------
 # Configuration (scene files) and device data
 # ---------------------------------------------------------------------------------------------
+
 
 @dataclass(frozen=True)
 class FilmConfig:
@@ -419,8 +459,12 @@ def layer_material(spec, file: str | None = None, fld: str = "coating.material")
         raise InputError(exc.message, file=file, field=fld, value=spec, allowed=exc.allowed) from None
     except (OSError, KeyError, ValueError) as exc:
         raise InputError(f"unknown material ({exc})", file=file, field=fld, value=spec) from None
-    raise InputError("must be a material name, a refractiveindex.info page or an inline table", file=file,
-                     field=fld, value=spec)
+    raise InputError(
+        "must be a material name, a refractiveindex.info page or an inline table",
+        file=file,
+        field=fld,
+        value=spec,
+    )
 
 
 def layer_index_samples(spec) -> np.ndarray | complex:

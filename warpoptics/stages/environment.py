@@ -57,9 +57,20 @@ from ..spectra import SpectralTables, illuminant_value, rgb_spectrum_value, samp
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
-__all__ = ["Environment", "EnvironmentConfig", "EnvironmentLight", "environment_radiance",
-           "environment_coefficients", "environment_basis", "spectral_response", "ENV_KINDS",
-           "LATLONG_CONVENTIONS", "latlong_frame", "latlong_uv", "latlong_directions"]
+__all__ = [
+    "Environment",
+    "EnvironmentConfig",
+    "EnvironmentLight",
+    "environment_radiance",
+    "environment_coefficients",
+    "environment_basis",
+    "spectral_response",
+    "ENV_KINDS",
+    "LATLONG_CONVENTIONS",
+    "latlong_frame",
+    "latlong_uv",
+    "latlong_directions",
+]
 
 ENV_KINDS = {"constant": 0, "dome": 1, "studio": 2, "sky": 3, "latlong": 4}
 _CONSTANT = wp.constant(0)
@@ -83,8 +94,12 @@ def latlong_frame(convention: str = "blender", rotation_deg: float = 0.0) -> np.
     ``rotation_deg`` about +z: the map is read at ``u = 0.5 - atan2(m_y, m_x) / 2 pi``,
     ``v = acos(m_z) / pi`` of ``m = M d``."""
     if convention not in LATLONG_CONVENTIONS:
-        raise InputError("unknown lat-long convention", field="light.convention", value=convention,
-                         allowed=", ".join(LATLONG_CONVENTIONS))
+        raise InputError(
+            "unknown lat-long convention",
+            field="light.convention",
+            value=convention,
+            allowed=", ".join(LATLONG_CONVENTIONS),
+        )
     a = math.radians(rotation_deg)
     c, s = math.cos(a), math.sin(a)
     unrotate = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])  # rotation by -angle about z
@@ -103,14 +118,19 @@ def latlong_uv(directions, convention: str = "blender", rotation_deg: float = 0.
     return np.stack([u, v], axis=-1)
 
 
-def latlong_directions(width: int, height: int, convention: str = "blender",
-                       rotation_deg: float = 0.0) -> np.ndarray:
+def latlong_directions(
+    width: int, height: int, convention: str = "blender", rotation_deg: float = 0.0
+) -> np.ndarray:
     """World directions ``(height, width, 3)`` of the texel centres ((i + 0.5) / W, (j + 0.5) / H)
     of a ``width x height`` lat-long map in ``convention``: the inverse of :func:`latlong_uv`."""
     phi = 2.0 * np.pi * (0.5 - (np.arange(width) + 0.5) / width)[None, :]
     theta = np.pi * ((np.arange(height) + 0.5) / height)[:, None]
-    m = np.stack(np.broadcast_arrays(np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi),
-                                     np.cos(theta) + 0.0 * phi), axis=-1)
+    m = np.stack(
+        np.broadcast_arrays(
+            np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta) + 0.0 * phi
+        ),
+        axis=-1,
+    )
     # M is orthogonal: world = M^T m
     return m @ latlong_frame(convention, rotation_deg)
 
@@ -222,9 +242,11 @@ def environment_basis(env: Environment, t: SpectralTables, wavelength: float):
         return wp.vec3f(illuminant_value(t, 0, wavelength), 0.0, 0.0)
     if env.kind == _DOME:
         return wp.vec3f(illuminant_value(t, 1, wavelength), 0.0, 0.0)
-    return wp.vec3f(rgb_spectrum_value(t, wp.vec3f(1.0, 0.0, 0.0), wavelength),
-                    rgb_spectrum_value(t, wp.vec3f(0.0, 1.0, 0.0), wavelength),
-                    rgb_spectrum_value(t, wp.vec3f(0.0, 0.0, 1.0), wavelength))
+    return wp.vec3f(
+        rgb_spectrum_value(t, wp.vec3f(1.0, 0.0, 0.0), wavelength),
+        rgb_spectrum_value(t, wp.vec3f(0.0, 1.0, 0.0), wavelength),
+        rgb_spectrum_value(t, wp.vec3f(0.0, 0.0, 1.0), wavelength),
+    )
 
 
 @wp.func
@@ -237,8 +259,9 @@ def spectral_response(env: Environment, t: SpectralTables, wavelength: float, we
 
 
 @wp.kernel
-def _response_kernel(env: Environment, t: SpectralTables, strategy: int, n: int,
-                     out: wp.array(dtype=wp.mat33d)):
+def _response_kernel(
+    env: Environment, t: SpectralTables, strategy: int, n: int, out: wp.array(dtype=wp.mat33d)
+):
     # one row of the quadrature: the midpoints u = (j + 1/2) / n of one stratum-free draw
     j = wp.tid()
     wl, w = sample_wavelength(t, strategy, (float(j) + 0.5) / float(n), 0, 1)
@@ -272,19 +295,35 @@ class EnvironmentConfig:
 
     def __post_init__(self):
         if not (math.isfinite(self.intensity) and self.intensity >= 0):
-            raise InputError("must be a finite number >= 0", file=self.source, field="light.intensity",
-                             value=self.intensity)
+            raise InputError(
+                "must be a finite number >= 0",
+                file=self.source,
+                field="light.intensity",
+                value=self.intensity,
+            )
         if len(self.tint) != 3 or not all(math.isfinite(c) and c >= 0 for c in self.tint):
-            raise InputError("must be three finite numbers >= 0", file=self.source, field="light.tint",
-                             value=self.tint)
-        if self.polarizer is not None and not (isinstance(self.polarizer, (int, float))
-                                               and not isinstance(self.polarizer, bool)
-                                               and math.isfinite(self.polarizer)):
-            raise InputError("must be an angle in degrees or \"none\"", file=self.source,
-                             field="light.polarizer", value=self.polarizer)
+            raise InputError(
+                "must be three finite numbers >= 0", file=self.source, field="light.tint", value=self.tint
+            )
+        if self.polarizer is not None and not (
+            isinstance(self.polarizer, (int, float))
+            and not isinstance(self.polarizer, bool)
+            and math.isfinite(self.polarizer)
+        ):
+            raise InputError(
+                'must be an angle in degrees or "none"',
+                file=self.source,
+                field="light.polarizer",
+                value=self.polarizer,
+            )
         if self.convention not in LATLONG_CONVENTIONS:
-            raise InputError("unknown lat-long convention", file=self.source, field="light.convention",
-                             value=self.convention, allowed=", ".join(LATLONG_CONVENTIONS))
+            raise InputError(
+                "unknown lat-long convention",
+                file=self.source,
+                field="light.convention",
+                value=self.convention,
+                allowed=", ".join(LATLONG_CONVENTIONS),
+            )
 
 
 class EnvironmentLight:
@@ -321,8 +360,12 @@ class EnvironmentLight:
         (4096: 0.11 nm steps over 360-830 nm, far below the 1 nm CMF tables; the same sampling
         density as the estimator, so importance sampling integrates the same integrand)."""
         out = wp.empty(n, dtype=wp.mat33d, device=self.device)
-        wp.launch(_response_kernel, dim=n, inputs=[self.struct, tables, strategy_id(strategy), n, out],
-                  device=self.device)
+        wp.launch(
+            _response_kernel,
+            dim=n,
+            inputs=[self.struct, tables, strategy_id(strategy), n, out],
+            device=self.device,
+        )
         return out.numpy().mean(axis=0)
 
     def _load_map(self, path: str) -> np.ndarray:
@@ -334,26 +377,48 @@ class EnvironmentLight:
 
         p = Path(path)
         if not p.suffix:
-            raise InputError("unknown environment map", file=self.config.source, field=field_name, value=path,
-                             allowed=allowed)
+            raise InputError(
+                "unknown environment map",
+                file=self.config.source,
+                field=field_name,
+                value=path,
+                allowed=allowed,
+            )
         if not p.is_file():
-            raise InputError("environment map file not found", file=self.config.source, field=field_name,
-                             value=path, allowed=allowed)
+            raise InputError(
+                "environment map file not found",
+                file=self.config.source,
+                field=field_name,
+                value=path,
+                allowed=allowed,
+            )
         try:
             pixels, _names = read_image(p)
         except InputError as exc:
-            raise InputError(f"unreadable environment map ({exc.message})", file=self.config.source,
-                             field=field_name, value=path) from None
+            raise InputError(
+                f"unreadable environment map ({exc.message})",
+                file=self.config.source,
+                field=field_name,
+                value=path,
+            ) from None
         h, w, c = pixels.shape
         if c < 3:
             pixels = np.repeat(pixels[..., :1], 3, axis=2)
         pixels = pixels[..., :3]
         if w != 2 * h:
-            raise InputError(f"a lat-long map must be twice as wide as high, got {w}x{h}",
-                             file=self.config.source, field=field_name, value=path)
+            raise InputError(
+                f"a lat-long map must be twice as wide as high, got {w}x{h}",
+                file=self.config.source,
+                field=field_name,
+                value=path,
+            )
         if not np.isfinite(pixels).all() or pixels.min() < 0:
-            raise InputError("the map has negative or non-finite pixels", file=self.config.source,
-                             field=field_name, value=path)
+            raise InputError(
+                "the map has negative or non-finite pixels",
+                file=self.config.source,
+                field=field_name,
+                value=path,
+            )
         if p.suffix.lower() not in (".exr", ".hdr"):
             # display-encoded 8-bit image: decode sRGB to linear
             from colour import cctf_decoding

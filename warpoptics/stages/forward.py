@@ -65,6 +65,7 @@ import numpy as np
 import warp as wp
 
 from .. import validate as val
+from ..film.screen import ScreenSet, screen_hit
 from ..geometry.query import RayHit, SceneGeometry, scene_closest_hit
 from ..materials.dispersion import MaterialTable
 from ..optics.absorption import bouguer_lambert
@@ -92,13 +93,19 @@ from ..optics.jones import (
     stokes_from_coherency,
 )
 from ..optics.thinfilm import CoatingStack
-from ..film.screen import ScreenSet, screen_hit
 from .beam import BeamParams, beam_ray
 from .media import object_medium, segment_kappa
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
-__all__ = ["ForwardParams", "ForwardConfig", "forward_params", "forward_trace_kernel", "forward_step", "LEDGER"]
+__all__ = [
+    "ForwardParams",
+    "ForwardConfig",
+    "forward_params",
+    "forward_trace_kernel",
+    "forward_step",
+    "LEDGER",
+]
 
 #: names of the ledger columns (see the module docstring)
 LEDGER = ("screen", "absorbed", "escaped", "truncated", "lost", "overflow", "interface")
@@ -150,8 +157,9 @@ def _medium(fp: ForwardParams, mats: MaterialTable, obj: int, wavelength: float)
 
 
 @wp.func
-def _keep_children(st: Any, n: int, cand: Cand, ea: wp.vec4f, e_sum: float, c: int, split_threshold: float,
-                   rng: wp.uint32):
+def _keep_children(
+    st: Any, n: int, cand: Cand, ea: wp.vec4f, e_sum: float, c: int, split_threshold: float, rng: wp.uint32
+):
     """Continue the tree with the children of an interface: all of them while they carry at
     least ``split_threshold`` (and the stack has room), else one chosen by power
     (``branches.pick_child``), weighted by 1/probability (carries ``e_sum`` exactly).  Returns
@@ -188,8 +196,16 @@ def forward_step(
     w = r.w
     med_a, n_a, alpha_a = _medium(fp, mats, r.inside, wl)
     if r.inside >= 0:
-        kappa = segment_kappa(mats, fp.object_material[r.inside], alpha_a, -1, r.mode, r.wn, med_a,
-                              fp.object_absorption_scale[r.inside])
+        kappa = segment_kappa(
+            mats,
+            fp.object_material[r.inside],
+            alpha_a,
+            -1,
+            r.mode,
+            r.wn,
+            med_a,
+            fp.object_absorption_scale[r.inside],
+        )
         att = bouguer_lambert(kappa, hit.t)
         e_abs = e * (1.0 - att)
         w = w * att
@@ -204,8 +220,27 @@ def forward_step(
     med_b, n_b, alpha_b = _medium(fp, mats, obj_b, wl)
     x = r.o + r.d * hit.t
     cand, ea, e_sum, c = forward_event(
-        r.d, r.wn, r.b, r.m, r.mode, r.depth, hit.normal, x, r.inside, obj_b, med_a, med_b, n_a, n_b, coatings,
-        fp.object_coating[hit.object], wl, fp.epsilon, w, e, csrc
+        r.d,
+        r.wn,
+        r.b,
+        r.m,
+        r.mode,
+        r.depth,
+        hit.normal,
+        x,
+        r.inside,
+        obj_b,
+        med_a,
+        med_b,
+        n_a,
+        n_b,
+        coatings,
+        fp.object_coating[hit.object],
+        wl,
+        fp.epsilon,
+        w,
+        e,
+        csrc,
     )
     if c > 0:
         st, n, rng = _keep_children(st, n, cand, ea, e_sum, c, fp.split_threshold, rng)

@@ -4,7 +4,8 @@ One call of :func:`trace_radiance` follows everything that light arriving along 
 can have come through.  At every interface the path splits into the reflected and the refracted
 branch (total internal reflection leaves one).  While a branch still carries at least
 ``split_threshold`` of the primary ray's energy both children are followed *deterministically*
-(an explicit stack): the per-pixel form of the pruned facet tree of Guy & Soler 2004 §5 (``max_splits`` bounds the
+(an explicit stack): the per-pixel form of the pruned facet tree of Guy & Soler 2004 §5
+(``max_splits`` bounds the
 extra branches per primary ray: birefringent stones double their branches at every internal
 reflection).  Below
 the threshold one child is chosen at random with probability proportional to its energy and
@@ -137,8 +138,11 @@ def _object_medium(p: TraceParams, mats: MaterialTable, obj: int, wavelength: fl
 @wp.func
 def _add_light(acc_x: Jones, acc_y: Jones, acc_z: Jones, k_unit: Jones, xyz: wp.vec3f):
     """Add light of colour ``xyz`` arriving with coherency ``k_unit`` per unit radiance."""
-    return (jones_add(acc_x, jones_scale(k_unit, xyz[0])), jones_add(acc_y, jones_scale(k_unit, xyz[1])),
-            jones_add(acc_z, jones_scale(k_unit, xyz[2])))
+    return (
+        jones_add(acc_x, jones_scale(k_unit, xyz[0])),
+        jones_add(acc_y, jones_scale(k_unit, xyz[1])),
+        jones_add(acc_z, jones_scale(k_unit, xyz[2])),
+    )
 
 
 # Out of line, like the rarely taken branches (the birefringent events, film_surface_children,
@@ -223,9 +227,22 @@ def trace_radiance(
             if surf.num_surfaces + surf.num_area > 0:
                 sh = surfaces_closest_hit(surf, o, d, hit.t)
                 if sh.kind != 0:
-                    radiance, rng = surface_radiance(surf, geom, mats, env, tables, p.object_material,
-                                                     p.object_absorption_scale, p.ambient[0], o, d, sh,
-                                                     wavelength, ch3, rng)
+                    radiance, rng = surface_radiance(
+                        surf,
+                        geom,
+                        mats,
+                        env,
+                        tables,
+                        p.object_material,
+                        p.object_absorption_scale,
+                        p.ambient[0],
+                        o,
+                        d,
+                        sh,
+                        wavelength,
+                        ch3,
+                        rng,
+                    )
                     # one wavelength per path here: surfaces turn the shared-spectrum path off
                     xyz_s = weight * radiance
                     if polarized != 0:
@@ -256,8 +273,16 @@ def trace_radiance(
         if inside >= 0:
             med_a = c_med
             n_a = c_n
-            kappa = segment_kappa(mats, p.object_material[inside], c_alpha, ch3, mode, wn, med_a,
-                                  p.object_absorption_scale[inside])
+            kappa = segment_kappa(
+                mats,
+                p.object_material[inside],
+                c_alpha,
+                ch3,
+                mode,
+                wn,
+                med_a,
+                p.object_absorption_scale[inside],
+            )
             w = w * bouguer_lambert(kappa, hit.t)
         if depth >= p.max_depth or w <= 0.0:
             continue
@@ -285,8 +310,25 @@ def trace_radiance(
             # a thin shell or an opaque film surface (stages/coated.py)
             obj_f = hit.object
             cand, energies, count, rng = film_surface_children(
-                cand, p.films, mats, p.object_material[obj_f], obj_f, m, w, bx, d, n_out, n_a, x,
-                geom.world_to_object[obj_f], p.epsilon, inside, depth, polarized, wavelength, rng
+                cand,
+                p.films,
+                mats,
+                p.object_material[obj_f],
+                obj_f,
+                m,
+                w,
+                bx,
+                d,
+                n_out,
+                n_a,
+                x,
+                geom.world_to_object[obj_f],
+                p.epsilon,
+                inside,
+                depth,
+                polarized,
+                wavelength,
+                rng,
             )
         else:
             # the interface event (optics/interface.py), bare or with the object's coating
@@ -298,8 +340,31 @@ def trace_radiance(
             if entering:
                 a_is_front = 1
             cand, energies, count = backward_event(
-                cand, m, w, bx, d, wn, mode, n_out, nrm, med_a, med_b, n_a, n_b, x, p.epsilon, inside, obj_b,
-                depth, polarized, p.birefringence, p.films.stack, coat, wavelength, scale, a_is_front
+                cand,
+                m,
+                w,
+                bx,
+                d,
+                wn,
+                mode,
+                n_out,
+                nrm,
+                med_a,
+                med_b,
+                n_a,
+                n_b,
+                x,
+                p.epsilon,
+                inside,
+                obj_b,
+                depth,
+                polarized,
+                p.birefringence,
+                p.films.stack,
+                coat,
+                wavelength,
+                scale,
+                a_is_front,
             )
         if p.films.kind[hit.object] == 0:
             # the children in the ambient medium leave the solid's surface (reflected off it from
@@ -342,9 +407,19 @@ def trace_radiance(
     return acc_x, acc_y, acc_z, hit_any, rays, rng
 
 
-def default_params(objects_material: np.ndarray, absorption_scale: np.ndarray, object_axis: np.ndarray, *,
-                   config: TraceConfig, ambient=(1.0, 0.0), t_max: float = 1.0e6, epsilon: float = 1.0e-4,
-                   rgb3: bool = False, device=None, films: FilmSurfaces | None = None) -> TraceParams:
+def default_params(
+    objects_material: np.ndarray,
+    absorption_scale: np.ndarray,
+    object_axis: np.ndarray,
+    *,
+    config: TraceConfig,
+    ambient=(1.0, 0.0),
+    t_max: float = 1.0e6,
+    epsilon: float = 1.0e-4,
+    rgb3: bool = False,
+    device=None,
+    films: FilmSurfaces | None = None,
+) -> TraceParams:
     """TraceParams for objects with material ids, alpha multipliers and world optic axes (zero
     rows for isotropic objects)."""
     p = TraceParams()
@@ -357,9 +432,12 @@ def default_params(objects_material: np.ndarray, absorption_scale: np.ndarray, o
     p.ambient = wp.vec2f(*ambient)
     p.rgb3 = int(rgb3)
     p.birefringence = BIREFRINGENCE[config.birefringence]
-    p.object_axis = wp.array(np.asarray(object_axis, dtype=np.float32).reshape(-1, 3), dtype=wp.vec3f, device=device)
+    p.object_axis = wp.array(
+        np.asarray(object_axis, dtype=np.float32).reshape(-1, 3), dtype=wp.vec3f, device=device
+    )
     p.object_material = wp.array(np.asarray(objects_material, dtype=np.int32), dtype=wp.int32, device=device)
-    p.object_absorption_scale = wp.array(np.asarray(absorption_scale, dtype=np.float32), dtype=wp.float32,
-                                         device=device)
+    p.object_absorption_scale = wp.array(
+        np.asarray(absorption_scale, dtype=np.float32), dtype=wp.float32, device=device
+    )
     p.films = films if films is not None else empty_film_surfaces(len(p.object_material), device=device)
     return p
