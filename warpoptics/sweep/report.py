@@ -31,6 +31,9 @@ def _read_xyz_alpha(sweep, out_dir, job: Job):
 
 
 def write_pairs(sweep, out_dir, jobs: list[Job], by_key: dict) -> list[dict]:
+    """Paired CIEDE2000 of each job against its ``[compare]`` reference (the job that differs only
+    in the compared axis): per-pixel stats, ΔE of the mean colours, a difference image per pair
+    and ``pairs.csv``.  Returns the pair rows ([] when the first view saves no images)."""
     from .. import metrics as wm
     from ..film.image import write_png
 
@@ -81,6 +84,7 @@ def write_pairs(sweep, out_dir, jobs: list[Job], by_key: dict) -> list[dict]:
 
 
 def write_contact_sheet(sweep, out_dir, jobs: list[Job], pairs: list[dict]) -> Path:
+    """``contact_sheet.png``: every job's first-view image, then the difference images."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -124,6 +128,7 @@ def write_contact_sheet(sweep, out_dir, jobs: list[Job], pairs: list[dict]) -> P
 
 
 def plot_columns(sweep) -> list[str]:
+    """The results.csv columns that get plots (colour: L, C, h only)."""
     cols = []
     several = len(sweep.views) > 1
     for v in sweep.views:
@@ -134,6 +139,8 @@ def plot_columns(sweep) -> list[str]:
 
 
 def write_plots(sweep, out_dir, jobs: list[Job], by_key: dict, pairs: list[dict]) -> dict[str, Path]:
+    """``plots/<column>_vs_<axis>.png`` for each plotted column (and ΔE) against each axis with more
+    than one value; one line per combination of the other axes."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -190,6 +197,7 @@ def write_plots(sweep, out_dir, jobs: list[Job], by_key: dict, pairs: list[dict]
 
 
 def write_summary(sweep, out_dir, jobs: list[Job], by_key: dict, pairs: list[dict], rendered: int) -> Path:
+    """``summary.md``: the run, a table of every job's plotted columns, extremes, pairs, files."""
     sw = sweep
     rows = [by_key[j.key] for j in jobs]
     cols = plot_columns(sweep)
