@@ -105,7 +105,8 @@ def vec3(v, *, file: str | None = None, field: str) -> tuple[float, float, float
     """Three finite numbers ``[x, y, z]`` as a tuple of floats."""
     if not isinstance(v, (list, tuple)) or len(v) != 3:
         raise InputError("must be a list of three numbers [x, y, z]", file=file, field=field, value=v)
-    return tuple(float(number(c, file=file, field=field)) for c in v)
+    x, y, z = (float(number(c, file=file, field=field)) for c in v)
+    return x, y, z
 
 
 def unit_vec3(v, *, file: str | None = None, field: str) -> tuple[float, float, float]:

@@ -43,6 +43,7 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
+from ..atomic import atomic_path
 from ..errors import InputError
 
 __all__ = ["GltfOptics", "GltfGem", "gem_optics", "export_gltf", "import_gltf", "EXTENSIONS"]
@@ -236,8 +237,8 @@ def export_gltf(
         tree = json.loads(files["model.gltf"])
         _set_view_targets(tree)  # trimesh builds a .gltf's views after the hook
         data = json.dumps(tree).encode("utf-8")
-    p.parent.mkdir(parents=True, exist_ok=True)
-    p.write_bytes(data)
+    with atomic_path(p) as tmp:  # a crash never leaves a half-written file
+        Path(tmp).write_bytes(data)
     return p
 
 

@@ -44,12 +44,12 @@ def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -
             elif ob.shape == "mesh":
                 film = getattr(ob, "film", None)  # films: shells and film surfaces may be open meshes
                 mesh = load_mesh(
-                    ob.path,
+                    str(ob.path),
                     repair=bool(ob.params.get("repair", False)),
                     closed=film is None or film.surface == "solid",
                 )
             elif ob.shape == "gemcad":
-                mesh = read_gemcad(ob.path, diameter=float(ob.params.get("diameter", 1.0)))
+                mesh = read_gemcad(str(ob.path), diameter=float(ob.params.get("diameter", 1.0)))
             else:
                 mesh = getattr(cuts, ob.shape)(**ob.params)
         except InputError as exc:

@@ -103,12 +103,12 @@ class BenchConfig:
             ("seed", 0, 2**31 - 1),
         ):
             val.integer(getattr(self, k), file=file, field=f"render.{k}", lo=lo, hi=hi)
-        for k, lo, hi in (
+        for k, flo, fhi in (
             ("split_threshold", 0.0, 1.0),
             ("ambient_index", 1.0, 10.0),
             ("exposure", -40.0, 40.0),
         ):
-            val.number(getattr(self, k), file=file, field=f"render.{k}", lo=lo, hi=hi)
+            val.number(getattr(self, k), file=file, field=f"render.{k}", lo=flo, hi=fhi)
         val.choice(self.tone, TONE_CURVES, file=file, field="render.tone")
 
 

@@ -97,13 +97,13 @@ class RenderConfig:
             ("pilot_spp", 0, 1 << 20),
         ):
             val.integer(getattr(self, k), file=file, field=f(k), lo=lo, hi=hi)
-        for k, lo, hi in (
+        for k, flo, fhi in (
             ("split_threshold", 0.0, 1.0),
             ("rr_threshold", 0.0, 1.0),
             ("exposure", -40.0, 40.0),
             ("ambient_index", 1.0, 10.0),
         ):
-            val.number(getattr(self, k), file=file, field=f(k), lo=lo, hi=hi)
+            val.number(getattr(self, k), file=file, field=f(k), lo=flo, hi=fhi)
         if self.adaptive and not 2 <= self.pilot < self.spp:
             raise InputError(
                 f"adaptive sampling needs a pilot of 2 or more samples and fewer than spp = {self.spp}"

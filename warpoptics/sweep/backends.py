@@ -25,6 +25,7 @@ def pool_results(fn: Callable[[dict], dict], payloads, workers: int, kind: str) 
     import concurrent.futures as cf
     import multiprocessing
 
+    ex: cf.Executor
     if kind == "process":
         ex = cf.ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
     else:
@@ -61,10 +62,10 @@ def dask_results(
         client = Client(scheduler)
     else:
         cluster = LocalCluster(
-            n_workers=int(dask_local),
+            n_workers=int(dask_local or 1),
             threads_per_worker=1,
             processes=True,
-            dashboard_address=None,
+            dashboard_address=None,  # type: ignore[arg-type]  # dask documents None: no dashboard
             silence_logs=40,
         )
         client = Client(cluster)

@@ -37,7 +37,7 @@ def nondispersive(scene):
     ov = {}
     for i, ob in enumerate(scene.objects):
         mat = material_from_spec(ob.material)
-        n_d = float(np.real(np.asarray(mat.n(np.array([589.3])))).ravel()[0])
+        n_d = float(np.real(np.asarray(mat.n(np.array([589.3])))).ravel()[0])  # type: ignore[attr-defined]
         ov[f"object.{i}.material"] = {"cauchy": [n_d]}
     return scene.with_overrides(ov)
 
@@ -323,7 +323,7 @@ class SweepRunner:
             if bar is not None:
                 bar.close()
             with contextlib.suppress(Exception):
-                results.close()
+                results.close()  # type: ignore[attr-defined]  # a generator or a Dask iterator
         return n
 
     def _record(self, job: Job, res: dict, header: list[str]) -> None:
@@ -360,7 +360,7 @@ class SweepRunner:
 
     def _finalize(self, jobs: list[Job], header: list[str], rendered: int) -> SweepResult:
         _h, rows = read_results(self.results_path)
-        by_key = {}
+        by_key: dict[str, dict] = {}
         for r in rows:
             by_key.setdefault(r["key"], r)
         ordered = [by_key[j.key] for j in jobs if j.key in by_key]
