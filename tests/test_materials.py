@@ -96,7 +96,7 @@ def test_library_gemological_constants(device, name, channel, nd, disp):
 
 def test_seed002_indices_and_types(device):
     # Guy & Soler 2004 §6.1: n at the green channel (546.1 nm) and n(435.8) - n(700) = 2 x "±"
-    for name, row in M.SEED002_GEMS.items():
+    for name, row in M.GUY_SOLER_2004_GEMS.items():
         if name in ("diamond", "sapphire"):
             continue  # those two use refractiveindex.info pages
         mat = M.get(name)
@@ -291,14 +291,18 @@ def test_material_table_mixed_scene(device):
     axes = table.optic_axis.numpy()
     assert np.allclose(axes, [0, 0, 1])
     assert table.uniaxial.numpy().tolist() == [0, 1, 0, 1]
-    # rgb3: the seed-002 triplets (read as 1/mm, SEED002_ALPHA_PER_MM) for sapphire; eq. 9 of alpha
+    # rgb3: the seed-002 triplets (read as 1/mm, GUY_SOLER_2004_ALPHA_PER_MM) for sapphire; eq. 9 of alpha
     # for the dye
     rgb_o, rgb_e = table.rgb3_alpha_o.numpy(), table.rgb3_alpha_e.numpy()
     assert np.allclose(
-        rgb_o[1], np.array(M.SEED002_GEMS["sapphire"]["K_o"]) * M.SEED002_ALPHA_PER_MM, rtol=1e-6
+        rgb_o[1],
+        np.array(M.GUY_SOLER_2004_GEMS["sapphire"]["K_o"]) * M.GUY_SOLER_2004_ALPHA_PER_MM,
+        rtol=1e-6,
     )
     assert np.allclose(
-        rgb_e[1], np.array(M.SEED002_GEMS["sapphire"]["K_e"]) * M.SEED002_ALPHA_PER_MM, rtol=1e-6
+        rgb_e[1],
+        np.array(M.GUY_SOLER_2004_GEMS["sapphire"]["K_e"]) * M.GUY_SOLER_2004_ALPHA_PER_MM,
+        rtol=1e-6,
     )
     # the dye: eq. 9 of its alpha with the sRGB CMFs (the renderer's rgb3 channels), the red and
     # blue channels (negative lobes under the 549 nm band, eq. 9 < 0) clamped at 0: no gain
@@ -418,13 +422,13 @@ def test_rgb_absorbance_eq9_reference():
     )
 
 
-@pytest.mark.parametrize("gem", list(M.SEED002_GEMS))
+@pytest.mark.parametrize("gem", list(M.GUY_SOLER_2004_GEMS))
 def test_eq9_inversion_round_trip(gem):
-    row = M.SEED002_GEMS[gem]
+    row = M.GUY_SOLER_2004_GEMS[gem]
     for key in ("K_o", "K_e"):
         if row[key] is None:
             continue
-        target = np.array(row[key]) * M.SEED002_ALPHA_PER_MM
+        target = np.array(row[key]) * M.GUY_SOLER_2004_ALPHA_PER_MM
         spec = M.spectrum_from_rgb(target)
         assert np.all(spec.alpha_per_mm >= 0)
         got = _eq9_reference(spec.wavelength_nm, spec.alpha_per_mm)
@@ -437,9 +441,9 @@ def test_library_spectra_reproduce_table_through_the_material(device):
     # the K^o(λ) / K^e(λ) attached to tourmaline give back §6.1's triplets through mat.alpha
     mat = M.get("tourmaline")
     ko, ke = M.rgb3_alpha_of(mat, cmfs="cie1931_rgb", device=device)
-    row = M.SEED002_GEMS["tourmaline"]
-    np.testing.assert_allclose(ko, np.array(row["K_o"]) * M.SEED002_ALPHA_PER_MM, rtol=2e-3)
-    np.testing.assert_allclose(ke, np.array(row["K_e"]) * M.SEED002_ALPHA_PER_MM, rtol=2e-3)
+    row = M.GUY_SOLER_2004_GEMS["tourmaline"]
+    np.testing.assert_allclose(ko, np.array(row["K_o"]) * M.GUY_SOLER_2004_ALPHA_PER_MM, rtol=2e-3)
+    np.testing.assert_allclose(ke, np.array(row["K_e"]) * M.GUY_SOLER_2004_ALPHA_PER_MM, rtol=2e-3)
     with pytest.raises(InputError, match="3 values"):
         M.spectrum_from_rgb([0.1, 0.2])
     with pytest.raises(InputError, match=">= 0"):

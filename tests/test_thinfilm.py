@@ -332,13 +332,13 @@ def test_smits_meyer_two_beam_limit_of_exact(device):
 def test_thickness_fields(device):
     x = np.linspace(-1.0, 1.0, 7)
     y = np.linspace(-0.5, 0.8, 7)
-    t = tf.oil_slick_thickness(x, y, k1=3.0, k2=0.0, max_thickness_nm=800.0, device=device)
+    t = wo.fields.oil_slick_thickness(x, y, k1=3.0, k2=0.0, max_thickness_nm=800.0, device=device)
     np.testing.assert_allclose(t, 800.0 * np.exp(-3.0 * (x**2 + y**2)), rtol=1e-5)  # eq. 12
-    tt = tf.oil_slick_thickness(x, y, k1=3.0, k2=0.4, max_thickness_nm=800.0, device=device)
-    turb = tf.turbulence_field(x * 4.0, y * 4.0, octaves=6, device=device)
+    tt = wo.fields.oil_slick_thickness(x, y, k1=3.0, k2=0.4, max_thickness_nm=800.0, device=device)
+    turb = wo.fields.turbulence_field(x * 4.0, y * 4.0, octaves=6, device=device)
     np.testing.assert_allclose(tt, 800.0 * np.exp(-3.0 * (x**2 + y**2 + 0.4 * turb)), rtol=1e-5)  # eq. 13
     assert np.all(turb >= 0.0) and np.ptp(turb) > 0.0
-    s = tf.soap_film_thickness(x, np.abs(y), k2=0.0, max_thickness_nm=500.0, device=device)
+    s = wo.fields.soap_film_thickness(x, np.abs(y), k2=0.0, max_thickness_nm=500.0, device=device)
     np.testing.assert_allclose(s, 500.0 * np.abs(y), rtol=1e-6)
 
 

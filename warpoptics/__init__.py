@@ -49,6 +49,7 @@ __all__ = [
     "cuts",
     "device",
     "errors",
+    "fields",
     "film",
     "geometry",
     "materials",

@@ -79,6 +79,11 @@ RGB3_WAVELENGTHS = (700.0, 546.1, 435.8)
 ILLUMINANTS = {"E": 0, "D65": 1, "A": 2}
 
 
+#: spacing (nm) of the coarse spectral grid on which materials are tabulated for the device and
+#: checked for dispersion (95 samples over 360-830 nm): ``grid(COARSE_STEP_NM)``
+COARSE_STEP_NM = 5.0
+
+
 def grid(step: float = 1.0, start: float = LAMBDA_MIN, stop: float = LAMBDA_MAX) -> np.ndarray:
     """Wavelengths (nm) from ``start`` to ``stop`` inclusive, spaced by ``step``."""
     if step <= 0:

@@ -85,7 +85,7 @@ def main() -> None:
         f"(peak dn {np.abs(got).max():.3f})"
     )
     worst = 0.0
-    for row in M.SEED002_GEMS.values():
+    for row in M.GUY_SOLER_2004_GEMS.values():
         for key in ("K_o", "K_e"):
             if row[key] is None:
                 continue

@@ -35,9 +35,9 @@ GEMS = [
 
 def _scale(name: str) -> float:
     """absorption_scale that makes the largest tabulated K of a coloured stone 0.3 /mm (never < 1)."""
-    from warpoptics.materials.absorption import SEED002_GEMS
+    from warpoptics.materials import GUY_SOLER_2004_GEMS
 
-    row = SEED002_GEMS[name]
+    row = GUY_SOLER_2004_GEMS[name]
     k = max(max(row["K_o"]), max(row["K_e"] or row["K_o"]))
     return 1.0 if name == "diamond" else max(1.0, 0.3 / k)
 

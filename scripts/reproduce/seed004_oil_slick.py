@@ -41,7 +41,7 @@ def main(argv=None) -> int:
 
     n = args.size
     y, x = np.mgrid[1.0 : -1.0 : n * 1j, -1.0 : 1.0 : n * 1j]
-    t = wo.thinfilm.oil_slick_thickness(
+    t = wo.fields.oil_slick_thickness(
         x, y, k1=args.k1, k2=args.k2, max_thickness_nm=args.max_thickness, seed=args.seed, device=args.device
     )
     angle = np.clip(args.view_angle + 15.0 * y, 0.0, 89.0)  # grazing toward the horizon (top)
@@ -54,10 +54,9 @@ def main(argv=None) -> int:
     )
     film = table.lookup(tp, device=args.device)
     # wet asphalt: two noise calls (scale, roughness) and fine bumps
-    tf = wo.thinfilm
-    base = tf.turbulence_field(x, y, seed=args.seed + 1, octaves=4, scale=6.0, device=args.device)
-    rough = tf.turbulence_field(x, y, seed=args.seed + 2, octaves=3, scale=40.0, device=args.device)
-    fine = tf.turbulence_field(x, y, seed=args.seed + 3, octaves=2, scale=180.0, device=args.device)
+    base = wo.fields.turbulence_field(x, y, seed=args.seed + 1, octaves=4, scale=6.0, device=args.device)
+    rough = wo.fields.turbulence_field(x, y, seed=args.seed + 2, octaves=3, scale=40.0, device=args.device)
+    fine = wo.fields.turbulence_field(x, y, seed=args.seed + 3, octaves=2, scale=180.0, device=args.device)
     albedo = 0.015 + 0.05 * base * (0.4 + rough) + 0.03 * fine
     rgb = albedo[..., None] * np.array([1.0, 0.98, 0.95]) + 0.45 * film
     write_png(args.output, encode_srgb(np.clip(rgb, 0.0, 1.0)))

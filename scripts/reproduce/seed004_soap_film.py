@@ -38,7 +38,7 @@ def main(argv=None) -> int:
     h, x = np.mgrid[0.0 : 1.0 : n * 1j, 0.0 : 1.0 : n * 1j]
     # the normalised height starts below zero so that the top of the film is black (t = 0)
     height = -args.black + (1.0 + args.black) * h
-    t = wo.thinfilm.soap_film_thickness(
+    t = wo.fields.soap_film_thickness(
         x, height, k2=args.k2, max_thickness_nm=args.max_thickness, seed=args.seed, device=args.device
     )
     table = wo.thinfilm.film_color_table(

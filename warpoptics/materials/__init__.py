@@ -10,22 +10,15 @@ device-side interface (``MaterialTable``, ``build_material_table``, ``material_e
 from __future__ import annotations
 
 from .absorption import (
-    RGB_CMFS,
-    SEED002_ALPHA_PER_MM,
-    SEED002_GEMS,
     AbsorptionSpectrum,
     Band,
-    absorbance_per_cm_from_alpha,
-    alpha_from_absorbance_per_cm,
-    alpha_from_k,
-    k_from_alpha,
+    guy_soler_2004_spectra,
     pleochroic_alpha,
-    rgb3_alpha_of,
     rgb_absorbance,
-    seed002_spectra,
     spectrum_from_rgb,
     with_absorption,
 )
+from .datasets.seed002 import GUY_SOLER_2004_ALPHA_PER_MM, GUY_SOLER_2004_GEMS
 from .dispersion import (
     CIE_RGB_PRIMARIES_NM,
     Cauchy,
@@ -42,14 +35,17 @@ from .dispersion import (
     material_alpha,
     material_eval,
     material_eval_channel,
+    rgb3_alpha_of,
 )
 from .kramers_kronig import anomalous, kramers_kronig, rose_bengal_absorption
 from .library import fuchsine_solution, get, names, rose_bengal_solution
 from .refractiveindex import from_refractiveindex
+from .rgb_weights import RGB_CMFS
 from .spec import material_from_spec
+from .units import absorbance_per_cm_from_alpha, alpha_from_absorbance_per_cm, alpha_from_k, k_from_alpha
 
 __all__ = [
-    "SEED002_ALPHA_PER_MM",
+    "GUY_SOLER_2004_ALPHA_PER_MM",
     "material_from_spec",
     "get",
     "names",
@@ -80,8 +76,8 @@ __all__ = [
     "rgb3_alpha_of",
     "RGB_CMFS",
     "with_absorption",
-    "seed002_spectra",
-    "SEED002_GEMS",
+    "guy_soler_2004_spectra",
+    "GUY_SOLER_2004_GEMS",
     "CIE_RGB_PRIMARIES_NM",
     "MaterialTable",
     "build_material_table",

@@ -13,10 +13,10 @@ Units (all helpers are ``@wp.func`` with NumPy wrappers):
 - decadic absorbance per cm A_10 (the chemist's absorbance of a 1 cm cell):
   alpha [1/mm] = ln(10) · A_10 / 10.
 
-Seed 002 §6.1 table (:data:`SEED002_GEMS`): the paper states no unit for its absorbances
+Seed 002 §6.1 table (:data:`GUY_SOLER_2004_GEMS`): the paper states no unit for its absorbances
 (K_r, K_g, K_b), and its worked example ("L = 1 cm and κ = 0.4" giving a 0.00125 % error) is not
 self-consistent (κL = 0.4 gives ~8 %; 0.00125 % needs κL ~ 0.005).  warpoptics reads them as base-e
-absorbance per mm, alpha (1/mm) = K (:data:`SEED002_ALPHA_PER_MM`, the one place to change this
+absorbance per mm, alpha (1/mm) = K (:data:`GUY_SOLER_2004_ALPHA_PER_MM`, the one place to change this
 reading): blue sapphire then has alpha ~ 0.3/mm in the red, the order of measured values for
 natural blue sapphire (decadic absorbance 1–5 per cm, i.e. alpha 0.2–1.2 /mm), and the table's
 "light blue", "yellow green" colours appear in stones of a few mm; read per cm, a 6 mm sapphire
@@ -43,17 +43,14 @@ import warp as wp
 from .. import device as _device
 from ..errors import InputError
 from ..optics.absorption import pleochroic_kappa
-from .datasets.seed002 import SEED002_ALPHA_PER_MM, SEED002_GEMS
+from .datasets.seed002 import GUY_SOLER_2004_ALPHA_PER_MM, GUY_SOLER_2004_GEMS
 from .dispersion import Material, Uniaxial, rgb3_alpha_of, with_absorption_k
-from .rgb_weights import RGB_CMFS, rgb_weights
+from .rgb_weights import rgb_weights
 from .units import (
-    absorbance_per_cm_from_alpha,
     alpha_from_absorbance_per_cm,
     alpha_from_k,
-    alpha_from_k_func,
     finite_array,
     k_from_alpha,
-    k_from_alpha_func,
     nonnegative_array,
     wavelength_array,
 )
@@ -61,24 +58,15 @@ from .units import (
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
 __all__ = [
-    "alpha_from_k_func",
-    "k_from_alpha_func",
     "band_profile",
-    "alpha_from_k",
-    "k_from_alpha",
-    "alpha_from_absorbance_per_cm",
-    "absorbance_per_cm_from_alpha",
     "pleochroic_alpha",
     "Band",
     "AbsorptionSpectrum",
     "rgb_absorbance",
     "spectrum_from_rgb",
     "rgb3_alpha_of",
-    "RGB_CMFS",
     "with_absorption",
-    "SEED002_GEMS",
-    "SEED002_ALPHA_PER_MM",
-    "seed002_spectra",
+    "guy_soler_2004_spectra",
 ]
 
 # ----------------------------------------------------------------------------------------------
@@ -439,22 +427,22 @@ def with_absorption(
 # ----------------------------------------------------------------------------------------------
 
 
-def seed002_spectra(name: str) -> tuple[AbsorptionSpectrum, AbsorptionSpectrum]:
+def guy_soler_2004_spectra(name: str) -> tuple[AbsorptionSpectrum, AbsorptionSpectrum]:
     """(K^o(λ), K^e(λ)) in 1/mm for a seed-002 gem, by the eq. 9 inversion of its table triplets."""
     try:
-        row = SEED002_GEMS[name]
+        row = GUY_SOLER_2004_GEMS[name]
     except KeyError as exc:
         raise InputError(
-            "not in the seed 002 §6.1 table", field="name", value=name, allowed=", ".join(SEED002_GEMS)
+            "not in the seed 002 §6.1 table", field="name", value=name, allowed=", ".join(GUY_SOLER_2004_GEMS)
         ) from exc
     cache = _seed_cache.get(name)
     if cache is None:
-        ko = np.asarray(row["K_o"]) * SEED002_ALPHA_PER_MM
+        ko = np.asarray(row["K_o"]) * GUY_SOLER_2004_ALPHA_PER_MM
         so = spectrum_from_rgb(ko, name=f"{name} K^o", source="Guy & Soler 2004 §6.1, eq. 9 inversion")
         if row["K_e"] is None:
             se = so
         else:
-            ke = np.asarray(row["K_e"]) * SEED002_ALPHA_PER_MM
+            ke = np.asarray(row["K_e"]) * GUY_SOLER_2004_ALPHA_PER_MM
             se = spectrum_from_rgb(ke, name=f"{name} K^e", source="Guy & Soler 2004 §6.1, eq. 9 inversion")
         cache = (so, se)
         _seed_cache[name] = cache

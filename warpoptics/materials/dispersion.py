@@ -65,7 +65,7 @@ import warp as wp
 from .. import device as _device
 from ..errors import InputError
 from .rgb_weights import rgb_weights
-from .units import alpha_from_k_func, k_from_alpha_func
+from .units import alpha_from_k_func
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -75,8 +75,6 @@ __all__ = [
     "material_eval_channel",
     "material_alpha",
     "material_optics",
-    "alpha_from_k_func",
-    "k_from_alpha_func",
     "rii_formula",
     "curve_eval",
     "build_material_table",

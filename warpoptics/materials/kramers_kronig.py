@@ -53,7 +53,6 @@ from .datasets.dyes import (
     FUCHSINE_EPSILON,
     FUCHSINE_MOLAR_MASS,
     ROSE_BENGAL_BANDS,
-    ROSE_BENGAL_CONCENTRATIONS,
     ROSE_BENGAL_EPSILON,
     ROSE_BENGAL_MOLAR_MASS,
 )
@@ -68,7 +67,6 @@ __all__ = [
     "anomalous",
     "rose_bengal_absorption",
     "fuchsine_absorption",
-    "ROSE_BENGAL_CONCENTRATIONS",
 ]
 
 _MAX_GRID = 200_001

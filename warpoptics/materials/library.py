@@ -38,16 +38,10 @@ from collections.abc import Callable
 import numpy as np
 
 from ..errors import InputError
-from .absorption import (
-    SEED002_ALPHA_PER_MM,
-    SEED002_GEMS,
-    AbsorptionSpectrum,
-    Band,
-    seed002_spectra,
-    with_absorption,
-)
+from .absorption import AbsorptionSpectrum, Band, guy_soler_2004_spectra, with_absorption
 from .datasets.dyes import LIBRARY_SOLUTIONS
 from .datasets.gems import CR3_BANDS_SOURCE, GEMS
+from .datasets.seed002 import GUY_SOLER_2004_ALPHA_PER_MM, GUY_SOLER_2004_GEMS
 from .dispersion import VISIBLE_RANGE_NM, Cauchy, Isotropic, Material, Uniaxial
 from .kramers_kronig import anomalous, fuchsine_absorption, rose_bengal_absorption
 from .refractiveindex import from_refractiveindex
@@ -117,10 +111,10 @@ def _uniaxial(o: Isotropic, e: Isotropic, name: str, source: str, rgb3=None) -> 
 
 def _seed002(name: str, mat: Material) -> Material:
     """Attach the §6.1 absorbances: spectra by eq. 9 inversion, the triplets for rgb3."""
-    row = SEED002_GEMS[name]
-    so, se = seed002_spectra(name)
-    ko = tuple(float(v) * SEED002_ALPHA_PER_MM for v in row["K_o"])
-    ke = tuple(float(v) * SEED002_ALPHA_PER_MM for v in (row["K_e"] or row["K_o"]))
+    row = GUY_SOLER_2004_GEMS[name]
+    so, se = guy_soler_2004_spectra(name)
+    ko = tuple(float(v) * GUY_SOLER_2004_ALPHA_PER_MM for v in row["K_o"])
+    ke = tuple(float(v) * GUY_SOLER_2004_ALPHA_PER_MM for v in (row["K_e"] or row["K_o"]))
     src = mat.source + "; absorbance: Guy & Soler 2004 §6.1 (eq. 9 inversion)"
     if isinstance(mat, Uniaxial):
         out = with_absorption(mat, (so, se), source=src)
@@ -133,7 +127,7 @@ def _seed002(name: str, mat: Material) -> Material:
 
 def _seed002_indices(name: str) -> Material:
     """Cauchy fits to the §6.1 indices: n(546.1) = table value, n(435.8) − n(700) = 2 ± value."""
-    row = SEED002_GEMS[name]
+    row = GUY_SOLER_2004_GEMS[name]
     disp = 2.0 * row["half_dispersion"]
     kw = dict(ref_nm=546.1, pair_nm=_RGB)
     src = (

@@ -47,7 +47,7 @@ import warp as wp
 
 from ..device import elementwise
 from ..errors import InputError
-from .complex import c_abs2, c_conj, c_div, c_mul, c_normal_component
+from .complex import c_abs2, c_div, c_mul, c_normal_component
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -61,6 +61,7 @@ __all__ = [
     "refracted_cos",
     "refract_from_fresnel",
     "flux_ratio",
+    "p_normal_flux",
     "transmitted_flux_ratio",
     "unpolarized_power",
     "fresnel",
@@ -134,6 +135,31 @@ def flux_ratio(in_flux: float, out_flux: float):
 
 
 @wp.func
+def flux_ratio(in_flux: wp.float64, out_flux: wp.float64):  # noqa: F811 (float64 overload)
+    """:func:`flux_ratio` in double precision (the thin-film stacks)."""
+    zero = wp.float64(0.0)
+    if in_flux <= zero or out_flux <= zero:
+        return zero
+    return out_flux / in_flux
+
+
+@wp.func
+def p_normal_flux(q: wp.vec2f, n: wp.vec2f):
+    """Re(conj(N) cos theta) = Re(q conj(N)^2) / |N|^2 with q = N cos theta: the normal Poynting flux
+    of a p wave per unit |E|^2 (Byrnes 2016, "Multilayer optical calculations", eq. 22); an s wave's
+    is Re(q).  The p and s fluxes differ only in an absorbing medium."""
+    nc = wp.vec2f(n[0], -n[1])
+    return c_mul(q, c_mul(nc, nc))[0] / c_abs2(n)
+
+
+@wp.func
+def p_normal_flux(q: wp.vec2d, n: wp.vec2d):  # noqa: F811 (float64 overload)
+    """:func:`p_normal_flux` in double precision (the thin-film stacks)."""
+    nc = wp.vec2d(n[0], -n[1])
+    return c_mul(q, c_mul(nc, nc))[0] / c_abs2(n)
+
+
+@wp.func
 def transmitted_flux_ratio(f: FresnelAmplitudes):
     """Re(N2 cos t) / Re(N1 cos i): the transmitted normal flux per unit incident flux and unit
     |t|^2 (Born & Wolf §1.5.3), zero under total internal reflection (N2 cos t imaginary).  Exact
@@ -150,20 +176,14 @@ def unpolarized_power(a_s: wp.vec2f, a_p: wp.vec2f):
 
 
 @wp.func
-def fresnel_power_coefficients(f: FresnelAmplitudes, n2: wp.vec2f):
+def fresnel_power_coefficients(f: FresnelAmplitudes, n1: wp.vec2f, n2: wp.vec2f):
     """(Rs, Rp, Ts, Tp): reflectances |r|^2 and the transmitted normal energy fluxes per unit
-    incident flux, for a non-absorbing incident medium (module docstring).  Zero
-    transmittance beyond the critical angle."""
-    rs2 = c_abs2(f.rs)
-    rp2 = c_abs2(f.rp)
-    den = f.n1_cos_i[0]
+    incident flux, Ts = |ts|^2 Re(N2 cos t) / Re(N1 cos i) and Tp = |tp|^2 Re(conj(N2) cos t) /
+    Re(conj(N1) cos i) (Byrnes 2016 eq. 21-22; the thin-film stacks use the same two laws,
+    :func:`flux_ratio` and :func:`p_normal_flux`).  Zero transmittance beyond the critical angle."""
     ts = transmitted_flux_ratio(f) * c_abs2(f.ts)
-    tp = 0.0
-    if den > 0.0:
-        # conj(N2) cos t = conj(N2) (N2 cos t) / N2
-        q = c_div(c_mul(c_conj(n2), f.n2_cos_t), n2)
-        tp = q[0] * c_abs2(f.tp) / den
-    return wp.vec4(rs2, rp2, ts, tp)
+    tp = flux_ratio(p_normal_flux(f.n1_cos_i, n1), p_normal_flux(f.n2_cos_t, n2)) * c_abs2(f.tp)
+    return wp.vec4(c_abs2(f.rs), c_abs2(f.rp), ts, tp)
 
 
 @wp.func
@@ -239,7 +259,7 @@ def _fresnel_kernel(
     v[6] = f.tp[0]
     v[7] = f.tp[1]
     out_amp[i] = v
-    out_pow[i] = fresnel_power_coefficients(f, n2[i])
+    out_pow[i] = fresnel_power_coefficients(f, n1[i], n2[i])
 
 
 @wp.kernel

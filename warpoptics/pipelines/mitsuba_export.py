@@ -77,7 +77,6 @@ __all__ = [
     "bake_environment",
     "environment_rgb",
     "mitsuba_directions",
-    "latlong_directions",
     "bake_latlong",
     "mitsuba_scene_dict",
     "load_mitsuba_scene",

@@ -27,7 +27,8 @@ from ..materials import material_from_spec
 from ..materials.dispersion import MaterialTable, build_material_table
 from ..optics.jones import stokes_from_coherency
 from ..scene import Scene
-from ..spectra import SpectralTables, sample_wavelength, spectral_tables, strategy_id
+from ..spectra import COARSE_STEP_NM, SpectralTables, sample_wavelength, spectral_tables, strategy_id
+from ..spectra import grid as spectral_grid
 from ..stages.camera import Camera, CameraParams, camera_ray
 from ..stages.coated import build_film_surfaces
 from ..stages.environment import Environment, EnvironmentLight, spectral_response
@@ -220,10 +221,10 @@ def check_render_memory(
     return need
 
 
-def _non_dispersive(mats, step_nm: float = 5.0) -> bool:
+def _non_dispersive(mats, step_nm: float = COARSE_STEP_NM) -> bool:
     """Whether every material has the same index (o and e) and zero absorption at all the
     wavelengths of the spectral tables (evaluated through the materials' own kernels)."""
-    grid = np.arange(360.0, 830.0 + 1e-9, step_nm)
+    grid = spectral_grid(step_nm)
     for m in mats:
         n = np.asarray(m.n(grid), dtype=np.float64)
         a = np.asarray(m.alpha(grid), dtype=np.float64)

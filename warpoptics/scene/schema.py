@@ -34,7 +34,6 @@ __all__ = [
     "surface_config",
     "view_config",
     "object_config",
-    "SHAPES",
     "SPECTRAL_MODES",
     "TONE_CURVES",
 ]

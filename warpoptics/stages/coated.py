@@ -62,6 +62,8 @@ from ..optics.jones import (
 )
 from ..optics.microfacet import ggx_g1, ggx_sample_normal
 from ..optics.thinfilm import CoatingStack, coating_amplitudes_scaled, make_coating_stack
+from ..spectra import COARSE_STEP_NM
+from ..spectra import grid as spectral_grid
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -73,7 +75,6 @@ __all__ = [
     "film_surface_children",
     "coating_at",
     "film_thickness_nm",
-    "turbulence_3d",
     "layer_material",
     "layer_index_samples",
     "build_film_surfaces",
@@ -98,9 +99,9 @@ NORMAL_SPHERE = wp.constant(1)
 NORMAL_WAVY = wp.constant(2)
 
 # index samples of coating layers (the spectral range of the renderer, as the bench uses)
-_GRID_START_NM = 360.0
-_GRID_STEP_NM = 5.0
-_GRID = _GRID_START_NM + _GRID_STEP_NM * np.arange(95)
+_GRID = spectral_grid(COARSE_STEP_NM)
+_GRID_START_NM = float(_GRID[0])
+_GRID_STEP_NM = COARSE_STEP_NM
 
 
 @wp.struct

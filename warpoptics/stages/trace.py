@@ -79,7 +79,13 @@ from .surfaces import Surfaces, surface_radiance, surfaces_closest_hit
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
-__all__ = ["TraceParams", "TraceConfig", "trace_radiance", "default_params", "STACK_SIZE", "BIREFRINGENCE"]
+__all__ = [
+    "TraceParams",
+    "TraceConfig",
+    "trace_radiance",
+    "default_params",
+    "BIREFRINGENCE",
+]
 
 BIREFRINGENCE = {"exact": 0, "approx": 1}
 # stack rows in the ambient medium that leave the surface of solid k store inside = _LEFT - k

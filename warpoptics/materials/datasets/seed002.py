@@ -2,22 +2,22 @@
 
 Provenance: S. Guy, C. Soler, "Graphics gems revisited", ACM TOG 23(3), 2004, §6.1 table.  The
 paper states no unit for the absorbances (K_r, K_g, K_b); warpoptics reads them as base-e
-absorbance per mm (:data:`SEED002_ALPHA_PER_MM`; the reasoning is in
-:mod:`warpoptics.materials.absorption`).  Used by :func:`warpoptics.materials.seed002_spectra`
+absorbance per mm (:data:`GUY_SOLER_2004_ALPHA_PER_MM`; the reasoning is in
+:mod:`warpoptics.materials.absorption`).  Used by :func:`warpoptics.materials.guy_soler_2004_spectra`
 and the gem library.
 """
 
 from __future__ import annotations
 
-__all__ = ["SEED002_ALPHA_PER_MM", "SEED002_GEMS"]
+__all__ = ["GUY_SOLER_2004_ALPHA_PER_MM", "GUY_SOLER_2004_GEMS"]
 
 #: alpha (1/mm) per unit of the seed-002 table's absorbances (read as base-e per mm; see module doc)
-SEED002_ALPHA_PER_MM = 1.0
+GUY_SOLER_2004_ALPHA_PER_MM = 1.0
 
 #: Guy & Soler 2004 §6.1 "System parameters", verbatim: type (I/U/B), (K_r, K_g, K_b) for the o
 #: and e rays (isotropic: o only), colours, n_o / n_e at the green channel and the ± that gives
 #: red (−) and blue (+) (half the gemological dispersion).  Sapphire's row lists e before o.
-SEED002_GEMS: dict[str, dict] = {
+GUY_SOLER_2004_GEMS: dict[str, dict] = {
     "garnet": dict(
         type="I",
         K_o=(0.136, 0.153, 0.175),

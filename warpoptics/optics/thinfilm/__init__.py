@@ -60,14 +60,6 @@ References
 
 from __future__ import annotations
 
-from ...fields import (
-    oil_slick_thickness,
-    oil_slick_thickness_f,
-    soap_film_thickness,
-    soap_film_thickness_f,
-    turbulence,
-    turbulence_field,
-)
 from .smits_meyer import (
     smits_meyer_effective_thickness,
     smits_meyer_effective_thickness_f,
@@ -127,9 +119,6 @@ __all__ = [
     "smits_meyer_morpho_thickness",
     "smits_meyer_multilayer",
     "evaluate_coating",
-    "turbulence",
-    "oil_slick_thickness_f",
-    "soap_film_thickness_f",
     "TableModel",
     "table_spectral_reflectance",
     "color_table_lookup",
@@ -137,7 +126,4 @@ __all__ = [
     "film_color_table",
     "multilayer_color_table",
     "morpho_stack",
-    "oil_slick_thickness",
-    "soap_film_thickness",
-    "turbulence_field",
 ]

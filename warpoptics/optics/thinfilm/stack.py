@@ -45,6 +45,7 @@ import warp as wp
 from ...device import elementwise, get_device
 from ...errors import InputError
 from ..complex import c_abs2, c_div, c_exp, c_mul, c_normal_component
+from ..fresnel import flux_ratio, p_normal_flux
 from .inputs import complex_pairs, cos_angle, positive
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -279,21 +280,12 @@ def stack_power(
     Re(conj(N_in) cos i) with q = N cos(theta) (Byrnes 2016, eq. 21–22).  T = 0 where the
     incident flux vanishes (grazing incidence) or the exit wave is evanescent (TIR).
     """
-    zero = wp.float64(0.0)
     q_in = c_normal_component(n_in, n_in, cos_i)
     q_out = c_normal_component(n_in, n_out, cos_i)
-    Ts = zero
-    Tp = zero
-    if q_in[0] > zero:
-        Ts = c_abs2(ts) * q_out[0] / q_in[0]
-    # Re(conj(N) q / N) = Re(q conj(N)^2) / |N|^2
-    nic = wp.vec2d(n_in[0], -n_in[1])
-    noc = wp.vec2d(n_out[0], -n_out[1])
-    f_in = c_mul(q_in, c_mul(nic, nic))[0] / c_abs2(n_in)
-    f_out = c_mul(q_out, c_mul(noc, noc))[0] / c_abs2(n_out)
-    if f_in > zero:
-        Tp = c_abs2(tp) * f_out / f_in
-    return wp.vec4d(c_abs2(rs), c_abs2(rp), wp.max(Ts, zero), wp.max(Tp, zero))
+    # the flux laws of the bare interface (optics/fresnel.py), in double precision
+    Ts = c_abs2(ts) * flux_ratio(q_in[0], q_out[0])
+    Tp = c_abs2(tp) * flux_ratio(p_normal_flux(q_in, n_in), p_normal_flux(q_out, n_out))
+    return wp.vec4d(c_abs2(rs), c_abs2(rp), Ts, Tp)
 
 
 @wp.func
