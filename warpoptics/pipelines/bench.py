@@ -20,7 +20,8 @@ from ..materials import get as get_material
 from ..materials.dispersion import build_material_table
 from ..optics.thinfilm import make_coating_stack
 from ..scene.bench import BenchScene
-from ..spectra import cmf
+from ..spectra import COARSE_STEP_NM, cmf
+from ..spectra import grid as spectral_grid
 from ..stages.coated import layer_index_samples
 from ..stages.forward import LEDGER, ForwardConfig, forward_params, forward_trace_kernel
 from .objects import build_objects
@@ -177,7 +178,7 @@ class Bench:
             world_axes.append(a / max(np.linalg.norm(a), 1e-30))
         # coatings: one CoatingStack for all coated objects
         coat_ids, layers = [], []
-        grid = 360.0 + 5.0 * np.arange(95)
+        grid = spectral_grid(COARSE_STEP_NM)
         for c in scene.coatings if scene.objects else (None,):
             if c is None:
                 coat_ids.append(-1)
@@ -191,7 +192,10 @@ class Bench:
                     rows.append((layer_index_samples(index), d))
             layers.append(rows)
         self.coatings = make_coating_stack(
-            layers or [[]], wavelength_start_nm=360.0, wavelength_step_nm=5.0, device=self.device
+            layers or [[]],
+            wavelength_start_nm=float(grid[0]),
+            wavelength_step_nm=COARSE_STEP_NM,
+            device=self.device,
         )
         self.config = ForwardConfig(
             max_depth=r.max_depth, split_threshold=r.split_threshold, max_deposits=r.max_deposits, seed=r.seed
@@ -209,6 +213,20 @@ class Bench:
         self.beam = scene.source.params()
         self.screens = screen_set(list(scene.sensors), self.device)
         self.wl_device = wp.array(self.wavelengths.astype(np.float32), dtype=wp.float32, device=self.device)
+        self._deposits: dict[int, tuple] = {}  # device deposit buffers per chunk size, kept between runs
+
+    def _deposit_buffers(self, chunk: int) -> tuple:
+        """(screen, uv, stokes, depth, ledger) device buffers for ``chunk`` beam rays, allocated once."""
+        if chunk not in self._deposits:
+            k_dep, dev = self.config.max_deposits, self.device
+            self._deposits[chunk] = (
+                wp.empty(chunk * k_dep, dtype=wp.int32, device=dev),
+                wp.empty(chunk * k_dep, dtype=wp.vec2f, device=dev),
+                wp.empty(chunk * k_dep, dtype=wp.vec4f, device=dev),
+                wp.empty(chunk * k_dep, dtype=wp.int32, device=dev),
+                wp.zeros((chunk, len(LEDGER)), dtype=wp.float64, device=dev),
+            )
+        return self._deposits[chunk]
 
     def run(
         self, *, threads: int | None = None, tile_size: int | None = None, chunk: int = 1 << 15
@@ -221,11 +239,7 @@ class Bench:
         ray_power = src.power / src.rays * self.weights  # W per beam ray, per wavelength sample
         chunk = max(n_wl, (int(chunk) // n_wl) * n_wl)
         dev = self.device
-        dep_screen = wp.empty(chunk * k_dep, dtype=wp.int32, device=dev)
-        dep_uv = wp.empty(chunk * k_dep, dtype=wp.vec2f, device=dev)
-        dep_stokes = wp.empty(chunk * k_dep, dtype=wp.vec4f, device=dev)
-        dep_depth = wp.empty(chunk * k_dep, dtype=wp.int32, device=dev)
-        ledger_dev = wp.zeros((chunk, len(LEDGER)), dtype=wp.float64, device=dev)
+        dep_screen, dep_uv, dep_stokes, dep_depth, ledger_dev = self._deposit_buffers(chunk)
         load_module(forward_trace_kernel, dev)
         ledger_rows = []  # per beam ray, summed once at the end: the same sums for any chunking
         parts: dict[str, list] = {
