@@ -381,3 +381,39 @@ def test_many_planes_scale_and_too_many_refused():
     assert mesh.is_watertight and len(mesh.metadata["planes"]) == 3 * k + 1
     with pytest.raises(InputError, match=r"too many facet planes: 25000 \(about 5 s.*allowed: at most 20000"):
         cuts.convex_from_planes(np.tile(n[:1], (25000, 1)), np.ones(25000))
+
+
+def test_scene_uses_the_design_index_unless_it_names_a_material(tmp_path):
+    """A ``shape = "gemcad"`` object without ``material`` takes the design's own I line (issue 21
+    item 4); naming a material overrides it; the render command's summary says which."""
+    from warpoptics.scene import Scene
+
+    src = DATA / "Turkey.asc"
+    n_file = gemcad.read_design(src).refractive_index
+    assert n_file == 1.76
+    base = {
+        "camera": {"position": [0.0, -30.0, 25.0], "look_at": [0.0, 0.0, 0.0], "width": 8, "height": 8},
+        "render": {"wavelengths": 2, "max_depth": 4},
+        "light": [{"type": "environment", "map": "studio"}],
+        "object": [{"shape": "gemcad", "path": str(src), "diameter": 6.5}],
+    }
+    ob = Scene.from_dict(base, path=str(tmp_path / "s.toml")).objects[0]
+    assert ob.material == {"cauchy": [n_file]} and ob.material_source == "gemcad"
+    named = {**base, "object": [{**base["object"][0], "material": "sapphire"}]}
+    ob = Scene.from_dict(named, path=str(tmp_path / "s.toml")).objects[0]
+    assert ob.material == "sapphire" and ob.material_source == "scene"
+    scene = tmp_path / "g.toml"
+    scene.write_text(
+        "[camera]\nposition = [0.0, -30.0, 25.0]\nlook_at = [0.0, 0.0, 0.0]\nwidth = 8\nheight = 8\n"
+        '[render]\nwavelengths = 2\nmax_depth = 4\n[[light]]\ntype = "environment"\nmap = "studio"\n'
+        f'[[object]]\nshape = "gemcad"\npath = "{src}"\ndiameter = 6.5\n'
+    )
+    r = subprocess.run(
+        [sys.executable, "-m", "warpoptics.cli", "render", str(scene), "-o", str(tmp_path / "g.png")],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        check=False,
+    )
+    assert r.returncode == 0, r.stderr
+    assert f"material n = {n_file:g}, the GemCAD file's index" in r.stdout

@@ -74,6 +74,12 @@ def run(args) -> int:
     if view is not None:
         image = image.view(view)
     image.save(out)
+    for i, ob in enumerate(scene.objects):
+        if ob.material_source == "gemcad":
+            n = ob.material["cauchy"][0]
+            print(
+                f"object.{i}: material n = {n:g}, the GemCAD file's index (set object.{i}.material to change)"
+            )
     s = image.stats
     print(
         f"{out}: {s['width']}x{s['height']}, {s['seconds']:.2f} s, {s['rays'] / 1e6:.2f} M rays, "

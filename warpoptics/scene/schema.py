@@ -201,6 +201,8 @@ class ObjectConfig:
 
     shape: str
     material: Any = "diamond"
+    # where the material came from: "scene", "default" (diamond) or "gemcad" (the design's I line)
+    material_source: str = "default"
     params: dict = field(default_factory=dict)  # keyword arguments of the cut function
     position: tuple[float, float, float] = (0.0, 0.0, 0.0)
     rotation: tuple[float, float, float] = (0.0, 0.0, 0.0)  # degrees about x, then y, then z
@@ -266,6 +268,7 @@ def object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfig
                 "must be a material name or an inline table", file=file, field=prefix + "material", value=m
             )
         kw["material"] = m
+        kw["material_source"] = "scene"
     for k in ("position", "rotation"):
         if k in table:
             kw[k] = val.vec3(table[k], file=file, field=prefix + k)
@@ -293,6 +296,13 @@ def object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfig
         if not p.is_file():
             raise InputError("file not found", file=file, field=prefix + "path", value=table["path"])
         kw["path"] = str(p)
+        if shape == "gemcad" and "material" not in table:
+            # a GemCAD design states the index it was designed for (its I line): use it unless the
+            # scene names a material (other readers do the same; the render summary says which)
+            from ..geometry.gemcad import read_design
+
+            kw["material"] = {"cauchy": [float(read_design(p).refractive_index)]}
+            kw["material_source"] = "gemcad"
     if "name" in table:
         kw["name"] = str(table["name"])
     kw["film"] = film_config(table, index, file)
