@@ -34,7 +34,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("film.*",),
     ("stages.*",),
     ("scene.*",),
-    ("pipelines.*", "metrics"),
+    ("pipelines.*", "metrics", "grading.*"),
     ("sweep.*",),
     ("cli", "commands.*", "__init__"),
 ]

@@ -327,7 +327,17 @@ def object_configs(table: dict, index: int, file, base_dir: Path) -> list[Object
     ]
 
 
-_LIGHT_KEYS = {"type", "map", "intensity", "tint", "rotation", "polarizer", "convention"}
+_LIGHT_KEYS = {
+    "type",
+    "map",
+    "intensity",
+    "tint",
+    "rotation",
+    "polarizer",
+    "convention",
+    "head_radius",
+    "head_direction",
+}
 
 
 def light_config(
@@ -369,6 +379,15 @@ def light_config(
     if "polarizer" in table and table["polarizer"] != "none":
         # an ideal linear polarizer in front of the light (polariscope), degrees on the image
         kw["polarizer"] = float(val.number(table["polarizer"], file=file, field=prefix + "polarizer"))
+    if "head_radius" in table:
+        # the observer's head blocking the light (degrees of angular radius about head_direction)
+        kw["head_radius_deg"] = float(
+            val.number(table["head_radius"], file=file, field=prefix + "head_radius", lo=0.0, hi=90.0)
+        )
+    if "head_direction" in table:
+        kw["head_direction"] = val.unit_vec3(
+            table["head_direction"], file=file, field=prefix + "head_direction"
+        )
     return EnvironmentConfig(**kw)
 
 

@@ -4,7 +4,9 @@ Kinds (``Environment.kind``):
 - ``constant``: the same radiance everywhere, a flat spectrum (CIE E) times ``intensity`` — the
   white furnace;
 - ``dome``: uniform white (D65, Y = intensity) over the upper hemisphere, black below — the
-  standard lighting of the light-return metrics;
+  standard lighting of the light-return metrics (GemRay's ``ISO`` lighting, :mod:`warpoptics.grading`);
+- ``cos``: D65 over the upper hemisphere with radiance ``intensity * cos(zenith angle)``, black below
+  — GemRay's ``COS`` lighting (overhead light falling off toward the horizon);
 - ``studio``: dark surroundings with soft boxes overhead and at the sides, like the light boxes
   over a plane of seed 001;
 - ``sky``: a smooth blue sky over a grey ground;
@@ -32,6 +34,11 @@ row 0 at the zenith, v = acos(z) / pi in all of them):
 convention has placed it: content that the convention puts along +x appears along +y at 90 deg.
 The convention and the rotation are one world -> map matrix (:func:`latlong_frame`), so the
 kernel reads every convention with Blender's formula and nothing is compiled per convention.
+
+Observer obscuration (every kind): ``EnvironmentConfig.head_radius_deg`` > 0 blacks out a cone of
+that angular radius about ``head_direction`` (world, default the zenith): the grader's head (or a
+camera) between the lights and a face-up stone.  The cone is fixed in the world, like the observer,
+so a stone tilted under it (``object.N.rotation``) sees the head move across its crown.
 
 RGB radiance (maps, procedural colours) becomes a spectrum through D65 x the Mallett–Yuksel sRGB
 basis (``spectra.rgb_spectrum_value``), so an RGB-white environment is D65.
@@ -72,12 +79,13 @@ __all__ = [
     "latlong_directions",
 ]
 
-ENV_KINDS = {"constant": 0, "dome": 1, "studio": 2, "sky": 3, "latlong": 4}
+ENV_KINDS = {"constant": 0, "dome": 1, "studio": 2, "sky": 3, "latlong": 4, "cos": 5}
 _CONSTANT = wp.constant(0)
 _DOME = wp.constant(1)
 _STUDIO = wp.constant(2)
 _SKY = wp.constant(3)
 _LATLONG = wp.constant(4)
+_COS = wp.constant(5)
 
 #: Lat-long map conventions (module docstring), each as the matrix that turns world directions
 #: into the frame in which Blender's formula reads the map: "mitsuba" is Blender's layout turned
@@ -148,6 +156,10 @@ class Environment:
     # polarizer every environment ray passes (optics.polarizer.sheet_polarizer_coherency);
     # zero: unpolarized.  Set by the Renderer from ``EnvironmentConfig.polarizer`` and the camera.
     polarizer: wp.vec3f
+    # observer obscuration: radiance is 0 toward directions d with dot(d, head) > head_cos (world
+    # frame); head_cos = 2 (> any cosine) when there is no head
+    head: wp.vec3f
+    head_cos: float
 
 
 @wp.func
@@ -215,6 +227,8 @@ def environment_coefficients(env: Environment, direction: wp.vec3f):
     three basis spectra (:func:`environment_basis`): linear sRGB (times intensity and tint) for
     the RGB kinds (studio, sky, lat-long); ``(intensity, 0, 0)`` (0 below a dome's horizon) for
     the spectral kinds."""
+    if wp.dot(direction, env.head) > env.head_cos:
+        return wp.vec3f(0.0, 0.0, 0.0)  # the observer's head blocks this direction
     if env.kind == _CONSTANT:
         return wp.vec3f(env.intensity, 0.0, 0.0)
     d = env.rotation * direction
@@ -222,6 +236,8 @@ def environment_coefficients(env: Environment, direction: wp.vec3f):
         if d[2] < 0.0:
             return wp.vec3f(0.0, 0.0, 0.0)
         return wp.vec3f(env.intensity, 0.0, 0.0)
+    if env.kind == _COS:
+        return wp.vec3f(env.intensity * wp.max(d[2], 0.0), 0.0, 0.0)
     rgb = wp.vec3f(0.0, 0.0, 0.0)
     if env.kind == _STUDIO:
         rgb = _studio_rgb(d)
@@ -235,12 +251,12 @@ def environment_coefficients(env: Environment, direction: wp.vec3f):
 @wp.func
 def environment_basis(env: Environment, t: SpectralTables, wavelength: float):
     """Values at ``wavelength`` (nm) of the environment's three basis spectra: D65 x the
-    Mallett–Yuksel sRGB basis for the RGB kinds, (illuminant, 0, 0) for constant (E) and dome
-    (D65).  Radiance = dot(coefficients, basis): the wavelength enters only here, so one path
+    Mallett–Yuksel sRGB basis for the RGB kinds, (illuminant, 0, 0) for constant (E), dome and
+    cos (D65).  Radiance = dot(coefficients, basis): the wavelength enters only here, so one path
     tree can be weighted for many wavelengths at once."""
     if env.kind == _CONSTANT:
         return wp.vec3f(illuminant_value(t, 0, wavelength), 0.0, 0.0)
-    if env.kind == _DOME:
+    if env.kind == _DOME or env.kind == _COS:
         return wp.vec3f(illuminant_value(t, 1, wavelength), 0.0, 0.0)
     return wp.vec3f(
         rgb_spectrum_value(t, wp.vec3f(1.0, 0.0, 0.0), wavelength),
@@ -291,6 +307,10 @@ class EnvironmentConfig:
     # an ideal linear polarizer facing the camera in front of the light: transmission axis in
     # degrees from image right toward image up (None: unpolarized light); see optics.polarizer
     polarizer: float | None = None
+    # the observer's head: a black cone of this angular radius (degrees, 0: none) about
+    # head_direction (world; normalised here)
+    head_radius_deg: float = 0.0
+    head_direction: tuple[float, float, float] = (0.0, 0.0, 1.0)
     source: str | None = field(default=None, compare=False)  # scene file, for messages
 
     def __post_init__(self):
@@ -316,6 +336,26 @@ class EnvironmentConfig:
                 field="light.polarizer",
                 value=self.polarizer,
             )
+        if not (
+            isinstance(self.head_radius_deg, (int, float))
+            and math.isfinite(self.head_radius_deg)
+            and 0.0 <= self.head_radius_deg <= 90.0
+        ):
+            raise InputError(
+                "must be an angle in degrees in [0, 90]",
+                file=self.source,
+                field="light.head_radius",
+                value=self.head_radius_deg,
+            )
+        h = np.asarray(self.head_direction, dtype=np.float64)
+        if h.shape != (3,) or not np.isfinite(h).all() or np.linalg.norm(h) == 0:
+            raise InputError(
+                "must be a non-zero vector [x, y, z]",
+                file=self.source,
+                field="light.head_direction",
+                value=self.head_direction,
+            )
+        object.__setattr__(self, "head_direction", tuple(float(c) for c in h / np.linalg.norm(h)))
         if self.convention not in LATLONG_CONVENTIONS:
             raise InputError(
                 "unknown lat-long convention",
@@ -349,6 +389,8 @@ class EnvironmentLight:
         env.texture = wp.array(tex, dtype=wp.vec3f, device=self.device)
         env.height, env.width = tex.shape[0], tex.shape[1]
         env.polarizer = wp.vec3f(0.0, 0.0, 0.0)  # unpolarized (the Renderer sets a polarizer)
+        env.head = wp.vec3f(*config.head_direction)
+        env.head_cos = math.cos(math.radians(config.head_radius_deg)) if config.head_radius_deg > 0 else 2.0
         self.struct = env
         self.texture = tex
 

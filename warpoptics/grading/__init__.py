@@ -1,0 +1,60 @@
+"""Cut design and grading: lighting and viewing presets, scope views (ASET, Ideal Scope, Hearts &
+Arrows), light-performance metrics over a tilt protocol with the observer's head, and design
+tools (critical angles per tier, retargeting to another index, perturbed brilliants).
+
+Modules: :mod:`.presets` (lightings, the observer, face-up scenes), :mod:`.scopes` (direction-band
+decomposition and the scope views), :mod:`.performance` (the protocol and the metrics),
+:mod:`.design` (design tools).
+"""
+
+from __future__ import annotations
+
+from .design import brilliant_with_misaligned_main, critical_angle, retarget, tier_report
+from .performance import PROTOCOL, Protocol, bow_tie, contrast, extinction, tilted_light_return, windowing
+from .presets import (
+    HEAD_RADIUS_DEG,
+    LIGHTINGS,
+    OBSERVER_DISTANCE_MM,
+    face_up_scene,
+    head_radius_for,
+    lighting_table,
+    tilt_rotation,
+)
+from .scopes import (
+    aset,
+    count_dark_lobes,
+    direction_bands,
+    hearts_and_arrows,
+    ideal_scope,
+    ring_profile,
+    rotational_asymmetry,
+)
+
+__all__ = [
+    "LIGHTINGS",
+    "OBSERVER_DISTANCE_MM",
+    "HEAD_RADIUS_DEG",
+    "head_radius_for",
+    "head_radius_for",
+    "lighting_table",
+    "tilt_rotation",
+    "face_up_scene",
+    "direction_bands",
+    "aset",
+    "ideal_scope",
+    "hearts_and_arrows",
+    "ring_profile",
+    "count_dark_lobes",
+    "rotational_asymmetry",
+    "Protocol",
+    "PROTOCOL",
+    "tilted_light_return",
+    "contrast",
+    "extinction",
+    "windowing",
+    "bow_tie",
+    "critical_angle",
+    "tier_report",
+    "retarget",
+    "brilliant_with_misaligned_main",
+]
