@@ -15,6 +15,8 @@ import numpy as np
 import warp as wp
 
 from .device import elementwise
+from .errors import InputError
+from .validate import finite_array, number
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -111,19 +113,36 @@ def _thickness_field_kernel(
 # ---------------------------------------------------------------------------------------------
 
 
-def _field(which: int, x, y, k1, k2, max_thickness_nm, seed, octaves, turb_scale, device):
+def _real(v, name: str) -> float:
+    # a finite real keyword argument (NumPy scalars accepted), else an InputError naming it
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        raise InputError("must be a number", field=name, value=v) from None
+    return float(number(f, field=name))
+
+
+def _int(v, name: str, lo: int) -> int:
+    if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < lo:
+        raise InputError(f"must be an integer >= {lo}", field=name, value=v)
+    return int(v)
+
+
+def _field(which: int, x, y, k1, k2, max_thickness_nm, seed, octaves, turb_scale, device, names):
+    # ``names``: the wrapper's own names of (x, y, the noise frequency) for the error messages
+    x_name, y_name, scale_name = names
     (out,) = elementwise(
         _thickness_field_kernel,
-        [(x, wp.float32), (y, wp.float32)],
+        [(finite_array(x, field=x_name), wp.float32), (finite_array(y, field=y_name), wp.float32)],
         [wp.float32],
         extra=(
             which,
-            float(k1),
-            float(k2),
-            float(max_thickness_nm),
-            int(seed),
-            int(octaves),
-            float(turb_scale),
+            _real(k1, "k1"),
+            _real(k2, "k2"),
+            _real(max_thickness_nm, "max_thickness_nm"),
+            _int(seed, "seed", -(2**31)),
+            _int(octaves, "octaves", 0),
+            _real(turb_scale, scale_name),
         ),
         device=device,
     )
@@ -147,7 +166,9 @@ def oil_slick_thickness(
     t = t_max exp(-k1 (x^2 + y^2 + k2 turb(s x, s y))) with Perlin turbulence of ``octaves``
     octaves at spatial frequency ``turb_scale`` = s.
     """
-    return _field(0, x, y, k1, k2, max_thickness_nm, seed, octaves, turb_scale, device)
+    return _field(
+        0, x, y, k1, k2, max_thickness_nm, seed, octaves, turb_scale, device, ("x", "y", "turb_scale")
+    )
 
 
 def soap_film_thickness(
@@ -163,9 +184,21 @@ def soap_film_thickness(
 ) -> np.ndarray:
     """Soap film thickness (nm), Smits & Meyer 1990 §4.2: proportional to the normalised height
     (0 at the top, 1 at the bottom) plus ``k2`` times turbulence at (x, height)."""
-    return _field(1, x, height, 0.0, k2, max_thickness_nm, seed, octaves, turb_scale, device)
+    return _field(
+        1,
+        x,
+        height,
+        0.0,
+        k2,
+        max_thickness_nm,
+        seed,
+        octaves,
+        turb_scale,
+        device,
+        ("x", "height", "turb_scale"),
+    )
 
 
 def turbulence_field(x, y, *, seed: int = 0, octaves: int = 6, scale: float = 1.0, device=None) -> np.ndarray:
     """Perlin turbulence (:func:`turbulence`) at (scale x, scale y)."""
-    return _field(2, x, y, 0.0, 0.0, 0.0, seed, octaves, scale, device)
+    return _field(2, x, y, 0.0, 0.0, 0.0, seed, octaves, scale, device, ("x", "y", "scale"))

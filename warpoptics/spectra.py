@@ -36,6 +36,8 @@ import numpy as np
 import warp as wp
 
 from .device import elementwise, get_device
+from .errors import InputError
+from .validate import finite_array
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -253,7 +255,9 @@ def strategy_id(name: str) -> int:
     try:
         return STRATEGIES[name]
     except KeyError:
-        raise ValueError(f"unknown spectral sampling {name!r} (allowed: {', '.join(STRATEGIES)})") from None
+        raise InputError(
+            "unknown spectral sampling", field="strategy", value=name, allowed=", ".join(STRATEGIES)
+        ) from None
 
 
 # ----------------------------------------------------------------------------------------------
@@ -372,13 +376,22 @@ def sample_wavelengths(strategy: str, u, index, count: int, *, device=None) -> t
     ``u`` (uniform in [0, 1)) and ``index`` (sample number, 0..count-1) broadcast together.
     """
     sid = strategy_id(strategy)
+    if isinstance(count, bool) or not isinstance(count, int | np.integer) or count < 1:
+        raise InputError("must be an integer >= 1", field="count", value=count)
     if strategy == "rgb3" and count != 3:
-        raise ValueError(f"rgb3 sampling uses exactly 3 wavelengths, got count={count}")
-    if count < 1:
-        raise ValueError(f"count must be >= 1, got {count}")
+        raise InputError("rgb3 sampling uses exactly 3 wavelengths", field="count", value=count, allowed="3")
+    ua = finite_array(u, field="u").astype(np.float64)
+    if np.any((ua < 0.0) | (ua > 1.0)):
+        raise InputError("must lie in [0, 1)", field="u", value=float(ua[(ua < 0) | (ua > 1)].flat[0]))
+    ia = finite_array(index, field="index")
+    if np.any(ia != np.round(ia)) or np.any((ia < 0) | (ia >= count)):
+        bad = ia[(ia != np.round(ia)) | (ia < 0) | (ia >= count)].flat[0]
+        raise InputError(
+            "must be an integer sample number", field="index", value=bad.item(), allowed=f"0..{count - 1}"
+        )
     wl, w = elementwise(
         _sample_kernel,
-        [(u, wp.float32), (index, wp.int32)],
+        [(ua, wp.float32), (ia.astype(np.int64), wp.int32)],
         [wp.float32, wp.vec3f],
         extra=[spectral_tables(device), sid, int(count)],
         device=device,
@@ -389,6 +402,10 @@ def sample_wavelengths(strategy: str, u, index, count: int, *, device=None) -> t
 def cmf_device(wavelength_nm, *, device=None) -> np.ndarray:
     """NumPy wrapper of the kernel-side :func:`cmf_xyz` (normalised by integral ybar, per nm)."""
     (out,) = elementwise(
-        _cmf_kernel, [(wavelength_nm, wp.float32)], [wp.vec3f], extra=[spectral_tables(device)], device=device
+        _cmf_kernel,
+        [(finite_array(wavelength_nm, field="wavelength_nm"), wp.float32)],
+        [wp.vec3f],
+        extra=[spectral_tables(device)],
+        device=device,
     )
     return out

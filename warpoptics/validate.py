@@ -15,6 +15,8 @@ import difflib
 import math
 from collections.abc import Iterable
 
+import numpy as np
+
 from .errors import InputError
 
 __all__ = [
@@ -28,6 +30,7 @@ __all__ = [
     "unit_vec3",
     "pair",
     "rgb",
+    "finite_array",
 ]
 
 
@@ -149,3 +152,23 @@ def rgb(v, *, file: str | None = None, field: str, hi: float = math.inf) -> tupl
             allowed=f"linear sRGB components >= 0 and <= {hi}" if hi != math.inf else ">= 0",
         )
     return x
+
+
+def finite_array(v, *, file: str | None = None, field: str) -> np.ndarray:
+    """``v`` as a numeric NumPy array (real or complex, any shape) whose every element is finite;
+    else an InputError naming ``field`` and the first NaN/Inf element (one line whatever the
+    shape: the array itself is not printed).  The check of the element-wise NumPy wrappers."""
+    try:
+        a = np.asarray(v)
+        if a.dtype.kind not in "biufc":
+            a = a.astype(np.float64)
+    except (TypeError, ValueError):
+        raise InputError("must be numeric", file=file, field=field, value=type(v).__name__) from None
+    if a.dtype.kind in "fc":
+        bad = ~np.isfinite(a)
+        if np.any(bad):
+            first = a[bad].flat[0]
+            raise InputError(
+                "must be finite", file=file, field=field, value=first.item(), allowed="finite numbers"
+            )
+    return a

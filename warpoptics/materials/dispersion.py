@@ -382,7 +382,8 @@ class Channel:
 def _check_wavelength(wavelength_nm, lo: float, hi: float, name: str) -> np.ndarray:
     lam = np.asarray(wavelength_nm, dtype=np.float64)
     if not np.all(np.isfinite(lam)):
-        raise InputError("wavelength must be finite", field="wavelength_nm", value=wavelength_nm)
+        bad = lam[~np.isfinite(lam)].flat[0].item()  # the element, not the array: one line
+        raise InputError("wavelength must be finite", field="wavelength_nm", value=bad)
     if lam.size and (lam.min() < lo - 1e-6 or lam.max() > hi + 1e-6):
         bad = float(lam.min() if lam.min() < lo - 1e-6 else lam.max())
         raise InputError(

@@ -69,7 +69,8 @@ def finite_array(name: str, value) -> np.ndarray:
     """``value`` as float64, or an InputError naming ``name`` if any element is not finite."""
     a = np.asarray(value, dtype=np.float64)
     if not np.all(np.isfinite(a)):
-        raise InputError("must be finite", field=name, value=value)
+        # the first offending element, not the array: one line at any size
+        raise InputError("must be finite", field=name, value=a[~np.isfinite(a)].flat[0].item())
     return a
 
 

@@ -814,8 +814,14 @@ def _axis(v, name: str = "axis") -> np.ndarray:
 
 def _index(v, name: str) -> np.ndarray:
     a = np.asarray(v, dtype=np.float64)
-    if not np.all(np.isfinite(a)) or np.any(a <= 0):
-        raise InputError("refractive index must be finite and positive", field=name, value=v, allowed="> 0")
+    bad = ~np.isfinite(a) | (a <= 0)
+    if np.any(bad):
+        raise InputError(
+            "refractive index must be finite and positive",
+            field=name,
+            value=a[bad].flat[0].item(),
+            allowed="> 0",
+        )
     return a
 
 
@@ -876,7 +882,7 @@ def attenuation(cos_theta, k_o, k_e, no, ne, length, *, device=None) -> np.ndarr
     return a
 
 
-def _e_dir(direction, normal, axis, n_in, no, ne, side, device):
+def _e_dir(direction, normal, axis, n_in, no, ne, side, device, n_in_name="n1"):
     ax = _axis(axis)
     if np.any(np.linalg.norm(ax, axis=-1) == 0):
         raise InputError("optic axis must be non-zero for a uniaxial crystal", field="axis")
@@ -886,7 +892,7 @@ def _e_dir(direction, normal, axis, n_in, no, ne, side, device):
             (_unit(direction, "direction"), wp.vec3),
             (_unit(normal, "normal"), wp.vec3),
             (ax, wp.vec3),
-            (_index(n_in, "n1"), wp.float32),
+            (_index(n_in, n_in_name), wp.float32),
             (_index(no, "no"), wp.float32),
             (_index(ne, "ne"), wp.float32),
             (side, wp.float32),
@@ -923,7 +929,7 @@ def reflect_extraordinary(direction, normal, axis, n_in, no, ne, *, return_index
     ``direction`` is the incident wave normal inside the crystal, ``n_in`` its index (``no`` for
     an o-wave, ``n_e(theta)`` for an e-wave), ``normal`` points back into the crystal (the incident
     side).  Returns the reflected e ``(wave_normal, ray_direction)`` (zero when evanescent)."""
-    k, ray, n = _e_dir(direction, normal, axis, n_in, no, ne, 1.0, device)
+    k, ray, n = _e_dir(direction, normal, axis, n_in, no, ne, 1.0, device, "n_in")
     return (k, ray, n) if return_index else (k, ray)
 
 

@@ -281,27 +281,37 @@ def _complex_pairs(n, name: str) -> np.ndarray:
     a = np.asarray(n)
     if not np.iscomplexobj(a):
         a = a.astype(np.float64)
+    # each message shows the first offending element, not the array (one line at any size)
     if not np.all(np.isfinite(a)):
-        raise InputError("refractive index must be finite", field=name, value=n)
+        raise InputError(
+            "refractive index must be finite", field=name, value=a[~np.isfinite(a)].flat[0].item()
+        )
     if np.any(np.imag(a) < 0):
         raise InputError(
             "refractive index must have a non-negative imaginary part (n + ik, k >= 0 absorbing)",
             field=name,
-            value=n,
+            value=a[np.imag(a) < 0].flat[0].item(),
             allowed="Im(n) >= 0",
         )
     if np.any(np.real(a) <= 0):
         raise InputError(
-            "refractive index must have a positive real part", field=name, value=n, allowed="Re(n) > 0"
+            "refractive index must have a positive real part",
+            field=name,
+            value=a[np.real(a) <= 0].flat[0].item(),
+            allowed="Re(n) > 0",
         )
     return np.stack([np.real(a), np.imag(a)], axis=-1)
 
 
 def _cosines(cos_i) -> np.ndarray:
     c = np.asarray(cos_i, dtype=np.float64)
-    if not np.all(np.isfinite(c)) or np.any(c < -1e-6) or np.any(c > 1.0 + 1e-6):
+    bad = ~np.isfinite(c) | (c < -1e-6) | (c > 1.0 + 1e-6)
+    if np.any(bad):
         raise InputError(
-            "cosine of the incidence angle must lie in [0, 1]", field="cos_i", value=cos_i, allowed="[0, 1]"
+            "cosine of the incidence angle must lie in [0, 1]",
+            field="cos_i",
+            value=c[bad].flat[0].item(),
+            allowed="[0, 1]",
         )
     return np.clip(c, 0.0, 1.0)
 

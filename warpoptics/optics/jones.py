@@ -494,17 +494,20 @@ def _frames(d, a, b, device):
 
 def frame_change_matrix(direction, x_from, x_to, *, device=None) -> np.ndarray:
     """(..., 2, 2) real matrices B with B[i, k] = to_i . from_k (see ``frame_change``)."""
-    m, _, _ = _frames(direction, x_from, x_to, device)
+    m, _, _ = _frames(
+        _finite(direction, "direction"), _finite(x_from, "x_from"), _finite(x_to, "x_to"), device
+    )
     return m.astype(np.float64).reshape(*m.shape[:-1], 2, 2)
 
 
 def s_vectors(direction, normal, *, device=None) -> np.ndarray:
     """Unit s-directions normalize(normal x direction) (see ``s_vector``)."""
-    _, s, _ = _frames(direction, normal, normal, device)
+    nrm = _finite(normal, "normal")
+    _, s, _ = _frames(_finite(direction, "direction"), nrm, nrm, device)
     return s.astype(np.float64)
 
 
 def transport_bases(x, d_old, d_new, *, device=None) -> np.ndarray:
     """Basis vectors ``x`` carried from ray direction d_old to d_new (see ``transport_basis``)."""
-    _, _, t = _frames(d_old, x, d_new, device)
+    _, _, t = _frames(_finite(d_old, "d_old"), _finite(x, "x"), _finite(d_new, "d_new"), device)
     return t.astype(np.float64)

@@ -165,7 +165,14 @@ def sheet_polarizer_stokes(absorb_axis, k, basis_x, *, device=None) -> np.ndarra
     light after an ideal sheet with absorbing axis ``absorb_axis`` (see
     :func:`sheet_polarizer_coherency`)."""
     (s,) = elementwise(
-        _sheet_kernel, [(absorb_axis, wp.vec3f), (k, wp.vec3f), (basis_x, wp.vec3f)], [wp.vec4], device=device
+        _sheet_kernel,
+        [
+            (_finite(absorb_axis, "absorb_axis"), wp.vec3f),
+            (_finite(k, "k"), wp.vec3f),
+            (_finite(basis_x, "basis_x"), wp.vec3f),
+        ],
+        [wp.vec4],
+        device=device,
     )
     return s.astype(np.float64)
 

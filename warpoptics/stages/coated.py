@@ -64,6 +64,7 @@ from ..optics.microfacet import ggx_g1, ggx_sample_normal
 from ..optics.thinfilm import CoatingStack, coating_amplitudes_scaled, make_coating_stack
 from ..spectra import COARSE_STEP_NM
 from ..spectra import grid as spectral_grid
+from ..validate import finite_array
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -620,7 +621,12 @@ def film_event(
     n_obj = float(np.asarray(mat.n(550.0)))
     outs = elementwise(
         _film_event_kernel,
-        [(direction, wp.vec3f), (normal, wp.vec3f), (position, wp.vec3f), (wavelength_nm, wp.float32)],
+        [
+            (finite_array(direction, field="direction"), wp.vec3f),
+            (finite_array(normal, field="normal"), wp.vec3f),
+            (finite_array(position, field="position"), wp.vec3f),
+            (finite_array(wavelength_nm, field="wavelength_nm"), wp.float32),
+        ],
         [wp.vec3f, wp.vec3f, wp.vec4f, wp.vec4f, wp.vec4f, wp.vec4f, wp.vec2f, wp.int32],
         extra=(
             fs,
@@ -643,5 +649,11 @@ def film_thickness(config: FilmConfig, position, *, frame=(0.0, 1.0, 1.0), devic
     """Film thickness (nm) of :func:`film_thickness_nm` at object-space points (..., 3), mm."""
     dev = get_device(device)
     fs = make_film_surfaces([config], frames=[frame], device=dev)
-    (out,) = elementwise(_thickness_kernel, [(position, wp.vec3f)], [wp.float32], extra=(fs, 0), device=dev)
+    (out,) = elementwise(
+        _thickness_kernel,
+        [(finite_array(position, field="position"), wp.vec3f)],
+        [wp.float32],
+        extra=(fs, 0),
+        device=dev,
+    )
     return out

@@ -72,6 +72,7 @@ from ..materials.dispersion import MaterialTable
 from ..optics.fresnel import fresnel_amplitudes, unpolarized_power
 from ..optics.microfacet import ggx_d, ggx_g1, ggx_sample_normal, orthonormal_basis
 from ..spectra import SpectralTables, illuminant_value, rgb_spectrum_value, spectral_tables
+from ..validate import choice, finite_array
 from .environment import Environment, environment_radiance
 from .media import medium_alpha, object_medium
 
@@ -827,17 +828,17 @@ def _reflectance_kernel(
 
 def bsdf_values(kind: str, albedo, roughness, ior, normal, wo, wi, *, device=None):
     """NumPy wrapper of :func:`bsdf_eval` and :func:`bsdf_pdf`: returns (f, pdf), broadcast."""
-    k = BSDF_KINDS[kind]
+    k = BSDF_KINDS[choice(kind, BSDF_KINDS, field="kind")]
     f, pdf = elementwise(
         _bsdf_kernel,
         [
             (k, wp.int32),
-            (albedo, wp.float32),
-            (roughness, wp.float32),
-            (ior, wp.float32),
-            (normal, wp.vec3f),
-            (wo, wp.vec3f),
-            (wi, wp.vec3f),
+            (finite_array(albedo, field="albedo"), wp.float32),
+            (finite_array(roughness, field="roughness"), wp.float32),
+            (finite_array(ior, field="ior"), wp.float32),
+            (finite_array(normal, field="normal"), wp.vec3f),
+            (finite_array(wo, field="wo"), wp.vec3f),
+            (finite_array(wi, field="wi"), wp.vec3f),
         ],
         [wp.float32, wp.float32],
         device=device,
@@ -849,7 +850,10 @@ def reflectance_spectrum(rgb, wavelength_nm, *, device=None) -> np.ndarray:
     """NumPy wrapper of :func:`reflectance_value`: reflectance of linear-sRGB albedos at λ (nm)."""
     (out,) = elementwise(
         _reflectance_kernel,
-        [(rgb, wp.vec3f), (wavelength_nm, wp.float32)],
+        [
+            (finite_array(rgb, field="rgb"), wp.vec3f),
+            (finite_array(wavelength_nm, field="wavelength_nm"), wp.float32),
+        ],
         [wp.float32],
         extra=(spectral_tables(device),),
         device=device,

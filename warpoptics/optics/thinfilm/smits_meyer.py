@@ -17,6 +17,7 @@ import warp as wp
 
 from ...device import elementwise
 from ...errors import InputError
+from ...validate import finite_array
 from .inputs import cos_angle, positive
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -166,7 +167,7 @@ def smits_meyer_film(
             (wl, wp.float32),
             (t, wp.float32),
             (np.asarray(phase_change, dtype=np.float32), wp.float32),
-            (K, wp.float32),
+            (finite_array(K, field="K"), wp.float32),
         ],
         [wp.float32],
         device=device,
@@ -174,12 +175,12 @@ def smits_meyer_film(
     return out
 
 
-def _thickness_rule(rule: int, d1, d2, n, angle, device) -> np.ndarray:
+def _thickness_rule(rule: int, d1, d2, n, angle, device, d1_name: str = "thickness_nm") -> np.ndarray:
     c = cos_angle(angle)
     (out,) = elementwise(
         _sm_thickness_kernel,
         [
-            (positive(d1, "thickness_nm", allow_zero=True), wp.float32),
+            (positive(d1, d1_name, allow_zero=True), wp.float32),
             (positive(d2, "d2_nm", allow_zero=True), wp.float32),
             (positive(n, "n"), wp.float32),
             (c, wp.float32),
@@ -207,7 +208,7 @@ def smits_meyer_effective_thickness(thickness_nm, n, angle=0.0, *, device=None) 
 
 def smits_meyer_morpho_thickness(d1_nm, d2_nm, n, angle=0.0, *, device=None) -> np.ndarray:
     """Morpho period d1 cos(theta) + d2 (n^2 - sin^2 theta)^(1/2), Smits & Meyer 1990 eq. 14 (nm)."""
-    return _thickness_rule(14, d1_nm, d2_nm, n, angle, device)
+    return _thickness_rule(14, d1_nm, d2_nm, n, angle, device, "d1_nm")
 
 
 def smits_meyer_multilayer(
@@ -221,7 +222,7 @@ def smits_meyer_multilayer(
         raise InputError("layers must be a positive integer", field="layers", value=layers, allowed=">= 1")
     (out,) = elementwise(
         _sm_multilayer_kernel,
-        [(wl, wp.float32), (t, wp.float32), (lay, wp.int32), (A0, wp.float32)],
+        [(wl, wp.float32), (t, wp.float32), (lay, wp.int32), (finite_array(A0, field="A0"), wp.float32)],
         [wp.float32],
         device=device,
     )

@@ -24,6 +24,7 @@ from ...color import gamut_clip_smits_meyer
 from ...device import elementwise, get_device
 from ...errors import InputError
 from ...spectra import ILLUMINANTS, SpectralTables, cmf_xyz, illuminant_value, spectral_tables
+from ...validate import finite_array
 from .smits_meyer import (
     smits_meyer_film_reflectance,
     smits_meyer_morpho_thickness_f,
@@ -211,7 +212,7 @@ class ColorTable:
         table = self.rgb_device if which == "rgb" else self.xyz_device
         (out,) = elementwise(
             _lookup_kernel,
-            [(np.asarray(x, dtype=np.float32), wp.float32)],
+            [(finite_array(x, field="x").astype(np.float32), wp.float32)],
             [wp.vec3f],
             extra=(table, self.axis_start, self.axis_step),
             device=device or table.device,
