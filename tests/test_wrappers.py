@@ -976,8 +976,8 @@ WRAPPERS += [
         atol=1e-4,
     ),
     W(
-        "thinfilm.oil_slick_thickness[eq12]",
-        lambda x, y, **k: wo.thinfilm.oil_slick_thickness(x, y, **k),
+        "fields.oil_slick_thickness[eq12]",
+        lambda x, y, **k: wo.fields.oil_slick_thickness(x, y, **k),
         [("x", [0.1, 0.0, -0.5]), ("y", [0.2, 0.7, 0.3])],
         lambda x, y: [800.0 * np.exp(-3.0 * (x * x + y * y))],  # Smits & Meyer 1990 eq. 12 (k2 = 0)
         rtol=2e-6,
@@ -986,15 +986,15 @@ WRAPPERS += [
         nan_kwargs=("k1", "k2", "max_thickness_nm", "turb_scale"),
     ),
     W(
-        "thinfilm.oil_slick_thickness[eq13]",
-        lambda x, y, **k: wo.thinfilm.oil_slick_thickness(x, y, **k),
+        "fields.oil_slick_thickness[eq13]",
+        lambda x, y, **k: wo.fields.oil_slick_thickness(x, y, **k),
         [("x", [0.1, 0.0, -0.5]), ("y", [0.2, 0.7, 0.3])],
         None,  # Perlin turbulence: shapes, NaN and determinism only
         kwargs={"k1": 3.0, "k2": 0.3, "max_thickness_nm": 800.0, "seed": 4},
     ),
     W(
-        "thinfilm.soap_film_thickness[no noise]",
-        lambda x, height, **k: wo.thinfilm.soap_film_thickness(x, height, **k),
+        "fields.soap_film_thickness[no noise]",
+        lambda x, height, **k: wo.fields.soap_film_thickness(x, height, **k),
         [("x", [0.1, 0.0, -0.5]), ("height", [0.3, 0.0, 1.0])],
         lambda x, h: [500.0 * max(h, 0.0)],  # Smits & Meyer 1990 §4.2: proportional to the height
         atol=1e-4,
@@ -1002,15 +1002,15 @@ WRAPPERS += [
         nan_kwargs=("k2", "max_thickness_nm", "turb_scale"),
     ),
     W(
-        "thinfilm.soap_film_thickness[turbulent]",
-        lambda x, height, **k: wo.thinfilm.soap_film_thickness(x, height, **k),
+        "fields.soap_film_thickness[turbulent]",
+        lambda x, height, **k: wo.fields.soap_film_thickness(x, height, **k),
         [("x", [0.1, 0.0, -0.5]), ("height", [0.3, 0.0, 1.0])],
         None,
         kwargs={"k2": 0.15, "seed": 2},
     ),
     W(
-        "thinfilm.turbulence_field",
-        lambda x, y, **k: wo.thinfilm.turbulence_field(x, y, **k),
+        "fields.turbulence_field",
+        lambda x, y, **k: wo.fields.turbulence_field(x, y, **k),
         [("x", [0.1, 0.0, -0.5]), ("y", [0.2, 0.7, 0.3])],
         None,
         kwargs={"seed": 3, "octaves": 4, "scale": 5.0},
