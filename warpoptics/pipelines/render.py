@@ -481,6 +481,59 @@ class Renderer:
             source_polarizer=self.source_polarizer,
         )
 
+    def render_pass(
+        self,
+        film,
+        *,
+        pass_index: int = 0,
+        spp_begin: int = 0,
+        spp: int = 1,
+        camera: CameraParams | None = None,
+        threads: int | None = None,
+        tile_size: int | None = None,
+    ) -> None:
+        """Add one progressive pass to ``film``: the samples ``[spp_begin, spp_begin + spp)`` of
+        pass ``pass_index`` in every pixel (uniform: no adaptive rounds, no caustics), seen through
+        ``camera`` (default the scene's; same width and height).
+
+        ``film`` is any object with the arrays ``xyz, sq, stokes, alpha, rays, stokes_xyz`` shaped
+        like the Renderer's own (``pipelines/preview.py`` owns one); the kernel adds its sums, so
+        the caller divides by the samples it accumulated.  The camera stream continues the pixel's
+        R2 sequence where ``spp_begin`` says, and each block of samples draws its trace decisions
+        from its own stream (``round = spp_begin``), so passes ``spp_begin = 0, 1, 2, ...`` of one
+        ``pass_index`` sample each pixel as independently as one render of that many spp.  The
+        kernel takes every setting as a value: nothing is compiled per pass or per camera.
+        """
+        f = self.film
+        saved = (f.pass_index, f.round, f.adaptive, f.spp_begin, f.spp)
+        f.pass_index, f.round, f.adaptive = int(pass_index), int(spp_begin), 0
+        f.spp_begin, f.spp = int(spp_begin), int(spp_begin) + int(spp)
+        try:
+            inputs = [
+                self.camera.params if camera is None else camera,
+                f,
+                self.trace_params,
+                self.geometry.geometry,
+                self.materials,
+                self.environment.struct,
+                self.surfaces.struct,
+                self.tables,
+                1 if self.trace_config.polarized else 0,
+                self.spp_end,
+                film.xyz,
+                film.sq,
+                film.stokes,
+                film.alpha,
+                film.rays,
+                film.stokes_xyz,
+            ]
+            n = f.width * f.height
+            launch_tiled(
+                _render_pixels, n, [0, *inputs], device=self.device, threads=threads, tile_size=tile_size
+            )
+        finally:
+            f.pass_index, f.round, f.adaptive, f.spp_begin, f.spp = saved
+
 
 def render(
     scene: Scene | str | Path,
