@@ -45,7 +45,8 @@ def _scene(data=DIAMOND, overrides=None, **kw):
 
 
 def _passes(p, n):
-    for _ in range(n):
+    """Step until ``n`` full-resolution passes are in (the draft after a restart comes first)."""
+    while p.passes < n:
         assert p.step()
     return p.image()
 
@@ -91,7 +92,7 @@ def test_next_block_draws_new_samples(device):
     of pass 0: the sample it adds differs from the first pass's."""
     p = Preview(_scene(width=8, height=6), device=device)
     first = _passes(p, 1).xyz.copy()
-    _passes(p, BLOCK - 1)
+    _passes(p, BLOCK)
     before = p.film.xyz.numpy().copy()
     p.step()
     added = (p.film.xyz.numpy() - before).reshape(first.shape)
@@ -165,6 +166,24 @@ def test_restart_equals_a_fresh_preview(device):
     assert p.values()["object.0.material"] == "cubic_zirconia"
 
 
+def test_draft_is_the_scene_at_lower_resolution(device):
+    """The first step after a restart is one pass at half the resolution, shown enlarged: exactly
+    the frame of a preview of the half-size image, each pixel repeated 2x2."""
+    sc = _scene(width=32, height=24)
+    p = Preview(sc, device=device)
+    p.update({"azimuth": 10.0})
+    assert p.step() and p.draft and p.showing_draft and p.passes == 0
+    big = p.frame()
+    small_scene = sc.with_overrides(
+        {"camera.position": list(p.orbit.position(sc.camera.look_at))}, width=16, height=12
+    )
+    small = Preview(small_scene, draft_scale=1, device=device)
+    small.step()
+    np.testing.assert_array_equal(big, np.repeat(np.repeat(small.frame(), 2, axis=0), 2, axis=1))
+    assert p.step() and p.passes == 1 and not p.showing_draft
+    assert p.frame().shape == (24, 32, 3)
+
+
 def test_exposure_does_not_restart(device):
     p = Preview(_scene(), device=device)
     _passes(p, 2)
@@ -174,7 +193,7 @@ def test_exposure_does_not_restart(device):
 
 
 def test_max_passes_stops_refining(device):
-    p = Preview(_scene(width=8, height=6), max_passes=2, device=device)
+    p = Preview(_scene(width=8, height=6), max_passes=2, draft_scale=1, device=device)
     assert p.step() and p.step() and not p.step()
     assert p.passes == 2
 
@@ -239,10 +258,14 @@ def test_server_frames_refine_and_restart(device):
             "object.0.material",
             "light.0.intensity",
         } <= names
-        # each frame adds one pass; the JPEG is the preview's frame
+        # the first frame is the half-resolution draft, then each frame adds one pass
+        _, headers, _ = _get(srv.url + "frame.jpg")
+        assert (headers["X-Draft"], headers["X-Passes"]) == ("1", "0")
         for k in (1, 2, 3):
             _, headers, body = _get(srv.url + "frame.jpg")
-            assert headers["X-Passes"] == str(k) and headers["X-Generation"] == "0"
+            assert (
+                headers["X-Passes"] == str(k) and headers["X-Generation"] == "0" and headers["X-Draft"] == "0"
+            )
         rgb = _decode(body)
         assert rgb.shape == (32, 48, 3)
         # JPEG at quality 90 keeps each 8x8 block's mean (its DC coefficient) but not the pixel-scale
@@ -253,11 +276,13 @@ def test_server_frames_refine_and_restart(device):
         print(f"JPEG vs frame, 8x8 block means: r = {np.corrcoef(a, b)[0, 1]:.4f}, bias {np.mean(a - b):.2f}")
         assert np.corrcoef(a, b)[0, 1] > 0.95 and abs(np.mean(a - b)) < 3.0
         assert rgb.std() > 5.0  # a gem, not a blank frame
-        # a change restarts the accumulation: the next frame is pass 1 of generation 1
+        # a change restarts the accumulation: the draft of generation 1, then its pass 1
         status, reply = _post(srv.url + "controls", json.dumps({"object.0.crown_angle": 30.0}).encode())
         assert status == 200 and reply["generation"] == 1 and reply["values"]["object.0.crown_angle"] == 30.0
         _, headers, _ = _get(srv.url + "frame.jpg")
-        assert headers["X-Passes"] == "1" and headers["X-Generation"] == "1"
+        assert (headers["X-Draft"], headers["X-Passes"], headers["X-Generation"]) == ("1", "0", "1")
+        _, headers, _ = _get(srv.url + "frame.jpg")
+        assert (headers["X-Draft"], headers["X-Passes"], headers["X-Generation"]) == ("0", "1", "1")
         # bad input: 400 and one line, nothing changed
         status, reply = _post(srv.url + "controls", json.dumps({"object.0.crown_angle": 80.0}).encode())
         assert status == 400 and "out of range" in reply["error"] and "\n" not in reply["error"]
@@ -274,6 +299,24 @@ def test_server_frames_refine_and_restart(device):
     # shut down: the port no longer answers
     with pytest.raises(OSError):
         _get(srv.url + "state")
+
+
+def test_bench_view_quick():
+    """scripts/bench/bench_view.py --quick: the real command as a subprocess, a few frames each
+    of refining and orbiting (the script fails unless every orbit frame restarted the view)."""
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    r = subprocess.run(
+        [sys.executable, str(root / "scripts" / "bench" / "bench_view.py"), "--quick", "--draft-scales", "2"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        cwd=root,
+    )
+    assert r.returncode == 0, r.stderr[-2000:]
+    assert "every orbit frame restarted the accumulation: True" in r.stdout
 
 
 def test_cli_refuses_bad_input(tmp_path, capsys):
@@ -297,7 +340,7 @@ def _chromium():
 @pytest.mark.skipif(_chromium() is None, reason="no Chromium installed (apt-get install chromium)")
 def test_page_in_headless_chromium(device, tmp_path):
     """The page loads its controls, fetches frames and draws them: a screenshot's image area is the
-    server's frame (the page stops after 3 frames, ?frames=3, so that the browser settles)."""
+    server's last frame (the page stops after 3 frames, ?frames=3, so that the browser settles)."""
     w, h = 48, 32
     p = Preview(_scene(width=w, height=h), device=device)
     shot = tmp_path / "page.png"
@@ -317,7 +360,7 @@ def test_page_in_headless_chromium(device, tmp_path):
         ]
         subprocess.run(cmd, timeout=120, capture_output=True, env={**os.environ, "HOME": str(tmp_path)})
         assert shot.is_file()
-        assert p.passes == 3  # the page asked for exactly three frames
+        assert p.passes == 2  # the page asked for exactly three frames: the draft and two passes
         expect = p.frame().astype(int)
     from PIL import Image as PILImage
 

@@ -8,6 +8,7 @@ watches it and the machine is idle when none does.  Endpoints:
 ``GET /``            the page (:mod:`.view_page`)
 ``GET /state``       JSON: image size, passes, generation, seconds of the last pass, the controls
 ``GET /frame.jpg``   one more pass, then the image; headers ``X-Passes``, ``X-Generation``,
+                     ``X-Draft`` (1: the low-resolution draft after a restart, ``X-Passes`` 0),
                      ``X-Pass-Seconds``, ``X-Done`` (1 once ``max_passes`` are in)
 ``GET /frame.png``   the image as it is (no new pass), lossless
 ``POST /controls``   JSON ``{name: value}``: 200 with the new generation and values, or 400 with
@@ -127,13 +128,14 @@ class ViewServer:
         with self._frame_lock:
             if step:
                 p.step()
-            key = (p.generation, p.passes, p.exposure)
+            key = (p.generation, p.passes, p.showing_draft, p.exposure)
             if self._cache is None or self._cache[0] != key:
                 self._cache = (key, _encode(p.frame(), "JPEG"))
             self.frames += 1
             headers = {
                 "X-Passes": str(p.passes),
                 "X-Generation": str(p.generation),
+                "X-Draft": "1" if p.showing_draft else "0",
                 "X-Pass-Seconds": f"{p.seconds:.4f}",
                 "X-Done": "1" if p.passes >= p.max_passes else "0",
             }
@@ -222,6 +224,7 @@ def run(args) -> int:
         wavelengths=args.wavelengths,
         spectral=args.spectral,
         max_passes=args.max_passes,
+        draft_scale=args.draft_scale,
         device=args.device,
     )
     server = ViewServer(preview, port=args.port, verbose=args.verbose)
@@ -262,6 +265,12 @@ def register(sub) -> None:
         type=int,
         default=4096,
         help="stop refining after this many passes (samples per pixel)",
+    )
+    p.add_argument(
+        "--draft-scale",
+        type=int,
+        default=2,
+        help="after every change first show one pass at 1/N of the resolution (default 2; 1: none)",
     )
     p.add_argument(
         "--port", type=int, default=8470, help="TCP port on 127.0.0.1 (default 8470; 0: any free port)"

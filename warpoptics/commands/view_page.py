@@ -1,7 +1,7 @@
 """The page of ``warpoptics view``: plain HTML and JavaScript, no external resources.
 
 The script asks ``/state`` for the controls, then loops: fetch ``/frame.jpg`` (the server adds one
-pass and answers with the mean so far; headers ``X-Generation`` and ``X-Passes``), show it,
+pass and answers with the mean so far; headers ``X-Generation``, ``X-Passes``, ``X-Draft``), show it,
 repeat; when the preview has all its passes it asks again every 300 ms.  Dragging on the image
 orbits (left/right) and tilts (up/down) the camera, the wheel changes the distance; sliders and
 menus change the scene.  Changes are sent as one ``POST /controls`` at a time (later ones are
@@ -173,12 +173,13 @@ async function loop() {
     while (times.length && now - times[0] > 2000) times.shift();
     const fps = times.length > 1 ? (times.length - 1) * 1000 / (now - times[0]) : 0;
     const passes = r.headers.get("X-Passes"), gen = r.headers.get("X-Generation");
+    const draft = r.headers.get("X-Draft") === "1";
     const ms = 1000 * parseFloat(r.headers.get("X-Pass-Seconds") || "0");
     statusEl.dataset.passes = passes;
     statusEl.dataset.generation = gen;
     statusEl.dataset.frames = frames;
-    statusEl.textContent =
-      `passes ${passes} (view ${gen})  ${fps.toFixed(1)} frames/s  ${ms.toFixed(0)} ms/pass`;
+    const what = draft ? "draft" : "passes " + passes;
+    statusEl.textContent = `${what} (view ${gen})  ${fps.toFixed(1)} frames/s  ${ms.toFixed(0)} ms/pass`;
     if (r.headers.get("X-Done") === "1") await sleep(300);
   }
 }

@@ -26,8 +26,13 @@ What can change (:meth:`Preview.update`, names as :meth:`Preview.controls` lists
 * ``render.exposure``: display only, the accumulation goes on.
 
 Every change but the exposure restarts the accumulation (the film is cleared, ``passes`` = 0) and
-increments :attr:`Preview.generation`.  Bad values raise a one-line ``InputError`` naming the
-control, the value and the allowed range, and leave the preview as it was.
+increments :attr:`Preview.generation`.  The first step after a restart renders a *draft*: one
+pass at 1/``draft_scale`` of the resolution (default 2: a quarter of the pixels) into a small
+film of its own, shown enlarged (nearest pixel) until the first full-resolution pass is in.
+While the camera is dragged every frame is such a draft (each one a restart), which is how the
+view keeps up with the mouse; when it stops, full-resolution passes follow.  Bad values raise a
+one-line ``InputError`` naming the control, the value and the allowed range, and leave the
+preview as it was.
 """
 
 from __future__ import annotations
@@ -170,7 +175,8 @@ _CUT_RANGES = {
 class Preview:
     """A progressive preview of a camera scene.
 
-    ``width``/``height`` override the camera's image size; ``wavelengths`` sets the wavelengths
+    ``width``/``height`` override the camera's image size; ``draft_scale`` the resolution divider
+    of the draft pass after each restart (1: no draft); ``wavelengths`` sets the wavelengths
     per sample of a pass and ``spectral`` how they are drawn (default ``"importance"``; an
     ``rgb3`` scene keeps its 3 wavelengths); ``max_passes``
     stops adding passes once reached (the image is then that many spp); ``threads`` as in
@@ -187,12 +193,14 @@ class Preview:
         wavelengths: int = 1,
         spectral: str | None = None,
         max_passes: int = 4096,
+        draft_scale: int = 2,
         device=None,
         threads: int | None = None,
     ):
         self.device = get_device(device)
         self.threads = threads
         self.max_passes = val.integer(max_passes, field="max_passes", lo=1, hi=1 << 30)
+        self.draft_scale = val.integer(draft_scale, field="draft_scale", lo=1, hi=64)
         if spectral is None:
             spectral = "rgb3" if scene.render.spectral == "rgb3" else "importance"
         spectral = val.choice(spectral, ("importance", "stratified", "uniform", "rgb3"), field="spectral")
@@ -210,9 +218,16 @@ class Preview:
         self._orbit = Orbit.from_camera(self.base.camera)
         self.exposure = float(self.base.render.exposure)
         self.renderer = Renderer(self.base, device=self.device)
+        self.renderer.load_kernels()  # the first frame renders, it does not load the module
         self.scene = self.base
         self.camera = Camera(self.base.camera)
         self.film = PreviewFilm(self.camera.width, self.camera.height, self.device)
+        s = self.draft_scale
+        self.draft_film = None  # the low-resolution film of the draft pass (None: no drafts)
+        if s > 1:
+            dw, dh = max(1, self.camera.width // s), max(1, self.camera.height // s)
+            self.draft_film = PreviewFilm(dw, dh, self.device)
+        self.draft = False  # whether the draft of this generation is rendered (and shown until pass 1)
         self.passes = 0
         self.generation = 0
         self.seconds = 0.0  # wall seconds of the last pass (render only)
@@ -397,6 +412,9 @@ class Preview:
                 self._controls[k] = replace(self._controls[k], value=v)
             if restart:
                 self.film.zero()
+                if self.draft_film is not None:
+                    self.draft_film.zero()
+                self.draft = False
                 self.passes = 0
                 self.generation += 1
             return self.generation
@@ -406,23 +424,39 @@ class Preview:
         return {k: getattr(c, k) for k in c.__dataclass_fields__}
 
     # -- rendering ------------------------------------------------------------------------------
+    def _draft_camera(self):
+        assert self.draft_film is not None
+        c = self.camera.config
+        return Camera(replace(c, width=self.draft_film.width, height=self.draft_film.height)).params
+
     def step(self) -> bool:
-        """Add one pass (1 spp in every pixel) unless ``max_passes`` are done; whether it did."""
+        """Render the draft after a restart (:attr:`draft` becomes True, ``passes`` stays 0), else
+        add one full-resolution pass (1 spp in every pixel) unless ``max_passes`` are done; returns
+        whether it rendered anything."""
         with self._lock:
             if self.passes >= self.max_passes:
                 return False
             t0, c0 = time.perf_counter(), time.process_time()
-            self.renderer.render_pass(
-                self.film,
-                pass_index=self.passes // BLOCK,
-                spp_begin=self.passes % BLOCK,
-                camera=self.camera.params,
-                threads=self.threads,
-            )
+            if self.draft_film is not None and self.passes == 0 and not self.draft:
+                self.renderer.render_pass(self.draft_film, camera=self._draft_camera(), threads=self.threads)
+                self.draft = True
+            else:
+                self.renderer.render_pass(
+                    self.film,
+                    pass_index=self.passes // BLOCK,
+                    spp_begin=self.passes % BLOCK,
+                    camera=self.camera.params,
+                    threads=self.threads,
+                )
+                self.passes += 1
             self.seconds = time.perf_counter() - t0
             self.cpu_seconds = time.process_time() - c0
-            self.passes += 1
             return True
+
+    @property
+    def showing_draft(self) -> bool:
+        """Whether :meth:`frame` shows the draft (rendered, and no full pass yet)."""
+        return self.passes == 0 and self.draft
 
     def image(self) -> Image:
         """The mean of the passes so far as an :class:`Image` (zeros before the first pass)."""
@@ -454,10 +488,12 @@ class Preview:
             )
 
     def frame(self) -> np.ndarray:
-        """The display image (height, width, 3) uint8 sRGB of the passes so far."""
+        """The display image (height, width, 3) uint8 sRGB of the passes so far, or the draft
+        enlarged to that size (each draft pixel repeated, nearest pixel) before the first pass."""
         with self._lock:
-            h, w, n = self.height, self.width, max(self.passes, 1)
-            xyz = self.film.xyz.numpy().reshape(h, w, 3) * (1.0 / n)
+            film = self.draft_film if self.showing_draft and self.draft_film is not None else self.film
+            h, w, n = film.height, film.width, max(self.passes, 1)
+            xyz = film.xyz.numpy().reshape(h, w, 3) * (1.0 / n)
             r = self.scene.render
             img = Image(
                 xyz=xyz,
@@ -466,4 +502,9 @@ class Preview:
                 exposure=self.exposure,
                 tone=r.tone,
             )
-        return np.round(np.clip(img.display(), 0.0, 1.0) * 255.0).astype(np.uint8)
+        rgb = np.round(np.clip(img.display(), 0.0, 1.0) * 255.0).astype(np.uint8)
+        if film is not self.film:
+            rows = np.arange(self.height) * h // self.height
+            cols = np.arange(self.width) * w // self.width
+            rgb = rgb[rows[:, None], cols[None, :]]
+        return rgb
