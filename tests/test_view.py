@@ -326,6 +326,9 @@ def test_cli_refuses_bad_input(tmp_path, capsys):
     assert "scene file not found" in capsys.readouterr().err
     assert main(["view", "scenes/diamond.toml", "--port", "70000"]) == 2
     assert "--port" in capsys.readouterr().err
+    assert main(["view", "scenes/diamond.toml", "--draft-scale", "0"]) == 2
+    err = capsys.readouterr().err
+    assert "draft_scale = 0" in err and len(err.strip().splitlines()) == 1
 
 
 # -- the page in a real browser (skips without Chromium) ---------------------------------------------

@@ -184,9 +184,9 @@ def main() -> int:
         "runs": [measure(args, int(s)) for s in args.draft_scales.split(",")],
     }
     result["load_average_after"] = os.getloadavg()[0]
-    print(
-        f"warpoptics view {result['scene']} at {args.width}x{args.height} on {result['machine']['cpus']} CPUs"
-    )
+    m, la = result["machine"], (result["load_average_before"], result["load_average_after"])
+    print(f"warpoptics view {result['scene']} at {args.width}x{args.height} on {m['cpus']} CPUs")
+    print(f"load average (1 min) {la[0]:.2f} before, {la[1]:.2f} after")
     ok = True
     for r in result["runs"]:
         print(f"draft scale {r['draft_scale']}: {r['command']}")
