@@ -17,6 +17,7 @@ from .errors import InputError
 # Modules that provide `register(subparsers)`; order = order in `warpoptics --help`.
 SUBCOMMAND_MODULES = [
     "warpoptics.commands.render",
+    "warpoptics.commands.view",
     "warpoptics.commands.bench",
     "warpoptics.commands.info",
     "warpoptics.commands.spectrum",

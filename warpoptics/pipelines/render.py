@@ -482,6 +482,71 @@ class Renderer:
             source_polarizer=self.source_polarizer,
         )
 
+    def load_kernels(self) -> None:
+        """Load the pipeline kernel now (from the kernel cache, or compile it), so that the first
+        :meth:`render_pass` or :meth:`run` does not pay for it."""
+        load_module(_render_pixels, self.device)
+
+    def render_pass(
+        self,
+        film,
+        *,
+        pass_index: int = 0,
+        spp_begin: int = 0,
+        spp: int = 1,
+        camera: CameraParams | None = None,
+        threads: int | None = None,
+        tile_size: int | None = None,
+    ) -> None:
+        """Add one progressive pass to ``film``: the samples ``[spp_begin, spp_begin + spp)`` of
+        pass ``pass_index`` in every pixel (uniform: no adaptive rounds, no caustics), seen through
+        ``camera`` (default the scene's).
+
+        ``film`` is any object with ``width``, ``height`` and the arrays ``xyz, sq, stokes, alpha,
+        rays, stokes_xyz`` laid out like the Renderer's own for that size (``pipelines/preview.py``
+        owns one; a smaller film with a camera of its size is a low-resolution draft of the same
+        scene); the kernel adds its sums, so the caller divides by the samples it accumulated.
+        The camera stream continues the pixel's R2 sequence where ``spp_begin`` says, and each
+        block of samples draws its trace decisions from its own stream (``round = spp_begin``),
+        so passes ``spp_begin = 0, 1, 2, ...`` of one ``pass_index`` sample each pixel as
+        independently as one render of that many spp.  Every setting is a value: nothing is
+        compiled per pass, camera or film size.
+        """
+        cam = self.camera.params if camera is None else camera
+        w, h = int(film.width), int(film.height)
+        if (cam.width, cam.height) != (w, h):
+            raise ValueError(f"the camera is {cam.width}x{cam.height} but the film {w}x{h}")
+        f = self.film
+        saved = (f.width, f.height, f.pass_index, f.round, f.adaptive, f.spp_begin, f.spp)
+        f.width, f.height = w, h
+        f.pass_index, f.round, f.adaptive = int(pass_index), int(spp_begin), 0
+        f.spp_begin, f.spp = int(spp_begin), int(spp_begin) + int(spp)
+        try:
+            inputs = [
+                cam,
+                f,
+                self.trace_params,
+                self.geometry.geometry,
+                self.materials,
+                self.environment.struct,
+                self.surfaces.struct,
+                self.tables,
+                1 if self.trace_config.polarized else 0,
+                self.spp_end,
+                film.xyz,
+                film.sq,
+                film.stokes,
+                film.alpha,
+                film.rays,
+                film.stokes_xyz,
+            ]
+            n = w * h
+            launch_tiled(
+                _render_pixels, n, [0, *inputs], device=self.device, threads=threads, tile_size=tile_size
+            )
+        finally:
+            f.width, f.height, f.pass_index, f.round, f.adaptive, f.spp_begin, f.spp = saved
+
 
 def render(
     scene: Scene | str | Path,
