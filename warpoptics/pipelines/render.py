@@ -389,7 +389,6 @@ class Renderer:
 
             bar = tqdm(total=f.height * rounds, unit="row", desc="render", leave=False, dynamic_ncols=True)
         t0 = time.perf_counter()
-        polarized = 1 if self.trace_config.polarized else 0
         spp = np.full((h, w), r.spp, dtype=np.int32)
         try:
             for rnd in range(rounds):
@@ -409,24 +408,7 @@ class Renderer:
                     )
                     self.spp_end.assign(spp.ravel())
                     f.round, f.adaptive, f.spp_begin = 1, 1, self.pilot
-                inputs = [
-                    self.camera.params,
-                    f,
-                    self.trace_params,
-                    self.geometry.geometry,
-                    self.materials,
-                    self.environment.struct,
-                    self.surfaces.struct,
-                    self.tables,
-                    polarized,
-                    self.spp_end,
-                    self.xyz,
-                    self.sq,
-                    self.stokes,
-                    self.alpha,
-                    self.rays,
-                    self.stokes_xyz,
-                ]
+                inputs = self._kernel_inputs(self.camera.params, self)
                 for row0 in chunks:
                     rows = min(rows_per_chunk, f.height - row0)
                     launch_tiled(
@@ -482,6 +464,29 @@ class Renderer:
             source_polarizer=self.source_polarizer,
         )
 
+    def _kernel_inputs(self, camera: CameraParams, out) -> list:
+        """The pixel kernel's arguments after the launch offset: the scene's stages and the film
+        ``out`` (any object with the arrays ``xyz, sq, stokes, alpha, rays, stokes_xyz``: the
+        Renderer's own, or a preview's)."""
+        return [
+            camera,
+            self.film,
+            self.trace_params,
+            self.geometry.geometry,
+            self.materials,
+            self.environment.struct,
+            self.surfaces.struct,
+            self.tables,
+            1 if self.trace_config.polarized else 0,
+            self.spp_end,
+            out.xyz,
+            out.sq,
+            out.stokes,
+            out.alpha,
+            out.rays,
+            out.stokes_xyz,
+        ]
+
     def load_kernels(self) -> None:
         """Load the pipeline kernel now (from the kernel cache, or compile it), so that the first
         :meth:`render_pass` or :meth:`run` does not pay for it."""
@@ -522,24 +527,7 @@ class Renderer:
         f.pass_index, f.round, f.adaptive = int(pass_index), int(spp_begin), 0
         f.spp_begin, f.spp = int(spp_begin), int(spp_begin) + int(spp)
         try:
-            inputs = [
-                cam,
-                f,
-                self.trace_params,
-                self.geometry.geometry,
-                self.materials,
-                self.environment.struct,
-                self.surfaces.struct,
-                self.tables,
-                1 if self.trace_config.polarized else 0,
-                self.spp_end,
-                film.xyz,
-                film.sq,
-                film.stokes,
-                film.alpha,
-                film.rays,
-                film.stokes_xyz,
-            ]
+            inputs = self._kernel_inputs(cam, film)
             n = w * h
             launch_tiled(
                 _render_pixels, n, [0, *inputs], device=self.device, threads=threads, tile_size=tile_size
