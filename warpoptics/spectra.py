@@ -48,7 +48,7 @@ watts):
 
 - ``UV365`` (long-wave): a Gaussian at 365 nm with 9 nm FWHM, the emission of a 365 nm UV LED
   (e.g. Nichia NVSU233 datasheets: peak 365 nm, spectral half-width about 9 nm).  Its tail
-  above 380 nm is 3e-5 of its power (Y = 4e-5 of a D65 lamp of equal power).
+  above 380 nm is 7.1e-5 of its power (Y = 2.7e-5 of a D65 lamp of equal power).
 - ``UV254`` (short-wave): the 253.65 nm resonance line of a low-pressure mercury lamp (NIST
   Atomic Spectra Database, Hg I 253.652 nm in air) as a Gaussian of 2 nm FWHM (the table's 1 nm
   step resolves it; the line is far narrower), with the visible mercury lines removed, as the
