@@ -17,6 +17,10 @@ Definitions (each function's docstring gives the formula):
 - :func:`light_return` — brightness, after GIA's *weighted light return* (WLR).
 - :func:`fire` — dispersed coloured light, after GIA's *dispersed coloured light return* (DCLR).
 - :func:`scintillation` — how much of the returned light moves between pixels under small tilts.
+- :func:`colour_change` — the CIELAB hue-angle change and CIEDE2000 difference of a
+  transmission or reflectance spectrum between two illuminants (D65 and A by default), the
+  gemmologist's measure of an alexandrite effect; :func:`plate_transmittance` gives the
+  spectrum of a polished plate of a material.
 
 The gem metrics follow, in spirit, the Gemological Institute of America's computer-model
 metrics (Hemphill et al. 1998; Reinitz et al. 2001; Moses et al. 2004):
@@ -68,6 +72,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -292,3 +297,82 @@ def scintillation(base_xyz, base_alpha, tilted: Sequence[tuple]) -> float:
         den = (w * (y0 + yk)).sum()
         cs.append(float((w * np.abs(yk - y0)).sum() / den) if den > 0 else 0.0)
     return float(np.mean(cs))
+
+
+def plate_transmittance(material, thickness_mm: float, wavelength_nm) -> np.ndarray:
+    """Transmittance of a polished plate in air at normal incidence: (1 - R)^2 exp(-alpha d)
+    with R = |rs|^2 of ``optics.fresnel`` at each face (no multiple reflections).  A
+    birefringent plate (optic axis in the plate, unpolarized light) is the mean over its
+    waves (the trailing axis of ``material.n`` / ``material.alpha``).  ``material``: a library
+    name, an inline table or a :class:`~warpoptics.materials.Material`."""
+    from . import validate as val
+    from .materials.spec import material_from_spec
+    from .optics.fresnel import fresnel
+
+    mat: Any = material_from_spec(material)  # Isotropic | Uniaxial (| Biaxial): all have n, alpha
+    d = float(val.number(thickness_mm, field="thickness", lo=0.0, hi=1.0e4))
+    wl = np.asarray(wavelength_nm, dtype=np.float64)
+    n = np.asarray(mat.n(wl), dtype=np.float64)
+    alpha = np.asarray(mat.alpha(wl), dtype=np.float64)
+    rs, _rp, _ts, _tp = fresnel(np.ones_like(n), 1.0, n)
+    t = (1.0 - np.abs(rs) ** 2) ** 2 * np.exp(-alpha * d)
+    return t.mean(axis=-1) if t.ndim > wl.ndim else t
+
+
+def colour_change(
+    wavelength_nm, spectrum, *, illuminants: Sequence[str] = ("D65", "A")
+) -> dict[str, float | tuple]:
+    """Colour change of a transmission (or reflectance) ``spectrum`` at ``wavelength_nm`` (nm,
+    increasing; linear in between, zero outside) between two illuminants.
+
+    Under each illuminant S (``spectra.light_spectrum``, Y = 1): XYZ = integral S T cmf / integral
+    S ybar over 360-830 nm (CIE 1931 2 degree; 1 nm trapezoid), CIELAB against that illuminant's
+    own white (the white object under the same light: no chromatic adaptation, as colour-change
+    studies compare the colours seen in each light, e.g. Sun et al., Gems & Gemology 51(4),
+    2015), then the hue angles h_ab, their difference |h_1 - h_2| folded into 0-180 degrees
+    (0 when either colour is achromatic, C*ab < 1e-6), and CIEDE2000 between the two Lab
+    values (CIE 142-2001, colour-science).  Returns ``lab`` (two triples), ``chroma``, ``hue``
+    (degrees), ``delta_hue`` and ``delta_e00``.
+    """
+    import colour
+
+    from .spectra import cmf, grid, light_spectrum
+
+    if len(illuminants) != 2:
+        raise InputError("needs two illuminants", field="illuminants", value=list(illuminants))
+    wl = np.asarray(wavelength_nm, dtype=np.float64)
+    v = np.asarray(spectrum, dtype=np.float64)
+    if wl.ndim != 1 or v.shape != wl.shape or wl.size < 2 or np.any(np.diff(wl) <= 0):
+        raise InputError(
+            "needs >= 2 increasing wavelengths and as many values", field="spectrum", value=v.shape
+        )
+    if not (np.isfinite(v).all() and v.min() >= 0):
+        raise InputError("must be finite and >= 0", field="spectrum")
+    g = grid()
+    t = np.interp(g, wl, v, left=0.0, right=0.0)
+    c = cmf(g)
+    labs, hues, chromas = [], [], []
+    for name in illuminants:
+        s = light_spectrum(name, g)
+        norm = np.trapezoid(s * c[:, 1], g)
+        if not norm > 0:
+            raise InputError("has no visible light (Y = 0)", field="illuminants", value=name)
+        xyz = np.trapezoid((s * t)[:, None] * c, g, axis=0) / norm
+        white = np.trapezoid(s[:, None] * c, g, axis=0) / norm
+        lab = np.asarray(colour.XYZ_to_Lab(xyz, colour.XYZ_to_xy(white)))
+        labs.append(lab)
+        chromas.append(float(np.hypot(lab[1], lab[2])))
+        hues.append(float(np.degrees(np.arctan2(lab[2], lab[1])) % 360.0))
+    dh = abs(hues[0] - hues[1]) % 360.0
+    dh = 360.0 - dh if dh > 180.0 else dh
+    if min(chromas) < 1e-6:
+        dh = 0.0
+    de = float(colour.delta_E(labs[0], labs[1], method="CIE 2000"))
+    return {
+        "illuminants": tuple(illuminants),
+        "lab": tuple(tuple(float(x) for x in lab) for lab in labs),
+        "chroma": tuple(chromas),
+        "hue": tuple(hues),
+        "delta_hue": float(dh),
+        "delta_e00": de,
+    }

@@ -64,6 +64,7 @@ import warp as wp
 
 from .. import device as _device
 from ..errors import InputError
+from ..spectra import light_grid
 from .rgb_weights import rgb_weights
 from .units import alpha_from_k_func
 
@@ -140,6 +141,15 @@ class MaterialTable:
     uniaxial: wp.array(dtype=wp.int32)
     rgb3_alpha_o: wp.array(dtype=wp.vec3f)
     rgb3_alpha_e: wp.array(dtype=wp.vec3f)
+    # fluorescence (materials/fluorescence.py): per material the quantum yield (0: none) and a
+    # row (-1: none) of the tables on the 1 nm light grid (spectra.LIGHT_RANGE_NM): the centre's
+    # alpha_x (1/mm) and emission density (1/nm) at the nodes, the CDFs over the bins
+    fl_yield: wp.array(dtype=wp.float32)
+    fl_row: wp.array(dtype=wp.int32)
+    fl_excitation: wp.array2d(dtype=wp.float32)
+    fl_emission: wp.array2d(dtype=wp.float32)
+    fl_emission_cdf: wp.array2d(dtype=wp.float32)
+    fl_excitation_cdf: wp.array2d(dtype=wp.float32)
 
 
 @wp.func
@@ -402,6 +412,8 @@ class Material:
     source: str
     wavelength_range_nm: tuple[float, float]
     rgb3_alpha: tuple[tuple[float, float, float], tuple[float, float, float]] | None
+    #: a luminescent centre (materials.fluorescence.Fluorescence) or None
+    fluorescence = None
 
     def _channels(self) -> tuple[Channel, Channel]:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -574,7 +586,7 @@ class Uniaxial(Material):
         return self.ordinary.channel, self.extraordinary.channel
 
     def with_optic_axis(self, axis: Sequence[float]) -> Uniaxial:
-        return Uniaxial(
+        out = Uniaxial(
             self.ordinary,
             self.extraordinary,
             optic_axis=axis,
@@ -582,6 +594,8 @@ class Uniaxial(Material):
             source=self.source,
             rgb3_alpha=self.rgb3_alpha,
         )
+        out.fluorescence = self.fluorescence
+        return out
 
     def n(self, wavelength_nm, *, device=None) -> np.ndarray:
         """(n_o, n_e) stacked on a trailing axis of length 2."""
@@ -642,6 +656,7 @@ def build_material_table(
     kinds, c_off, c_cnt, coeffs = [], [], [], []
     n_off, n_cnt, k_off, k_cnt, lam_all, val_all = [], [], [], [], [], []
     lam_min, lam_max, axes, uni, rgb_o, rgb_e = [], [], [], [], [], []
+    fl_yield, fl_row, fl_rows = [], [], []
 
     def add_curve(curve, offs, cnts):
         if curve is None:
@@ -677,6 +692,14 @@ def build_material_table(
             ro, re_ = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
         rgb_o.append(ro)
         rgb_e.append(re_)
+        fl = getattr(mat, "fluorescence", None)
+        if fl is None:
+            fl_yield.append(0.0)
+            fl_row.append(-1)
+        else:
+            fl_yield.append(fl.quantum_yield)
+            fl_row.append(len(fl_rows))
+            fl_rows.append(fl.device_rows())
 
     def arr(values, dtype, np_dtype):
         a = np.asarray(values, dtype=np_dtype)
@@ -701,6 +724,14 @@ def build_material_table(
     t.uniaxial = arr(uni, wp.int32, np.int32)
     t.rgb3_alpha_o = wp.array(np.asarray(rgb_o, dtype=np.float32).reshape(-1, 3), dtype=wp.vec3f, device=dev)
     t.rgb3_alpha_e = wp.array(np.asarray(rgb_e, dtype=np.float32).reshape(-1, 3), dtype=wp.vec3f, device=dev)
+    t.fl_yield = arr(fl_yield, wp.float32, np.float32)
+    t.fl_row = arr(fl_row, wp.int32, np.int32)
+    n_grid = len(light_grid())
+    for k, attr in enumerate(("fl_excitation", "fl_emission", "fl_emission_cdf", "fl_excitation_cdf")):
+        rows = np.asarray([r[k] for r in fl_rows], dtype=np.float32).reshape(-1, n_grid)
+        if rows.shape[0] == 0:
+            rows = np.zeros((1, n_grid), dtype=np.float32)
+        setattr(t, attr, wp.array(rows, dtype=wp.float32, device=dev))
     return t, list(range(len(materials)))
 
 

@@ -39,6 +39,7 @@ import numpy as np
 
 from ..errors import InputError
 from .absorption import AbsorptionSpectrum, Band, guy_soler_2004_spectra, with_absorption
+from .datasets.colour_change import COLOUR_CHANGE_GARNET
 from .datasets.dyes import LIBRARY_SOLUTIONS
 from .datasets.gems import CR3_BANDS_SOURCE, GEMS
 from .datasets.seed002 import GUY_SOLER_2004_ALPHA_PER_MM, GUY_SOLER_2004_GEMS
@@ -204,6 +205,39 @@ def fuchsine_solution(percent: float = 1.0, *, device=None) -> Isotropic:
     )
 
 
+#: fluorescent library entries: name -> (host library name, centre of datasets.fluorescence)
+FLUORESCENT = {
+    "diamond_n3": ("diamond", "N3"),
+    "red_spinel": ("spinel", "Cr3+ spinel"),
+    "uranium_glass": ("bk7", "uranyl glass"),
+}
+
+
+def _fluorescent(name: str) -> Material:
+    """A host with a luminescent centre (materials.fluorescence; uranium glass: N-BK7 stands in
+    for the soda-lime host glass, n_D 1.517 vs 1.50-1.52)."""
+    from .fluorescence import centre, with_fluorescence
+
+    host, which = FLUORESCENT[name]
+    return with_fluorescence(get(host), centre(which), name=name)
+
+
+def _colour_change_garnet() -> Material:
+    """The colour-change garnet of :mod:`.datasets.colour_change` (isotropic)."""
+    d = COLOUR_CHANGE_GARNET
+    mat = cauchy_from_gem_constants(
+        d["n_d"], d["dispersion"], name="colour_change_garnet", source=d["source"]
+    )
+    fwhm_to_sigma = 1.0 / (2.0 * np.sqrt(2.0 * np.log(2.0)))
+    absorption = AbsorptionSpectrum.from_bands(
+        [Band(c, w * fwhm_to_sigma, a) for c, w, a in d["bands"]],
+        wavelength_range_nm=(300.0, 900.0),
+        name="colour_change_garnet",
+        source=d["source"],
+    )
+    return with_absorption(mat, absorption, name="colour_change_garnet", source=d["source"])
+
+
 def _dye(kind: str, percent: float) -> Callable[[], Material]:
     def build() -> Material:
         return rose_bengal_solution(percent) if kind == "rose_bengal" else fuchsine_solution(percent)
@@ -214,6 +248,8 @@ def _dye(kind: str, percent: float) -> Callable[[], Material]:
 _BUILDERS: dict[str, Callable[[], Material]] = {
     **{name: functools.partial(_gem, name) for name in GEMS},
     **{name: _dye(kind, percent) for name, (kind, percent) in LIBRARY_SOLUTIONS.items()},
+    **{name: functools.partial(_fluorescent, name) for name in FLUORESCENT},
+    "colour_change_garnet": _colour_change_garnet,
 }
 
 #: other accepted spellings
@@ -225,6 +261,7 @@ ALIASES = {
     "silica": "fused_silica",
     "olivine": "peridot",
     "h2o": "water",
+    "color_change_garnet": "colour_change_garnet",
 }
 
 _cache: dict[str, Material] = {}

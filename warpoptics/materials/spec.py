@@ -5,31 +5,43 @@ material = "sapphire"
 material = { base = "spinel", absorption_rgb = [0.9, 0.6, 0.05], kramers_kronig = true }
 material = { base = "diamond", bands = [{ center_nm = 560, width_nm = 25, peak_alpha_per_mm = 2.0 }] }
 material = { cauchy = [1.5, 0.0042] }    # n = A + B / lambda^2 (lambda in um); [2.0] is non-dispersive
+material = { base = "diamond", fluorescence = { centre = "N3", quantum_yield = 0.29, strength = 2.0 } }
+material = { base = "diamond_n3", fluorescence = { quantum_yield = 0.1 } }   # the entry's own centre
 ```
 
 Keys of an inline table: ``base`` (library name) or ``cauchy`` (coefficients A, B, ... of a
 Cauchy formula, lambda in micrometres), one of them required; ``bands`` (Gaussian/Lorentzian
 absorption bands, alpha in 1/mm base e); ``absorption_rgb`` (an eq. 9 RGB absorbance triplet in
 1/mm, inverted onto a smooth spectrum, Guy & Soler 2004); ``kramers_kronig`` (add the anomalous
-dispersion of the absorption, Weidlich & Wilkie 2009); ``optic_axis`` (unit vector, uniaxial).
+dispersion of the absorption, Weidlich & Wilkie 2009); ``optic_axis`` (unit vector, uniaxial);
+``fluorescence`` (a luminescent centre, ``materials.fluorescence``: a centre name, or a table with
+``centre`` (default: the base's own, e.g. ``diamond_n3``'s N3), ``quantum_yield`` (0..1; a plain
+scene value, so ``object.0.material.fluorescence.quantum_yield`` is a sweep axis), ``strength``
+(x the centre's concentration, its alpha_x) and ``add_absorption`` (default true: alpha_x is
+added to the material's absorption; false when the base already holds the centre's bands, as
+the library's ruby holds the Cr3+ bands)).
 """
 
 from __future__ import annotations
 
+import copy
 import difflib
 from typing import Any
 
 import numpy as np
 
 from ..errors import InputError
+from ..spectra import light_grid
 from .absorption import AbsorptionSpectrum, Band, spectrum_from_rgb, with_absorption
+from .datasets.fluorescence import CENTRES
 from .dispersion import Cauchy, Material, Uniaxial
 from .kramers_kronig import anomalous
 from .library import get
 
 __all__ = ["material_from_spec"]
 
-_KEYS = {"base", "cauchy", "bands", "absorption_rgb", "kramers_kronig", "optic_axis"}
+_KEYS = {"base", "cauchy", "bands", "absorption_rgb", "kramers_kronig", "optic_axis", "fluorescence"}
+_FLUORESCENCE_KEYS = {"centre", "quantum_yield", "strength", "add_absorption"}
 _BAND_KEYS = {"center_nm", "width_nm", "peak_alpha_per_mm", "shape"}
 
 
@@ -64,6 +76,10 @@ def material_from_spec(spec: Any) -> Material:
         mat = Cauchy(*[float(v) for v in c], name="cauchy")
     else:
         mat = get(spec["base"])
+    host_fl = None
+    if "fluorescence" in spec and mat.fluorescence is not None:
+        host_fl = mat.fluorescence
+        mat = mat.fluorescence_host  # re-applied below, on top of any new absorption
     absorption = None
     if "bands" in spec:
         bands = spec["bands"]
@@ -127,4 +143,51 @@ def material_from_spec(spec: Any) -> Material:
             name=mat.name,
             source=mat.source,
         )
+    if "fluorescence" in spec:
+        mat = _fluorescence(spec["fluorescence"], mat, host_fl)
     return mat
+
+
+def _fluorescence(value: Any, mat: Material, own) -> Material:
+    """Apply a ``fluorescence`` value (module docstring) to ``mat``."""
+    from .. import validate as val
+    from .fluorescence import centre, with_fluorescence
+
+    if isinstance(value, str):
+        value = {"centre": value}
+    if not isinstance(value, dict):
+        raise InputError("must be a centre name or a table", field="fluorescence", value=value)
+    val.check_keys(value, _FLUORESCENCE_KEYS, prefix="fluorescence.")
+    strength = float(val.number(value.get("strength", 1.0), field="fluorescence.strength", lo=0.0, hi=1.0e6))
+    add = val.boolean(value.get("add_absorption", True), field="fluorescence.add_absorption")
+    q = value.get("quantum_yield")
+    if q is not None:
+        q = float(val.number(q, field="fluorescence.quantum_yield", lo=0.0, hi=1.0))
+    if "centre" in value:
+        fl = centre(value["centre"], quantum_yield=q, strength=strength)
+    elif own is not None:
+        fl = own if q is None else own.with_yield(q)
+        fl = fl if strength == 1.0 else fl.scaled(strength)
+    else:
+        raise InputError(
+            "the base material has no luminescent centre: name one",
+            field="fluorescence.centre",
+            allowed=", ".join(CENTRES),
+        )
+    if not add:
+        # the base's absorption is the centre's (its bands): alpha_x = the base's alpha (the
+        # weaker wave of a uniaxial crystal, so that alpha_x <= alpha for both), the centre
+        # gives the emission and the yield
+        g = light_grid()
+        lo, hi = mat.wavelength_range_nm
+        inside = (g >= lo) & (g <= hi)
+        a = np.zeros_like(g)
+        alpha = mat.alpha(g[inside])
+        a[inside] = alpha.min(axis=-1) if alpha.ndim > 1 else alpha
+        fl = fl.with_excitation(AbsorptionSpectrum(g, a, name=f"{mat.name} absorption", source=mat.source))
+        out = copy.copy(mat)
+        out.__dict__.pop("_table_cache", None)
+        out.fluorescence = fl
+        out.fluorescence_host = mat
+        return out
+    return with_fluorescence(mat, fl)

@@ -31,6 +31,7 @@ __all__ = [
     "render_config",
     "object_configs",
     "light_config",
+    "light_spectrum",
     "surface_config",
     "view_config",
     "object_config",
@@ -337,7 +338,62 @@ _LIGHT_KEYS = {
     "convention",
     "head_radius",
     "head_direction",
+    "spectrum",
 }
+_SPECTRUM_KEYS = {"wavelength_nm", "values", "normalize"}
+
+
+def light_spectrum(value, field_name: str, file, base_dir: Path | None = None) -> str:
+    """A light's ``spectrum``: a name (CIE illuminant "D65", "A", "FL2", "LED-B3", ...; UV lamp
+    "UV365", "UV254"), a two-column CSV file (wavelength nm, relative power; found next to the
+    scene file) or an inline table ``{wavelength_nm = [...], values = [...], normalize =
+    "luminance" | "power"}``.  Measured spectra are registered in the light table
+    (``spectra.register_spectrum``); returns the name the light config takes."""
+    from .. import spectra
+
+    if isinstance(value, dict):
+        val.check_keys(value, _SPECTRUM_KEYS, file=file, prefix=field_name + ".")
+        for k in ("wavelength_nm", "values"):
+            if k not in value:
+                raise InputError("missing key", file=file, field=f"{field_name}.{k}")
+            v = value[k]
+            if not isinstance(v, list) or not all(
+                isinstance(x, (int, float)) and not isinstance(x, bool) for x in v
+            ):
+                raise InputError("must be a list of numbers", file=file, field=f"{field_name}.{k}", value=v)
+        return spectra.register_spectrum(
+            value["wavelength_nm"],
+            value["values"],
+            normalize=value.get("normalize", "luminance"),
+            file=file,
+            field=field_name,
+        )
+    if not isinstance(value, str):
+        raise InputError(
+            "must be a spectrum name, a .csv file or a table {wavelength_nm, values}",
+            file=file,
+            field=field_name,
+            value=value,
+        )
+    if Path(value).suffix.lower() == ".csv":
+        path = Path(value)
+        if not path.is_absolute() and base_dir is not None:
+            path = base_dir / path
+        if not path.is_file():
+            raise InputError("spectrum file not found", file=file, field=field_name, value=value)
+        try:
+            data = np.loadtxt(path, delimiter=",", comments="#", ndmin=2)
+        except ValueError as exc:
+            raise InputError(
+                f"unreadable spectrum file ({exc})", file=file, field=field_name, value=value
+            ) from None
+        if data.shape[1] < 2:
+            raise InputError(
+                "needs two columns: wavelength (nm), relative power", file=file, field=field_name, value=value
+            )
+        return spectra.register_spectrum(data[:, 0], data[:, 1], file=file, field=field_name)
+    spectra.light_spectrum_row(value, file=file, field=field_name)
+    return value
 
 
 def light_config(
@@ -349,7 +405,7 @@ def light_config(
     ltype = table.get("type", "environment")
     val.choice(ltype, ("environment", "constant", *LAMP_KINDS), file=file, field=prefix + "type")
     if ltype in LAMP_KINDS:
-        return _lamp_config(table, ltype, prefix, file)
+        return _lamp_config(table, ltype, prefix, file, base_dir)
     val.check_keys(table, _LIGHT_KEYS, file=file, prefix=prefix)
     kw: dict[str, Any] = {"source": file}
     if ltype == "constant":
@@ -376,6 +432,8 @@ def light_config(
         kw["convention"] = val.choice(
             table["convention"], tuple(LATLONG_CONVENTIONS), file=file, field=prefix + "convention"
         )
+    if "spectrum" in table:
+        kw["spectrum"] = light_spectrum(table["spectrum"], prefix + "spectrum", file, base_dir)
     if "polarizer" in table and table["polarizer"] != "none":
         # an ideal linear polarizer in front of the light (polariscope), degrees on the image
         kw["polarizer"] = float(val.number(table["polarizer"], file=file, field=prefix + "polarizer"))
@@ -413,16 +471,18 @@ def view_config(table, file) -> str | None:
 
 
 _LAMP_KEYS = {
-    "directional": {"type", "direction", "irradiance", "tint", "angular_radius"},
-    "area": {"type", "center", "normal", "up", "size", "radiance", "tint", "double_sided"},
-    "spot": {"type", "center", "direction", "intensity", "tint", "cone_angle", "blend"},
+    "directional": {"type", "direction", "irradiance", "tint", "angular_radius", "spectrum"},
+    "area": {"type", "center", "normal", "up", "size", "radiance", "tint", "double_sided", "spectrum"},
+    "spot": {"type", "center", "direction", "intensity", "tint", "cone_angle", "blend", "spectrum"},
 }
 
 
-def _lamp_config(table: dict, ltype: str, prefix: str, file) -> LampConfig:
-    """``[[light]] type = "directional"`` or ``"area"`` (stages/surfaces.py)."""
+def _lamp_config(table: dict, ltype: str, prefix: str, file, base_dir: Path | None = None) -> LampConfig:
+    """``[[light]] type = "directional"``, ``"area"`` or ``"spot"`` (stages/surfaces.py)."""
     val.check_keys(table, _LAMP_KEYS[ltype], file=file, prefix=prefix)
     kw: dict[str, Any] = {"type": ltype, "source": file}
+    if "spectrum" in table:
+        kw["spectrum"] = light_spectrum(table["spectrum"], prefix + "spectrum", file, base_dir)
     for k in ("direction", "normal", "up"):
         if k in table:
             kw[k] = val.unit_vec3(table[k], file=file, field=prefix + k)

@@ -114,16 +114,19 @@ from ..optics.jones import (
 )
 from ..optics.microfacet import orthonormal_basis
 from ..optics.thinfilm import CoatingStack, make_coating_stack
-from ..spectra import SpectralTables, rgb_spectrum_value, sample_wavelength, strategy_id
+from ..spectra import SpectralTables, sample_wavelength, strategy_id
 from .camera import CameraParams
 from .forward import ForwardConfig, ForwardParams, forward_params, forward_step
 from .surfaces import (
     Surfaces,
     albedo_rgb,
+    area_emission,
     bsdf_eval,
     cdf_find,
     reflectance_value,
     sample_cone,
+    spot_intensity,
+    sun_irradiance,
     surfaces_closest_hit,
 )
 
@@ -231,7 +234,7 @@ def _emit(cp: CausticParams, s: Surfaces, tables: SpectralTables, wl: float, rng
         o = p - d * back
         pdf = _disc_pdf(cp, axis, cmax, o, d)
         if pdf > 0.0:
-            flux = rgb_spectrum_value(tables, s.d_rgb[j], wl) * scale * wp.dot(d, axis) / (pdf * p_lamp)
+            flux = sun_irradiance(s, tables, j, wl) * scale * wp.dot(d, axis) / (pdf * p_lamp)
     elif lamp < s.num_sun + s.num_area:
         j = lamp - s.num_sun
         h2 = s.a_half[j]
@@ -248,7 +251,7 @@ def _emit(cp: CausticParams, s: Surfaces, tables: SpectralTables, wl: float, rng
         pdf = _cone_pdf(cp, o, d)
         if cos_l > 0.0 and pdf > 0.0:
             area = 4.0 * h2[0] * h2[1]
-            flux = rgb_spectrum_value(tables, s.a_rgb[j], wl) * cos_l * area / (pdf * p_lamp)
+            flux = area_emission(s, tables, j, wl) * cos_l * area / (pdf * p_lamp)
         o = o + d * 1.0e-4
     else:
         j = lamp - s.num_sun - s.num_area
@@ -265,7 +268,7 @@ def _emit(cp: CausticParams, s: Surfaces, tables: SpectralTables, wl: float, rng
             fall = 1.0
         pdf = _cone_pdf(cp, o, d)
         if fall > 0.0 and pdf > 0.0:
-            flux = rgb_spectrum_value(tables, s.p_rgb[j], wl) * fall / (pdf * p_lamp)
+            flux = spot_intensity(s, tables, j, wl) * fall / (pdf * p_lamp)
     return o, d, flux, rng
 
 

@@ -41,7 +41,11 @@ camera) between the lights and a face-up stone.  The cone is fixed in the world,
 so a stone tilted under it (``object.N.rotation``) sees the head move across its crown.
 
 RGB radiance (maps, procedural colours) becomes a spectrum through D65 x the Mallett–Yuksel sRGB
-basis (``spectra.rgb_spectrum_value``), so an RGB-white environment is D65.
+basis (``spectra.rgb_spectrum_value``), so an RGB-white environment is D65.  A light
+``spectrum`` (``EnvironmentConfig.spectrum``: a CIE illuminant, a UV lamp or a measured spectrum,
+``spectra.light_spectrum_row``) replaces that white: an RGB texel c emits dot(c, basis(l)) S(l)
+(``spectra.light_spectrum_value``), a constant or dome sky S(l) x intensity.  Defaults: E for
+``constant``, D65 for everything else (exactly the values before light spectra existed).
 
 References:
     Blender manual, Shader nodes > Textures > Environment Texture (projection Equirectangular);
@@ -60,7 +64,15 @@ import warp as wp
 
 from ..device import get_device
 from ..errors import InputError
-from ..spectra import SpectralTables, illuminant_value, rgb_spectrum_value, sample_wavelength, strategy_id
+from ..spectra import (
+    SpectralTables,
+    illuminant_value,
+    light_spectrum_row,
+    rgb_spectrum_value,
+    sample_wavelength,
+    srgb_basis_value,
+    strategy_id,
+)
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -72,6 +84,7 @@ __all__ = [
     "environment_coefficients",
     "environment_basis",
     "spectral_response",
+    "environment_spectrum_row",
     "ENV_KINDS",
     "LATLONG_CONVENTIONS",
     "latlong_frame",
@@ -160,6 +173,9 @@ class Environment:
     # frame); head_cos = 2 (> any cosine) when there is no head
     head: wp.vec3f
     head_cos: float
+    # light-spectrum row (spectra.light_spectrum_row) of the light's white; constant and dome
+    # always have one (E, D65 by default); -1 for the RGB kinds: the D65 x basis table
+    spectrum: int
 
 
 @wp.func
@@ -254,15 +270,20 @@ def environment_basis(env: Environment, t: SpectralTables, wavelength: float):
     Mallett–Yuksel sRGB basis for the RGB kinds, (illuminant, 0, 0) for constant (E), dome and
     cos (D65).  Radiance = dot(coefficients, basis): the wavelength enters only here, so one path
     tree can be weighted for many wavelengths at once."""
-    if env.kind == _CONSTANT:
-        return wp.vec3f(illuminant_value(t, 0, wavelength), 0.0, 0.0)
-    if env.kind == _DOME or env.kind == _COS:
-        return wp.vec3f(illuminant_value(t, 1, wavelength), 0.0, 0.0)
-    return wp.vec3f(
-        rgb_spectrum_value(t, wp.vec3f(1.0, 0.0, 0.0), wavelength),
-        rgb_spectrum_value(t, wp.vec3f(0.0, 1.0, 0.0), wavelength),
-        rgb_spectrum_value(t, wp.vec3f(0.0, 0.0, 1.0), wavelength),
-    )
+    if env.kind == _CONSTANT or env.kind == _DOME or env.kind == _COS:
+        return wp.vec3f(illuminant_value(t, env.spectrum, wavelength), 0.0, 0.0)
+    if env.spectrum < 0 and wavelength >= t.lambda_min:
+        return wp.vec3f(
+            rgb_spectrum_value(t, wp.vec3f(1.0, 0.0, 0.0), wavelength),
+            rgb_spectrum_value(t, wp.vec3f(0.0, 1.0, 0.0), wavelength),
+            rgb_spectrum_value(t, wp.vec3f(0.0, 0.0, 1.0), wavelength),
+        )
+    # basis x the light's white (D65's ultraviolet below the colour range for the default);
+    # the same law as spectra.light_spectrum_value, per basis function
+    row = env.spectrum
+    if row < 0:
+        row = 1
+    return srgb_basis_value(t, wavelength) * illuminant_value(t, row, wavelength)
 
 
 @wp.func
@@ -311,9 +332,14 @@ class EnvironmentConfig:
     # head_direction (world; normalised here)
     head_radius_deg: float = 0.0
     head_direction: tuple[float, float, float] = (0.0, 0.0, 1.0)
+    # the light's white (module docstring): a name of spectra.light_spectrum_names() -- CIE
+    # illuminant, UV lamp or a registered measured spectrum; None: E (constant) or D65
+    spectrum: str | None = None
     source: str | None = field(default=None, compare=False)  # scene file, for messages
 
     def __post_init__(self):
+        if self.spectrum is not None:
+            light_spectrum_row(self.spectrum, file=self.source, field="light.spectrum")
         if not (math.isfinite(self.intensity) and self.intensity >= 0):
             raise InputError(
                 "must be a finite number >= 0",
@@ -366,6 +392,19 @@ class EnvironmentConfig:
             )
 
 
+def environment_spectrum_row(kind: int, spectrum: str | None) -> int:
+    """The ``Environment.spectrum`` row of an environment of ``kind`` (:data:`ENV_KINDS`) with
+    light spectrum ``spectrum``: E (constant) or D65 (dome) when None; -1 (the D65 x basis table)
+    for an RGB kind whose white is D65 -- the same values as before light spectra, bit for bit."""
+    spectral = kind in (ENV_KINDS["constant"], ENV_KINDS["dome"], ENV_KINDS["cos"])
+    if spectrum is None:
+        return (0 if kind == ENV_KINDS["constant"] else 1) if spectral else -1
+    row = light_spectrum_row(spectrum)
+    if not spectral and row == 1:
+        return -1
+    return row
+
+
 class EnvironmentLight:
     """Stage owning the environment struct and its texture on a device."""
 
@@ -391,6 +430,7 @@ class EnvironmentLight:
         env.polarizer = wp.vec3f(0.0, 0.0, 0.0)  # unpolarized (the Renderer sets a polarizer)
         env.head = wp.vec3f(*config.head_direction)
         env.head_cos = math.cos(math.radians(config.head_radius_deg)) if config.head_radius_deg > 0 else 2.0
+        env.spectrum = environment_spectrum_row(env.kind, config.spectrum)
         self.struct = env
         self.texture = tex
 

@@ -19,6 +19,9 @@ The solids of ``geometry.query`` are gems: closed dielectric meshes that the spl
   the specular branches of the gem tree (a stone reflects a light box) and the surfaces' bounce
   rays.  ``spot`` lights are point lights with a radiant intensity I on their axis (E = I cos /
   d^2) and a smooth cone edge.  The environment (``stages.environment``) stays the background.
+  Every lamp may carry a light ``spectrum`` (``LampConfig.spectrum``: a CIE illuminant, a UV
+  lamp or a measured spectrum): its tint c then emits dot(c, basis(l)) S(l)
+  (``spectra.light_spectrum_value``, the one law of every light; default D65, exactly as before).
 
 Light transport at a surface hit (``surface_radiance``, called by the trace stage's hook when a
 branch in the ambient medium meets a surface or a lamp before any solid): next-event estimation
@@ -71,7 +74,14 @@ from ..geometry.query import SceneGeometry, object_exit_hit, scene_closest_hit
 from ..materials.dispersion import MaterialTable
 from ..optics.fresnel import fresnel_amplitudes, unpolarized_power
 from ..optics.microfacet import ggx_d, ggx_g1, ggx_sample_normal, orthonormal_basis
-from ..spectra import SpectralTables, illuminant_value, rgb_spectrum_value, spectral_tables
+from ..spectra import (
+    SpectralTables,
+    illuminant_value,
+    light_spectrum_row,
+    light_spectrum_value,
+    rgb_spectrum_value,
+    spectral_tables,
+)
 from ..validate import choice, finite_array
 from .environment import Environment, environment_radiance
 from .media import medium_alpha, object_medium
@@ -102,6 +112,10 @@ __all__ = [
     "rect_irradiance_factor",
     "bsdf_values",
     "reflectance_spectrum",
+    "area_emission",
+    "sun_irradiance",
+    "spot_intensity",
+    "lamp_spectrum_row",
 ]
 
 BSDF_KINDS = {"diffuse": 0, "glossy": 1}
@@ -177,6 +191,9 @@ class Surfaces:
     p_rgb: wp.array(dtype=wp.vec3f)  # radiant intensity on the axis (E = I cos / d^2, d in mm)
     p_cos_outer: wp.array(dtype=wp.float32)  # cos of the cone half-angle (intensity 0 beyond)
     p_cos_inner: wp.array(dtype=wp.float32)  # cos of (half-angle - blend): full intensity within
+    a_spectrum: wp.array(dtype=wp.int32)  # light-spectrum row of each area light (-1: D65)
+    d_spectrum: wp.array(dtype=wp.int32)  # ... of each sun
+    p_spectrum: wp.array(dtype=wp.int32)  # ... of each spot
     env_rows: int  # environment sampling table (0 rows: cosine-weighted sampling instead)
     env_cols: int
     env_marginal: wp.array(dtype=wp.float32)  # (rows + 1) CDF over rows (polar angle bands)
@@ -426,7 +443,25 @@ def _area_emission(s: Surfaces, t: SpectralTables, k: int, d: wp.vec3f, waveleng
     c = -wp.dot(d, s.a_normal[k])
     if c <= 0.0 and s.a_two_sided[k] == 0:
         return 0.0
-    return rgb_spectrum_value(t, s.a_rgb[k], wavelength)
+    return area_emission(s, t, k, wavelength)
+
+
+@wp.func
+def area_emission(s: Surfaces, t: SpectralTables, k: int, wavelength: float):
+    """Spectral radiance of area light k on its emitting side(s) at ``wavelength`` (nm)."""
+    return light_spectrum_value(t, s.a_spectrum[k], s.a_rgb[k], wavelength)
+
+
+@wp.func
+def sun_irradiance(s: Surfaces, t: SpectralTables, k: int, wavelength: float):
+    """Spectral irradiance of sun k on a surface facing it at ``wavelength`` (nm)."""
+    return light_spectrum_value(t, s.d_spectrum[k], s.d_rgb[k], wavelength)
+
+
+@wp.func
+def spot_intensity(s: Surfaces, t: SpectralTables, k: int, wavelength: float):
+    """Spectral radiant intensity of spot k on its axis at ``wavelength`` (nm)."""
+    return light_spectrum_value(t, s.p_spectrum[k], s.p_rgb[k], wavelength)
 
 
 @wp.func
@@ -656,7 +691,7 @@ def surface_radiance(
             f = bsdf_eval(kind, albedo, rough, ior, n, wo, wi)
             if f <= 0.0:
                 continue
-            e = rgb_spectrum_value(tables, s.d_rgb[j], wavelength)
+            e = sun_irradiance(s, tables, j, wavelength)
             vis = _visibility(
                 s, geom, mats, obj_material, obj_absorption, ambient, xs, wi, _BIG, wavelength, rgb3_channel
             )
@@ -685,7 +720,7 @@ def surface_radiance(
             f = bsdf_eval(kind, albedo, rough, ior, n, wo, wi)
             if f <= 0.0:
                 continue
-            e = rgb_spectrum_value(tables, s.p_rgb[j], wavelength) * fall / dist2
+            e = spot_intensity(s, tables, j, wavelength) * fall / dist2
             vis = _visibility(
                 s,
                 geom,
@@ -904,7 +939,22 @@ class LampConfig:
     intensity: float = 1.0
     cone_angle: float = 30.0
     blend: float = 5.0
+    # the lamp's white (module docstring): a name of spectra.light_spectrum_names(); None: D65
+    spectrum: str | None = None
     source: str | None = field(default=None, compare=False)
+
+    def __post_init__(self):
+        if self.spectrum is not None:
+            light_spectrum_row(self.spectrum, file=self.source, field="light.spectrum")
+
+
+def lamp_spectrum_row(spectrum: str | None) -> int:
+    """The ``Surfaces.*_spectrum`` row of a lamp with light spectrum ``spectrum``: -1 (the D65 x
+    basis table, the values before light spectra existed, bit for bit) for None or D65."""
+    if spectrum is None:
+        return -1
+    row = light_spectrum_row(spectrum)
+    return -1 if row == 1 else row
 
 
 def _frame(normal, up) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -1054,6 +1104,9 @@ class SurfaceStage:
         s.p_cos_inner = _arr(
             [math.cos(math.radians(max(lp.cone_angle - lp.blend, 0.0))) for lp in spots], wp.float32, 1, dev
         )
+        s.a_spectrum = _arr([lamp_spectrum_row(lp.spectrum) for lp in area], wp.int32, 1, dev)
+        s.d_spectrum = _arr([lamp_spectrum_row(lp.spectrum) for lp in suns], wp.int32, 1, dev)
+        s.p_spectrum = _arr([lamp_spectrum_row(lp.spectrum) for lp in spots], wp.int32, 1, dev)
         self._env_table(s, environment, env_table, dev)
         s.max_diffuse = int(max_diffuse)
         s.mis_mode = MIS_MODES[mis]
