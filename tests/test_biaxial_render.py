@@ -148,3 +148,22 @@ def test_scene_orientation_keys():
             scene({**base, "object": [{**base["object"][0], **extra}]})
     with pytest.raises(InputError):  # crystal axes on an isotropic stone
         build_objects(scene({**FURNACE, "object": [{**FURNACE["object"][0], "crystal_axes": AXES}]}).objects)
+
+
+def test_bench_biaxial_quick():
+    """scripts/bench/bench_biaxial.py --quick runs and reports both renders (timing is the lead's
+    benchmark run, not asserted here)."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    r = subprocess.run(
+        [sys.executable, str(root / "scripts/bench/bench_biaxial.py"), "--quick"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        env={**__import__("os").environ, "PYTHONPATH": str(root)},
+    )
+    assert r.returncode == 0, r.stderr[-2000:]
+    assert "ratio_cpu" in r.stdout and "rays_biaxial" in r.stdout

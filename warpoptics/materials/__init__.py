@@ -28,6 +28,7 @@ from .absorption import (
 )
 from .dispersion import (
     CIE_RGB_PRIMARIES_NM,
+    Biaxial,
     Cauchy,
     Formula,
     Isotropic,
@@ -56,6 +57,7 @@ __all__ = [
     "Material",
     "Isotropic",
     "Uniaxial",
+    "Biaxial",
     "Sellmeier",
     "Cauchy",
     "Tabulated",

@@ -352,6 +352,35 @@ def _quartic_roots(c4: wp.float64, c3: wp.float64, c2: wp.float64, c1: wp.float6
 
 
 @wp.func
+def _quartic_roots_known(
+    c4: wp.float64, c3: wp.float64, c2: wp.float64, c1: wp.float64, c0: wp.float64, r: wp.float64
+):
+    """The four roots of the quartic when one, ``r``, is known (the incident wave's, for the
+    reflected waves): ``r`` itself, then the largest real root of the deflated cubic and the two
+    roots of the deflated quadratic, each polished on the full quartic.  Near an optic axis the
+    incident root is double; deflating by it keeps its twin a real (incident-side) root instead
+    of a complex pair that could pass for an evanescent reflected wave."""
+    a3 = c3 / c4
+    a2 = c2 / c4
+    a1 = c1 / c4
+    a0 = c0 / c4
+    b2 = a3 + r
+    b1 = a2 + r * b2
+    b0 = a1 + r * b1
+    x1 = _cubic_max_root(b2, b1, b0)
+    q1 = b2 + x1
+    q0 = b1 + x1 * q1
+    y0r, y0i, y1r, y1i = _quadratic_roots(q1, q0)
+    re = wp.vec4d(r, x1, y0r, y1r)
+    im = wp.vec4d(wp.float64(0.0), wp.float64(0.0), y0i, y1i)
+    for j in range(1, 4):
+        xr, xi = _polish(re[j], im[j], a3, a2, a1, a0)
+        re[j] = xr
+        im[j] = xi
+    return re, im
+
+
+@wp.func
 def _quartic(kt: wp.vec3d, m: wp.vec3d, eps: wp.vec3d):
     """Coefficients (c4..c0) of F(kt + q m) = A |k|^2 - B + eps1 eps2 eps3 (principal frame,
     kt . m = 0, |m| = 1): A = sum eps_i k_i^2, B = sum eps_i (S - eps_i) k_i^2, S = sum eps_i."""
@@ -454,21 +483,31 @@ def biaxial_wave_pair(kt: wp.vec3, m: wp.vec3, med: UniaxialMedium):
     ``med`` on the side of unit normal ``m`` (energy along +m, or decaying along +m):
     (fast wave, slow wave) as ``PlaneWave``\\ s (labels 0 and 1).  When only one propagates it is
     the slow one (a fast wave is totally reflected first)."""
-    return _wave_pair64(_d3(kt), m, med)
+    return _wave_pair64(_d3(kt), m, med, 0, wp.vec3d())
 
 
 @wp.func
-def _wave_pair64(kt_world: wp.vec3d, m: wp.vec3, med: UniaxialMedium):
-    # biaxial_wave_pair with a float64 tangential wave vector (world)
+def _wave_pair64(kt_world: wp.vec3d, m: wp.vec3, med: UniaxialMedium, known: int, k_known: wp.vec3d):
+    # biaxial_wave_pair with a float64 tangential wave vector (world); with ``known`` = 1 the
+    # tangential wave vector is that of ``k_known`` (principal coordinates), a wave of this medium
+    # travelling against m (the incident wave of a reflection), whose root is then exact
     eps = _eps(med)
     ie = _inv_eps(med)
     f64 = _frame64(med.frame)
     mp = wp.normalize(f64 * _d3(m))
     ktp = f64 * kt_world
+    if known != 0:
+        ktp = k_known
     # kt . m = 0 exactly in the quartic (float32 input may carry a rounding component)
-    ktp = ktp - mp * wp.dot(ktp, mp)
+    q_known = wp.dot(ktp, mp)
+    ktp = ktp - mp * q_known
     c4, c3, c2, c1, c0 = _quartic(ktp, mp, eps)
-    qr, qi = _quartic_roots(c4, c3, c2, c1, c0)
+    qr = wp.vec4d()
+    qi = wp.vec4d()
+    if known != 0:
+        qr, qi = _quartic_roots_known(c4, c3, c2, c1, c0, q_known)
+    else:
+        qr, qi = _quartic_roots(c4, c3, c2, c1, c0)
     score = wp.vec4d()
     label = wp.vec4i()
     efield = wp.mat33d()  # rows: E of the first three candidates (kept below for the best two)
@@ -649,6 +688,8 @@ def crystal_fresnel(d: wp.vec3, mode: int, normal: wp.vec3, m1: UniaxialMedium, 
     # the tangential wave vector in float64 (from the incident wave normal itself when it is in
     # a biaxial medium): the reflected roots then keep the energy balance near grazing incidence
     k64 = _d3(inc.k_re)
+    kp = wp.vec3d()  # the incident wave vector in m1's principal frame
+    near_axis = int(0)  # incident wave normal within ~1e-5 of an optic axis (a double root)
     if is_biaxial(m1):
         f1 = _frame64(m1.frame)
         sp = wp.normalize(f1 * _d3(d))
@@ -656,7 +697,10 @@ def crystal_fresnel(d: wp.vec3, mode: int, normal: wp.vec3, m1: UniaxialMedium, 
         n1 = n_f
         if mode == 1:
             n1 = n_s
-        k64 = wp.transpose(f1) * (sp * n1)
+        kp = sp * n1
+        k64 = wp.transpose(f1) * kp
+        if n_s - n_f < wp.float64(1.0e-5):
+            near_axis = 1
     nv = _d3(normal)
     kt64 = k64 - nv * wp.dot(k64, nv)
     ro = PlaneWave()
@@ -664,14 +708,27 @@ def crystal_fresnel(d: wp.vec3, mode: int, normal: wp.vec3, m1: UniaxialMedium, 
     to = PlaneWave()
     te = PlaneWave()
     if is_biaxial(m1):
-        ro, re = _wave_pair64(kt64, normal, m1)
+        # near an optic axis the incident root is double: deflate by it (_quartic_roots_known)
+        ro, re = _wave_pair64(kt64, normal, m1, near_axis, kp)
     else:
         ro, re = medium_waves(kt, normal, m1, normal)
     if is_biaxial(m2):
-        to, te = _wave_pair64(kt64, -normal, m2)
+        to, te = _wave_pair64(kt64, -normal, m2, 0, wp.vec3d())
     else:
         to, te = medium_waves(kt, -normal, m2, normal)
     xr, xi, ok = boundary_amplitudes(inc, ro, re, to, te, normal, d)
+    # a propagating outgoing wave must carry its energy away from the interface; where the root
+    # classification cannot tell (a wave normal on an optic axis at grazing incidence, where the
+    # sheets touch and every normal flux is ~0) the solve is refused rather than let an
+    # interface return more power than arrives
+    # (float32 rounding leaves grazing waves' fluxes at ~ -1e-7: the bound is 1e-4)
+    if (ro.propagating == 1 and ro.flux < -1.0e-4) or (re.propagating == 1 and re.flux < -1.0e-4):
+        ok = 0
+    if (to.propagating == 1 and to.flux < -1.0e-4) or (te.propagating == 1 and te.flux < -1.0e-4):
+        ok = 0
+    if ok == 0:
+        xr = wp.vec4(0.0)
+        xi = wp.vec4(0.0)
     sol.r_o = wp.vec2f(xr[0], xi[0])
     sol.r_e = wp.vec2f(xr[1], xi[1])
     sol.t_o = wp.vec2f(xr[2], xi[2])
