@@ -28,6 +28,7 @@ __all__ = [
     "boolean",
     "vec3",
     "unit_vec3",
+    "crystal_frame",
     "pair",
     "rgb",
     "finite_array",
@@ -118,6 +119,39 @@ def unit_vec3(v, *, file: str | None = None, field: str) -> tuple[float, float, 
     if not any(x):
         raise InputError("must not be the zero vector", file=file, field=field, value=list(x))
     return x
+
+
+def crystal_frame(v, *, file: str | None = None, field: str):
+    """Three orthogonal, right-handed non-zero 3-vectors ``[[X], [Y], [Z]]`` (a crystal's principal
+    axes), normalised, as a (3, 3) NumPy array of rows; orthogonality within 1e-4 (a 0.006° slack
+    for hand-typed decimals), then re-orthonormalised exactly."""
+    import numpy as np  # the toolkit's other checks need no NumPy
+
+    rows = v.tolist() if hasattr(v, "tolist") else v
+    if not isinstance(rows, (list, tuple)) or len(rows) != 3:
+        raise InputError(
+            "must be three axes [[X], [Y], [Z]] (rows of 3 numbers)", file=file, field=field, value=v
+        )
+    a = np.array(
+        [unit_vec3(list(r) if isinstance(r, (list, tuple)) else r, file=file, field=field) for r in rows]
+    )
+    a /= np.linalg.norm(a, axis=1, keepdims=True)
+    g = a @ a.T
+    if np.max(np.abs(g - np.eye(3))) > 1e-4:
+        raise InputError(
+            "crystal axes must be mutually perpendicular",
+            file=file,
+            field=field,
+            value=[[round(float(c), 6) for c in r] for r in a],
+            allowed="X . Y = Y . Z = Z . X = 0",
+        )
+    if np.linalg.det(a) < 0:
+        raise InputError("crystal axes must be right-handed", file=file, field=field, allowed="Z = X x Y")
+    # exact orthonormal frame: Gram-Schmidt on X, Y; Z = X x Y
+    x = a[0]
+    y = a[1] - x * (x @ a[1])
+    y /= np.linalg.norm(y)
+    return np.array([x, y, np.cross(x, y)])
 
 
 def pair(

@@ -21,6 +21,7 @@ from .absorption import (
 from .datasets.seed002 import GUY_SOLER_2004_ALPHA_PER_MM, GUY_SOLER_2004_GEMS
 from .dispersion import (
     CIE_RGB_PRIMARIES_NM,
+    Biaxial,
     Cauchy,
     Formula,
     Isotropic,
@@ -52,6 +53,7 @@ __all__ = [
     "Material",
     "Isotropic",
     "Uniaxial",
+    "Biaxial",
     "Sellmeier",
     "Cauchy",
     "Tabulated",

@@ -44,7 +44,7 @@ from .. import device as _device
 from ..errors import InputError
 from ..optics.absorption import pleochroic_kappa
 from .datasets.seed002 import GUY_SOLER_2004_ALPHA_PER_MM, GUY_SOLER_2004_GEMS
-from .dispersion import Material, Uniaxial, rgb3_alpha_of, with_absorption_k
+from .dispersion import Biaxial, Material, Uniaxial, rgb3_alpha_of, with_absorption_k
 from .rgb_weights import rgb_weights
 from .units import (
     alpha_from_absorbance_per_cm,
@@ -403,7 +403,20 @@ def with_absorption(
 ) -> Material:
     """``mat`` with the extinction coefficient k = alpha λ/4π of ``absorption`` (an
     :class:`AbsorptionSpectrum`; for a :class:`Uniaxial`, a pair (K^o, K^e) or one spectrum for
-    both).  The real index is unchanged (see ``kramers_kronig.anomalous`` for Δn)."""
+    both; for a :class:`Biaxial`, a triple for D along X, Y, Z).  The real index is unchanged
+    (see ``kramers_kronig.anomalous`` for Δn)."""
+    if isinstance(mat, Biaxial):
+        if isinstance(absorption, AbsorptionSpectrum):
+            absorption = (absorption, absorption, absorption)
+        sx, sy, sz = absorption
+        return Biaxial(
+            with_absorption(mat.alpha_channel, sx, device=device),
+            with_absorption(mat.beta, sy, device=device),
+            with_absorption(mat.gamma, sz, device=device),
+            crystal_axes=mat.crystal_axes,
+            name=name or mat.name,
+            source=source or mat.source,
+        )
     if isinstance(mat, Uniaxial):
         if isinstance(absorption, AbsorptionSpectrum):
             absorption = (absorption, absorption)

@@ -74,6 +74,7 @@ __all__ = [
     "MaterialTable",
     "material_eval",
     "material_eval_channel",
+    "material_eval_beta",
     "material_alpha",
     "material_optics",
     "rii_formula",
@@ -82,6 +83,7 @@ __all__ = [
     "Channel",
     "Isotropic",
     "Uniaxial",
+    "Biaxial",
     "Material",
     "Sellmeier",
     "Cauchy",
@@ -123,6 +125,13 @@ class MaterialTable:
     Per material (length M): ``lam_min``/``lam_max`` (nm, evaluation is clamped to it),
     ``optic_axis`` (unit vector), ``uniaxial`` (0/1), ``rgb3_alpha_o``/``rgb3_alpha_e``
     (alpha at R, G, B in 1/mm, base e).
+
+    Biaxial crystals (:class:`Biaxial`): channels 2 m and 2 m + 1 are n_alpha and n_gamma, and
+    ``beta_channel[m]`` (-1 for every other material, which therefore evaluates exactly as
+    before) is the channel of n_beta, appended after the 2M o/e channels; ``crystal_frame[m]``
+    holds the principal axes X, Y, Z as rows (already turned into the world by the pipelines:
+    each biaxial object has its own entry) and ``rgb3_alpha_o``/``_b``/``_e`` the eq. 9
+    absorbances for D along X / Y / Z.
     """
 
     formula_kind: wp.array(dtype=wp.int32)
@@ -150,6 +159,9 @@ class MaterialTable:
     fl_emission: wp.array2d(dtype=wp.float32)
     fl_emission_cdf: wp.array2d(dtype=wp.float32)
     fl_excitation_cdf: wp.array2d(dtype=wp.float32)
+    beta_channel: wp.array(dtype=wp.int32)
+    crystal_frame: wp.array(dtype=wp.mat33f)
+    rgb3_alpha_b: wp.array(dtype=wp.vec3f)
 
 
 @wp.func
@@ -264,6 +276,20 @@ def material_eval_channel(table: MaterialTable, mat_id: int, channel: int, wavel
 
 
 @wp.func
+def material_eval_beta(table: MaterialTable, mat_id: int, wavelength_nm: float):
+    """Complex n_beta (n, k) of a biaxial material at λ (nm); call only when
+    ``table.beta_channel[mat_id] >= 0``."""
+    lam = wp.clamp(wavelength_nm, table.lam_min[mat_id], table.lam_max[mat_id])
+    c = table.beta_channel[mat_id]
+    n = rii_formula(
+        table.formula_kind[c], table.coeffs, table.coeff_offset[c], table.coeff_count[c], lam * 1.0e-3
+    )
+    n += curve_eval(table.curve_lam, table.curve_val, table.ncurve_offset[c], table.ncurve_count[c], lam)
+    k = curve_eval(table.curve_lam, table.curve_val, table.kcurve_offset[c], table.kcurve_count[c], lam)
+    return wp.vec2f(n, wp.max(k, 0.0))
+
+
+@wp.func
 def material_eval(table: MaterialTable, mat_id: int, wavelength_nm: float):
     """(N_o, N_e): complex indices n + i k (``wp.vec2f``) of material ``mat_id`` at λ (nm).
 
@@ -318,6 +344,22 @@ def _material_eval_kernel(
     out_o[i] = no
     out_e[i] = ne
     out_alpha[i] = a
+
+
+@wp.kernel
+def _material_eval_beta_kernel(
+    offset: int,
+    wavelength_nm: wp.array(dtype=wp.float32),
+    mat_id: wp.array(dtype=wp.int32),
+    table: MaterialTable,
+    out_b: wp.array(dtype=wp.vec2f),
+    out_alpha: wp.array(dtype=wp.float32),
+):
+    i = wp.tid() + offset
+    lam = wp.max(wavelength_nm[i], 1.0e-3)
+    nb = material_eval_beta(table, mat_id[i], lam)
+    out_b[i] = nb
+    out_alpha[i] = _alpha_of(nb, lam)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -621,6 +663,161 @@ class Uniaxial(Material):
         return f"Uniaxial({self.name!r}, {lo:g}-{hi:g} nm, axis={self._axis})"
 
 
+class Biaxial(Material):
+    """A biaxial crystal: principal index channels ``alpha``, ``beta``, ``gamma``
+    (:class:`Isotropic`, n_alpha <= n_beta <= n_gamma over the range; each carries its own k(λ),
+    the absorption for D along that principal axis) along the principal axes X, Y, Z — the rows
+    of ``crystal_axes`` (object frame; default the identity).
+
+    ``two_v(λ)`` is the optic-axial angle in degrees from the indices, ``optic_sign`` "+" when Z
+    is the acute bisectrix (at 589.3 nm).  ``uniaxial_approximation()`` is the stone as today's
+    uniaxial model (n_o, n_e = the two principal indices farthest from n_beta's partner, the optic
+    axis along the acute bisectrix), kept for comparison.  ``rgb3_alpha`` (optional): the eq. 9
+    absorbance triplets for D along X, Y, Z."""
+
+    def __init__(
+        self,
+        alpha: Isotropic,
+        beta: Isotropic,
+        gamma: Isotropic,
+        *,
+        crystal_axes=((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)),
+        name: str = "biaxial",
+        source: str = "",
+        rgb3_alpha=None,
+    ) -> None:
+        from ..validate import crystal_frame
+
+        self.alpha_channel = alpha
+        self.beta = beta
+        self.gamma = gamma
+        self.name = name
+        self.source = source
+        self._axes = crystal_frame(crystal_axes, field="crystal_axes")
+        lo = max(c.wavelength_range_nm[0] for c in (alpha, beta, gamma))
+        hi = min(c.wavelength_range_nm[1] for c in (alpha, beta, gamma))
+        if not lo < hi:
+            raise InputError(
+                f"{name}: the ranges of the three indices do not overlap", field="wavelength_range_nm"
+            )
+        self.wavelength_range_nm = (lo, hi)
+        # the order is checked over the colour range (formula pages may have IR poles beyond it)
+        lam = np.linspace(max(lo, VISIBLE_RANGE_NM[0]), min(hi, VISIBLE_RANGE_NM[1]), 48)
+        na, nb, ng = alpha.n(lam), beta.n(lam), gamma.n(lam)
+        if np.any(na > nb + 1e-9) or np.any(nb > ng + 1e-9) or np.any(ng - na <= 0):
+            i = int(np.argmax((na > nb + 1e-9) | (nb > ng + 1e-9) | (ng - na <= 0)))
+            raise InputError(
+                f"{name}: principal indices must satisfy n_alpha <= n_beta <= n_gamma, n_alpha < n_gamma",
+                field="n_alpha, n_beta, n_gamma",
+                value=(round(float(na[i]), 5), round(float(nb[i]), 5), round(float(ng[i]), 5)),
+                allowed=f"ordered at every wavelength ({lam[i]:.0f} nm fails)",
+            )
+        self.rgb3_alpha = (
+            None if rgb3_alpha is None else tuple(tuple(float(v) for v in t) for t in rgb3_alpha)
+        )
+
+    @property
+    def crystal_axes(self) -> np.ndarray:
+        """(3, 3) rows X, Y, Z (object frame, or world for a pipeline's per-object entry)."""
+        return self._axes.copy()
+
+    @property
+    def optic_axis(self) -> tuple[float, float, float]:
+        # the Z row: what a tracer's per-object axis array carries (unused for biaxial media)
+        return tuple(float(v) for v in self._axes[2])
+
+    def _channels(self) -> tuple[Channel, Channel]:
+        return self.alpha_channel.channel, self.gamma.channel
+
+    def with_crystal_axes(self, axes) -> Biaxial:
+        return Biaxial(
+            self.alpha_channel,
+            self.beta,
+            self.gamma,
+            crystal_axes=axes,
+            name=self.name,
+            source=self.source,
+            rgb3_alpha=self.rgb3_alpha,
+        )
+
+    def _eval3(self, wavelength_nm, device=None):
+        no, ne, alpha = self._eval(wavelength_nm, device)
+        lo, hi = self.wavelength_range_nm
+        lam = _check_wavelength(wavelength_nm, lo, hi, self.name)
+        dev = _device.get_device(device)
+        nb, ab = _device.elementwise(
+            _material_eval_beta_kernel,
+            [(lam, wp.float32), (0, wp.int32)],
+            [wp.vec2f, wp.float32],
+            extra=(self._table(dev),),
+            device=dev,
+        )
+        n = np.stack([no[..., 0], nb[..., 0], ne[..., 0]], axis=-1)
+        k = np.stack([no[..., 1], nb[..., 1], ne[..., 1]], axis=-1)
+        a = np.stack([alpha[..., 0], ab, alpha[..., 1]], axis=-1)
+        return n, k, a
+
+    def n(self, wavelength_nm, *, device=None) -> np.ndarray:
+        """(n_alpha, n_beta, n_gamma) on a trailing axis of length 3."""
+        return self._eval3(wavelength_nm, device)[0]
+
+    def k(self, wavelength_nm, *, device=None) -> np.ndarray:
+        """(k_X, k_Y, k_Z) on a trailing axis of length 3."""
+        return self._eval3(wavelength_nm, device)[1]
+
+    def alpha(self, wavelength_nm, *, device=None) -> np.ndarray:
+        """(alpha_X, alpha_Y, alpha_Z) in 1/mm (base e): absorption for D along each axis."""
+        return self._eval3(wavelength_nm, device)[2]
+
+    def two_v(self, wavelength_nm=589.3, *, device=None) -> np.ndarray:
+        """The optic-axial angle 2V in degrees at ``wavelength_nm`` (from the three indices)."""
+        from ..optics.biaxial import optic_axial_angle
+
+        n = self.n(wavelength_nm, device=device)
+        return optic_axial_angle(n[..., 0], n[..., 1], n[..., 2])[0]
+
+    @property
+    def optic_sign(self) -> str:
+        """ "+" when Z (n_gamma) bisects the acute angle of the optic axes at 589.3 nm, else "-"."""
+        from ..optics.biaxial import optic_axial_angle
+
+        n = self.n(589.3)
+        return "+" if bool(optic_axial_angle(n[0], n[1], n[2])[1]) else "-"
+
+    def optic_axes(self, wavelength_nm=589.3) -> np.ndarray:
+        """(2, 3) unit optic axes (of wave normals) in the crystal's frame of ``crystal_axes``."""
+        n = self.n(wavelength_nm)
+        s2 = (n[0] ** -2 - n[1] ** -2) / (n[0] ** -2 - n[2] ** -2)
+        vz = np.arcsin(np.sqrt(np.clip(s2, 0.0, 1.0)))
+        local = np.array([[np.sin(vz), 0.0, np.cos(vz)], [-np.sin(vz), 0.0, np.cos(vz)]])
+        return local @ self._axes
+
+    def uniaxial_approximation(self) -> Uniaxial:
+        """Today's uniaxial model of this stone, for comparison: positive (Z acute bisectrix):
+        n_o = n_alpha (D along X), n_e = n_gamma, optic axis Z; negative: n_o = n_gamma,
+        n_e = n_alpha, optic axis X.  Each keeps its channel's k(λ)."""
+        if self.optic_sign == "+":
+            o, e, axis = self.alpha_channel, self.gamma, self._axes[2]
+        else:
+            o, e, axis = self.gamma, self.alpha_channel, self._axes[0]
+        rgb3 = None
+        if self.rgb3_alpha is not None:
+            rx, _, rz = self.rgb3_alpha
+            rgb3 = (rx, rz) if self.optic_sign == "+" else (rz, rx)
+        return Uniaxial(
+            o,
+            e,
+            optic_axis=tuple(axis),
+            name=f"{self.name} (uniaxial approximation)",
+            source=self.source + "; uniaxial approximation (n_beta dropped)",
+            rgb3_alpha=rgb3,
+        )
+
+    def __repr__(self) -> str:
+        lo, hi = self.wavelength_range_nm
+        return f"Biaxial({self.name!r}, {lo:g}-{hi:g} nm)"
+
+
 def rgb3_alpha_of(mat: Material, *, illuminant: str = "E", cmfs: str = "srgb", device=None):
     """(K^o_rgb, K^e_rgb) in 1/mm for the renderer's rgb3 mode: eq. 9 of the material's alpha(λ).
 
@@ -634,6 +831,8 @@ def rgb3_alpha_of(mat: Material, *, illuminant: str = "E", cmfs: str = "srgb", d
     lam, w = rgb_weights(illuminant, cmfs)
     lo, hi = mat.wavelength_range_nm
     a = mat.alpha(np.clip(lam, lo, hi), device=device)
+    if isinstance(mat, Biaxial):
+        return tuple(tuple(np.maximum(w @ a[:, j], 0.0).tolist()) for j in range(3))
     if isinstance(mat, Uniaxial):
         ko, ke = np.maximum(w @ a[:, 0], 0.0), np.maximum(w @ a[:, 1], 0.0)
         return tuple(ko.tolist()), tuple(ke.tolist())
@@ -657,6 +856,7 @@ def build_material_table(
     n_off, n_cnt, k_off, k_cnt, lam_all, val_all = [], [], [], [], [], []
     lam_min, lam_max, axes, uni, rgb_o, rgb_e = [], [], [], [], [], []
     fl_yield, fl_row, fl_rows = [], [], []
+    beta_ch, frames, rgb_b, extra = [], [], [], []
 
     def add_curve(curve, offs, cnts):
         if curve is None:
@@ -671,7 +871,10 @@ def build_material_table(
     for mat in materials:
         if not isinstance(mat, Material):
             raise InputError(
-                "not a material", field="material", value=type(mat).__name__, allowed="Isotropic | Uniaxial"
+                "not a material",
+                field="material",
+                value=type(mat).__name__,
+                allowed="Isotropic | Uniaxial | Biaxial",
             )
         for ch in mat._channels():
             kinds.append(ch.formula_kind)
@@ -684,14 +887,29 @@ def build_material_table(
         lam_max.append(mat.wavelength_range_nm[1])
         axes.append(mat.optic_axis)
         uni.append(1 if mat.is_uniaxial else 0)
-        if mat.rgb3_alpha is not None:
-            ro, re_ = mat.rgb3_alpha
-        elif rgb3:
-            ro, re_ = rgb3_alpha_of(mat, device=dev)
+        rb = (0.0, 0.0, 0.0)
+        if isinstance(mat, Biaxial):
+            beta_ch.append(2 * len(materials) + len(extra))
+            extra.append(mat.beta.channel)
+            frames.append(mat.crystal_axes)
+            if mat.rgb3_alpha is not None:
+                ro, rb, re_ = mat.rgb3_alpha
+            elif rgb3:
+                ro, rb, re_ = rgb3_alpha_of(mat, device=dev)
+            else:
+                ro, re_ = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
         else:
-            ro, re_ = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+            beta_ch.append(-1)
+            frames.append(np.zeros((3, 3)))
+            if mat.rgb3_alpha is not None:
+                ro, re_ = mat.rgb3_alpha
+            elif rgb3:
+                ro, re_ = rgb3_alpha_of(mat, device=dev)
+            else:
+                ro, re_ = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
         rgb_o.append(ro)
         rgb_e.append(re_)
+        rgb_b.append(rb)
         fl = getattr(mat, "fluorescence", None)
         if fl is None:
             fl_yield.append(0.0)
@@ -700,6 +918,13 @@ def build_material_table(
             fl_yield.append(fl.quantum_yield)
             fl_row.append(len(fl_rows))
             fl_rows.append(fl.device_rows())
+    for ch in extra:  # the n_beta channels of biaxial materials, after the 2M o/e channels
+        kinds.append(ch.formula_kind)
+        c_off.append(len(coeffs))
+        c_cnt.append(len(ch.coeffs))
+        coeffs.extend(ch.coeffs)
+        add_curve(ch.n_curve, n_off, n_cnt)
+        add_curve(ch.k_curve, k_off, k_cnt)
 
     def arr(values, dtype, np_dtype):
         a = np.asarray(values, dtype=np_dtype)
@@ -732,6 +957,11 @@ def build_material_table(
         if rows.shape[0] == 0:
             rows = np.zeros((1, n_grid), dtype=np.float32)
         setattr(t, attr, wp.array(rows, dtype=wp.float32, device=dev))
+    t.beta_channel = arr(beta_ch, wp.int32, np.int32)
+    t.crystal_frame = wp.array(
+        np.asarray(frames, dtype=np.float32).reshape(-1, 3, 3), dtype=wp.mat33f, device=dev
+    )
+    t.rgb3_alpha_b = wp.array(np.asarray(rgb_b, dtype=np.float32).reshape(-1, 3), dtype=wp.vec3f, device=dev)
     return t, list(range(len(materials)))
 
 

@@ -43,7 +43,7 @@ from .datasets.colour_change import COLOUR_CHANGE_GARNET
 from .datasets.dyes import LIBRARY_SOLUTIONS
 from .datasets.gems import CR3_BANDS_SOURCE, GEMS
 from .datasets.seed002 import GUY_SOLER_2004_ALPHA_PER_MM, GUY_SOLER_2004_GEMS
-from .dispersion import VISIBLE_RANGE_NM, Cauchy, Isotropic, Material, Uniaxial
+from .dispersion import VISIBLE_RANGE_NM, Biaxial, Cauchy, Isotropic, Material, Uniaxial
 from .kramers_kronig import anomalous, fuchsine_absorption, rose_bengal_absorption
 from .refractiveindex import from_refractiveindex
 
@@ -171,9 +171,25 @@ def _gem(name: str) -> Material:
         o = cauchy_from_gem_constants(n_o, dispersion, name=f"{name} (o)", source=src)
         e = cauchy_from_gem_constants(n_e, dispersion, name=f"{name} (e)", source=src)
         mat = _uniaxial(o, e, name, src)
+    elif kind == "biaxial":
+        *n3, dispersion = args
+        src = entry["source"]
+        ch = [
+            cauchy_from_gem_constants(n, dispersion, name=f"{name} ({a})", source=src)
+            for n, a in zip(n3, "abg", strict=True)
+        ]
+        mat = Biaxial(*ch, name=name, source=src)
+    elif kind == "biaxial_pages":
+        ch = [_page(pg, f"{name} ({a})") for pg, a in zip(args, "abg", strict=True)]
+        mat = Biaxial(*ch, name=name, source=entry["source"])
     else:  # "seed002"
         mat = _seed002_indices(name)
     absorption = entry.get("absorption")
+    if isinstance(mat, Biaxial):
+        if absorption is None:
+            return mat
+        kx, ky, kz = (_bands(absorption[a], f"{name} alpha_{a.upper()}") for a in "xyz")
+        return with_absorption(mat, (kx, ky, kz), source=mat.source + "; " + absorption["source"])
     if absorption == "seed002":
         return _seed002(name, mat)
     if absorption is not None:

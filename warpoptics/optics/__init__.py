@@ -1,11 +1,13 @@
-"""Optics kernels: complex algebra, Fresnel, Jones and coherency matrices, birefringence, thin films.
+"""Optics kernels: complex algebra, Fresnel, Jones and coherency matrices, birefringence (uniaxial
+and biaxial), thin films.
 
 Each physical law is a ``@wp.func`` in its module (``fresnel``, ``jones``, ``birefringence``),
 called per ray by the renderer's kernels; the NumPy wrappers re-exported here launch exactly
 those functions.
 """
 
-from . import birefringence, complex, jones, polarizer  # noqa: F401
+from . import biaxial, birefringence, complex, jones, polarizer  # noqa: F401
+from .biaxial import biaxial_absorption, biaxial_fresnel_coefficients, biaxial_waves, optic_axial_angle
 from .birefringence import (
     GeneralizedFresnelResult,
     attenuation,
@@ -31,6 +33,7 @@ from .jones import (
 from .polarizer import analyze, mueller_polarizer, sheet_polarizer_stokes
 
 __all__ = [
+    "biaxial",
     "birefringence",
     "complex",
     "jones",
@@ -63,4 +66,9 @@ __all__ = [
     "fresnel_matrices",
     "kappa_e",
     "attenuation",
+    # biaxial crystals
+    "biaxial_waves",
+    "biaxial_fresnel_coefficients",
+    "biaxial_absorption",
+    "optic_axial_angle",
 ]

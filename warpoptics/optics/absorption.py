@@ -13,8 +13,25 @@ wrappers (``warpoptics.materials.pleochroic_alpha``, ``warpoptics.optics.kappa_e
 - **The o/e attenuation matrix** (eq. 11): diag(exp(-kappa_o l / 2), exp(-kappa_e l / 2)) on
   the field, so that A J A^dagger follows the intensity law.
 
-A new kind of medium (biaxial, three principal absorptions) adds its per-wave law here, beside
-``pleochroic_kappa``, and the media layer (``stages/media.py``) chooses it per wave.
+- **Absorption per wave in a biaxial crystal** (trichroism): :func:`trichroic_kappa`.  A wave
+  absorbs by what its own *D* vibration sees.  To first order in the absorption the impermeability
+  of an absorbing crystal is eps^-1 = diag(1/N_i^2) with N_i = n_i (1 + i kappa_i), and a wave of
+  unit D direction d has 1/N^2 = d . eps^-1 . d (Born & Wolf 1999 §15.6, eq. 9-12: the index
+  ellipsoid of an absorbing crystal), i.e. kappa / n^2 = sum_i d_i^2 kappa_i / n_i^2.  Guy &
+  Soler's eq. 7 is this law for a uniaxial crystal written with the reference index n_o in place of
+  the wave's own n (they drop the factor (n/n_o)^2 = 1 + O(birefringence)) and the principal
+  absorbances K_i in place of kappa_i: kappa = sum_i K_i (n_o / n_i)^2 d_i^2.  We keep eq. 7's form
+  with n_beta as the reference index, which is n_o in both uniaxial limits (n_alpha = n_beta or
+  n_beta = n_gamma), so a biaxial medium with two equal indices gives exactly eq. 7:
+
+      kappa = sum_i alpha_i (n_beta / n_i)^2 d_i^2      (d in principal coordinates).
+
+  D rather than E: D is transverse (d . s = 0, so the three weights sum to at most 1 and a wave
+  along a principal axis sees only the two other spectra — the measured "principal spectra" of a
+  trichroic stone are taken with light polarized along an axis), and it is the vector of eq. 7
+  (D^o along X_a, D^e along Y_a of eq. 2).  For D along a principal axis i the law gives
+  alpha_i (n_beta/n_i)^2 — alpha_i itself for Y, and alpha_i within (n_gamma/n_alpha)^2 - 1
+  (< 2 % for the library's stones) for X and Z, as eq. 7 does for e-waves.
 """
 
 from __future__ import annotations
@@ -25,7 +42,7 @@ from .jones import jones_real
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
-__all__ = ["bouguer_lambert", "pleochroic_kappa", "wave_kappa", "attenuation_oe"]
+__all__ = ["bouguer_lambert", "pleochroic_kappa", "trichroic_kappa", "wave_kappa", "attenuation_oe"]
 
 
 @wp.func
@@ -41,6 +58,18 @@ def pleochroic_kappa(cos_theta: float, k_o: float, k_e: float, no: float, ne: fl
     c2 = wp.min(cos_theta * cos_theta, 1.0)
     r = no / ne
     return k_o * c2 + k_e * r * r * (1.0 - c2)
+
+
+@wp.func
+def trichroic_kappa(d: wp.vec3, n3: wp.vec3, alpha3: wp.vec3):
+    """kappa = sum_i alpha_i (n_beta / n_i)^2 d_i^2 of a wave with unit D ``d`` (principal
+    coordinates) in a crystal of principal indices ``n3`` = (n_alpha, n_beta, n_gamma) and
+    principal absorption coefficients ``alpha3`` (module docstring; eq. 7 when two n_i coincide)."""
+    k = float(0.0)
+    for i in range(3):
+        r = n3[1] / n3[i]
+        k += alpha3[i] * r * r * d[i] * d[i]
+    return k
 
 
 @wp.func

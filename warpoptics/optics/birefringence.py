@@ -92,6 +92,8 @@ __all__ = [
     "ordinary_wave",
     "extraordinary_wave",
     "generalized_fresnel",
+    "incident_wave",
+    "boundary_amplitudes",
     "interface_jones",
     "interface_jones_approx",
     # NumPy wrappers
@@ -109,11 +111,18 @@ __all__ = [
 
 @wp.struct
 class UniaxialMedium:
-    """Real ordinary/extraordinary indices and unit optic axis (zero vector: isotropic)."""
+    """The medium struct of every tracer: real ordinary/extraordinary indices and unit optic axis
+    (zero vector: isotropic).  A biaxial crystal (``optics/biaxial.py``) sets ``nb`` > 0: then
+    ``no``, ``nb``, ``ne`` are n_alpha, n_beta, n_gamma, ``frame`` holds the principal axes X, Y,
+    Z (rows, world space), ``axis`` = Z (non-zero: a crystal) and ``alpha_y`` the absorption
+    coefficient (1/mm) for D along Y at the medium's wavelength."""
 
     no: float
     ne: float
     axis: wp.vec3
+    nb: float  # n_beta of a biaxial crystal; 0 for isotropic and uniaxial media
+    frame: wp.mat33  # biaxial: rows = principal axes X, Y, Z (world)
+    alpha_y: float  # biaxial: alpha for D along Y (1/mm, base e)
 
 
 @wp.struct
@@ -380,6 +389,13 @@ def _incident_wave(d: wp.vec3, extraordinary: int, med: UniaxialMedium, normal: 
     return _finish(w, extraordinary, med, normal, -normal)
 
 
+@wp.func
+def incident_wave(d: wp.vec3, extraordinary: int, med: UniaxialMedium, normal: wp.vec3):
+    """The propagating incident wave of unit wave normal ``d`` in mode o (0) / e (1) of a uniaxial
+    or isotropic ``med`` (its flux taken along ``-normal``)."""
+    return _incident_wave(d, extraordinary, med, normal)
+
+
 # ----------------------------------------------------------------------------------------------
 # generalized Fresnel coefficients (eq. 5)
 
@@ -462,28 +478,15 @@ def _solve4(ar: wp.mat44, ai: wp.mat44, br: wp.vec4, bi: wp.vec4):
 
 
 @wp.func
-def generalized_fresnel(
-    d: wp.vec3, extraordinary: int, normal: wp.vec3, m1: UniaxialMedium, m2: UniaxialMedium
+def boundary_amplitudes(
+    inc: PlaneWave, ro: PlaneWave, re: PlaneWave, to: PlaneWave, te: PlaneWave, normal: wp.vec3, d: wp.vec3
 ):
-    """Generalized Fresnel amplitudes (eq. 5) for an incident wave of unit wave normal ``d`` in
-    mode o (0) or e (1) of medium ``m1`` hitting the interface to ``m2`` (``normal`` towards m1).
-
-    Covers isotropic->uniaxial, uniaxial->isotropic, uniaxial->uniaxial and isotropic->isotropic
-    (``axis = 0``: o/e = s/p).  Amplitudes relate unit-|E| fields: outgoing field =
-    coefficient * incident amplitude * e_out."""
-    sol = InterfaceSolution()
-    inc = _incident_wave(d, extraordinary, m1, normal)
-    kt = inc.k_re - normal * wp.dot(inc.k_re, normal)
-    ro = PlaneWave()
-    re = PlaneWave()
-    if extraordinary == 0:
-        ro = _reflected_same_mode(inc, 0, m1, normal)
-        re = extraordinary_wave(kt, normal, m1, normal)
-    else:
-        ro = ordinary_wave(kt, normal, m1, normal)
-        re = _reflected_same_mode(inc, 1, m1, normal)
-    to = ordinary_wave(kt, -normal, m2, normal)
-    te = extraordinary_wave(kt, -normal, m2, normal)
+    """The 4x4 boundary system of eq. 5 for any media: continuity of tangential E and H = k x E
+    for the incident wave ``inc`` and the four outgoing waves (two reflected ``ro``, ``re``, two
+    transmitted ``to``, ``te``; unit-|E| fields), dotted with two tangential vectors built from
+    ``normal`` and the incident wave normal ``d``.  Returns (x_re, x_im, ok): the amplitudes of
+    (ro, re, to, te).  The uniaxial (``generalized_fresnel``) and biaxial (``optics/biaxial.py``)
+    solvers share it."""
     # two independent tangential vectors
     v1 = wp.cross(normal, d)
     if wp.dot(v1, v1) < 1.0e-12:
@@ -525,7 +528,33 @@ def generalized_fresnel(
         ai[row + 2, 3] = wp.dot(v, hte_i)
         br[row + 2] = wp.dot(v, hin_r)
         bi[row + 2] = wp.dot(v, hin_i)
-    xr, xi, ok = _solve4(ar, ai, br, bi)
+    return _solve4(ar, ai, br, bi)
+
+
+@wp.func
+def generalized_fresnel(
+    d: wp.vec3, extraordinary: int, normal: wp.vec3, m1: UniaxialMedium, m2: UniaxialMedium
+):
+    """Generalized Fresnel amplitudes (eq. 5) for an incident wave of unit wave normal ``d`` in
+    mode o (0) or e (1) of medium ``m1`` hitting the interface to ``m2`` (``normal`` towards m1).
+
+    Covers isotropic->uniaxial, uniaxial->isotropic, uniaxial->uniaxial and isotropic->isotropic
+    (``axis = 0``: o/e = s/p).  Amplitudes relate unit-|E| fields: outgoing field =
+    coefficient * incident amplitude * e_out."""
+    sol = InterfaceSolution()
+    inc = _incident_wave(d, extraordinary, m1, normal)
+    kt = inc.k_re - normal * wp.dot(inc.k_re, normal)
+    ro = PlaneWave()
+    re = PlaneWave()
+    if extraordinary == 0:
+        ro = _reflected_same_mode(inc, 0, m1, normal)
+        re = extraordinary_wave(kt, normal, m1, normal)
+    else:
+        ro = ordinary_wave(kt, normal, m1, normal)
+        re = _reflected_same_mode(inc, 1, m1, normal)
+    to = ordinary_wave(kt, -normal, m2, normal)
+    te = extraordinary_wave(kt, -normal, m2, normal)
+    xr, xi, ok = boundary_amplitudes(inc, ro, re, to, te, normal, d)
     sol.r_o = wp.vec2f(xr[0], xi[0])
     sol.r_e = wp.vec2f(xr[1], xi[1])
     sol.t_o = wp.vec2f(xr[2], xi[2])

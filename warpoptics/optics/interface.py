@@ -15,8 +15,11 @@ The laws it composes, each in its own place:
   solution, as Mitsuba 3's ``refract`` reuses its ``fresnel()``'s ``cos_theta_t``);
 - a thin-film stack instead of the bare interface: :func:`interface_amplitudes`
   (``thinfilm.coating_amplitudes_scaled``);
-- uniaxial crystals: ``birefringence.generalized_fresnel`` (Guy & Soler 2004 eq. 5, exact mode)
-  or ``birefringence.interface_jones_approx`` (eq. 10, approx mode);
+- crystals: ``biaxial.crystal_fresnel`` (Guy & Soler 2004 eq. 5, exact mode), which is
+  ``birefringence.generalized_fresnel`` for uniaxial/isotropic pairs and the biaxial solver
+  (``optics/biaxial.py``: fast/slow waves from Fresnel's equation of wave normals) when a side is
+  biaxial; or ``birefringence.interface_jones_approx`` (eq. 10, approx mode, uniaxial only: a
+  biaxial interface is always exact);
 - power normalisation of amplitudes: ``fresnel.flux_ratio`` with the waves' normal fluxes;
 - the Jones algebra of a child: ``branches.child_jones`` (backward, eq. 12 accumulated from the
   eye) or ``jones_mul`` on the left (forward).
@@ -29,13 +32,16 @@ camera) and extend it on the right; forward events take the source-to-ray matrix
 the left.  Both normalise amplitudes by the square root of the normal flux ratio so that ``|M|^2``
 is power, and both handle total internal reflection (no refracted child; |r| = 1 with its phase).
 
-Adding a medium (e.g. a biaxial crystal): give it a medium struct and its plane-wave solver
-(wave normals, ray directions, eigenpolarizations, fluxes) beside ``birefringence.py``, a
-generalized-Fresnel solve with that medium on either side, then ONE backward and ONE forward event
-here (following :func:`backward_uniaxial_exact` / :func:`forward_event`), and let the two
-dispatchers (:func:`backward_event`, :func:`forward_event`) choose it by the media's kind.  The
-tracers do not change: they resolve media (``stages/media.py``), call the dispatcher and keep or
-pick the children.
+Adding a medium: give it its plane-wave solver (wave normals, ray directions,
+eigenpolarizations, fluxes) beside ``birefringence.py`` and a generalized-Fresnel solve with that
+medium on either side; the exact crystal events choose the solver by the media's kind.  Biaxial
+crystals were added so (``optics/biaxial.py``): the medium struct carries n_beta and the principal
+frame, :func:`backward_uniaxial_exact` (the exact event of every crystal: its name is historical)
+takes the two waves of a biaxial side from ``biaxial.medium_waves`` (one quartic for both) and
+solves with ``biaxial.crystal_fresnel``; :func:`forward_event`'s crystal branch solves with
+``crystal_fresnel``; in a biaxial medium a child's mode is its sheet, 0 fast and 1 slow.  With no
+biaxial side every call is the uniaxial one, unchanged.  The tracers do not change: they resolve
+media (``stages/media.py``), call the dispatcher and keep or pick the children.
 
 References:
     Born, M., Wolf, E. 1999. Principles of Optics, 7th ed., §1.5 (Fresnel), §1.6 (stacks).
@@ -49,11 +55,11 @@ from __future__ import annotations
 
 import warp as wp
 
+from .biaxial import crystal_fresnel, is_biaxial, medium_waves, wave_index
 from .birefringence import (
     PlaneWave,
     UniaxialMedium,
     extraordinary_wave,
-    generalized_fresnel,
     interface_jones_approx,
     n_e_theta,
     oe_frame_x,
@@ -248,18 +254,22 @@ def backward_uniaxial_exact(
     in_b: int,
     depth: int,
 ):
-    """Backward interface event with a uniaxial medium on either side (Guy & Soler 2004 eq. 5).
+    """Backward interface event with a crystal (uniaxial or biaxial) on either side (Guy & Soler
+    2004 eq. 5).
 
     The parent is the wave leaving the interface into medium A toward the camera: unit wave
     normal ``w_a`` (pointing into A), mode ``mode_a`` (-1: isotropic A, frame (bx, w_a x bx)).
     Every wave that can feed it arrives with the same tangential wave vector (phase matching):
     from A (reflection) and from B (transmission), in the o and e modes of a crystal or the two
-    polarizations of an isotropic medium.  Each is solved forward with ``generalized_fresnel``;
+    polarizations of an isotropic medium (fast and slow in a biaxial one).  Each is solved forward
+    with ``crystal_fresnel``;
     the coefficient to our outgoing wave, power-normalised by the normal Poynting fluxes, becomes
     the child's Jones column.  Crystal children are single-mode (o and e travel apart);
     an isotropic child carries both polarizations."""
     n_eff = med_a.no
-    if mode_a == 1:
+    if is_biaxial(med_a):
+        n_eff = wave_index(med_a, mode_a, w_a)
+    elif mode_a == 1:
         n_eff = n_e_theta(wp.dot(w_a, med_a.axis), med_a.no, med_a.ne)
     k_out = w_a * n_eff
     kt = k_out - nrm * wp.dot(k_out, nrm)
@@ -284,15 +294,26 @@ def backward_uniaxial_exact(
         iso_basis = wp.vec3f(0.0, 0.0, 0.0)
         iso_dir = wp.vec3f(0.0, 0.0, 0.0)
         iso_any = int(0)
+        bi_x = is_biaxial(med_x)
+        bw0 = PlaneWave()
+        bw1 = PlaneWave()
+        if bi_x:
+            bw0, bw1 = medium_waves(-kt, n_into, med_x, n_into)  # fast and slow, one quartic
         for mode_in in range(2):
             # the incident wave is the time reverse of the outgoing wave into X with tangential -kt
-            wv = ordinary_wave(-kt, n_into, med_x, n_into)
-            if mode_in == 1 and not iso_x:
-                wv = extraordinary_wave(-kt, n_into, med_x, n_into)
+            wv = PlaneWave()
+            if bi_x:
+                wv = bw0
+                if mode_in == 1:
+                    wv = bw1
+            else:
+                wv = ordinary_wave(-kt, n_into, med_x, n_into)
+                if mode_in == 1 and not iso_x:
+                    wv = extraordinary_wave(-kt, n_into, med_x, n_into)
             if wv.propagating == 0:
                 continue
             d_in = -wv.wave_normal
-            sol = generalized_fresnel(d_in, mode_in, n_into, med_x, med_y)
+            sol = crystal_fresnel(d_in, mode_in, n_into, med_x, med_y)
             if sol.solved == 0 or sol.incident.flux <= 0.0:
                 continue
             wo = sol.ro
@@ -470,15 +491,16 @@ def backward_event(
     scale: float,
     a_is_front: int,
 ):
-    """The backward interface event for any pair of media: uniaxial on either side (exact eq. 5
-    or, with ``approx``, eq. 10), else isotropic, bare or coated.  (cand, energies, count).
+    """The backward interface event for any pair of media: a crystal on either side (exact eq. 5
+    or, with ``approx`` and no biaxial side, eq. 10), else isotropic, bare or coated.
+    (cand, energies, count).
 
     In scalar mode (``polarized`` = 0) a crystal's children keep only their power (a unit Jones
     matrix per child: no polarization memory), as the isotropic event does."""
     count = int(0)
     energies = wp.vec4f(0.0, 0.0, 0.0, 0.0)
     if is_uniaxial(med_a) or is_uniaxial(med_b):
-        if approx != 0:
+        if approx != 0 and not is_biaxial(med_a) and not is_biaxial(med_b):
             cand, energies, count = backward_uniaxial_approx(
                 cand, m, w, bx, wn, mode, nrm, med_a, med_b, x, eps, in_a, in_b, depth
             )
@@ -681,8 +703,8 @@ def forward_event(
         zero = wp.vec2f(0.0, 0.0)
         if mode < 0:
             # isotropic incident ray: its s/p (= o/e) components both excite every wave
-            so = generalized_fresnel(s_in, 0, nrm, med_a, med_b)
-            se = generalized_fresnel(s_in, 1, nrm, med_a, med_b)
+            so = crystal_fresnel(s_in, 0, nrm, med_a, med_b)
+            se = crystal_fresnel(s_in, 1, nrm, med_a, med_b)
             m_in = jones_mul(jones_real(frame_change(s_in, bx, so.incident.e_re)), m)
             ctx = _wave_ctx(x, eps, w, csrc, depth + 1, so.incident.flux)
             cand, ea, e_sum, c = _push_wave(
@@ -696,7 +718,7 @@ def forward_event(
             )
         else:
             # one eigenmode inside a crystal: row 0 of M is its amplitude
-            sol = generalized_fresnel(s_in, mode, nrm, med_a, med_b)
+            sol = crystal_fresnel(s_in, mode, nrm, med_a, med_b)
             ctx = _wave_ctx(x, eps, w, csrc, depth + 1, sol.incident.flux)
             cand, ea, e_sum, c = _push_wave(
                 cand, c, ea, e_sum, ctx, sol.ro, jones_diag(sol.r_o, zero), m, obj_a, 0

@@ -13,10 +13,10 @@ from ..geometry import cuts
 from ..geometry.gemcad import read as read_gemcad
 from ..geometry.mesh import load_mesh
 from ..materials import material_from_spec
-from ..materials.dispersion import Uniaxial
+from ..materials.dispersion import Biaxial, Uniaxial
 from ..scene.schema import ObjectConfig
 
-__all__ = ["SceneObjects", "build_objects", "world_axes"]
+__all__ = ["SceneObjects", "build_objects", "world_axes", "crystal_axes_of"]
 
 
 @dataclass(frozen=True)
@@ -73,9 +73,40 @@ def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -
             raise InputError(
                 exc.message, file=file, field=f"{where}.material{sub}", value=exc.value, allowed=exc.allowed
             ) from None
+        if isinstance(mat, Biaxial):
+            # each biaxial object gets its own table entry with the world principal axes
+            mat = mat.with_crystal_axes(
+                crystal_axes_of(ob, mat, file=file, where=where) @ ob.rotation_matrix().T
+            )
+        elif getattr(ob, "crystal_axes", None) is not None:
+            raise InputError(
+                "crystal axes need a biaxial material",
+                file=file,
+                field=f"{where}.crystal_axes",
+                value=ob.material,
+            )
         mats.append(mat)
         axes.append(ob.optic_axis)
     return SceneObjects(meshes=meshes, materials=mats, axes=axes)
+
+
+def crystal_axes_of(
+    ob: ObjectConfig, mat: Biaxial, *, file: str | None = None, where: str = "object"
+) -> np.ndarray:
+    """(3, 3) principal axes X, Y, Z (rows, object frame) of a biaxial object: its
+    ``crystal_axes``, or from ``optic_axial_plane`` + ``acute_bisectrix`` (Z = bisectrix for an
+    optically positive material, X = bisectrix for a negative one), or the material's."""
+    rows = getattr(ob, "crystal_axes", None)
+    if rows is None:
+        return mat.crystal_axes
+    a = np.asarray(rows, dtype=np.float64)
+    if getattr(ob, "crystal_axes_kind", "axes") == "bisectrix":
+        b, y = a[0], a[1]
+        if mat.optic_sign == "+":
+            a = np.array([np.cross(y, b), y, b])
+        else:
+            a = np.array([b, y, np.cross(b, y)])
+    return a
 
 
 def world_axes(

@@ -188,6 +188,9 @@ _OBJECT_COMMON = {
     "rotation",
     "scale",
     "optic_axis",
+    "crystal_axes",
+    "optic_axial_plane",
+    "acute_bisectrix",
     "absorption_scale",
     "path",
     "name",
@@ -209,6 +212,11 @@ class ObjectConfig:
     rotation: tuple[float, float, float] = (0.0, 0.0, 0.0)  # degrees about x, then y, then z
     scale: float = 1.0
     optic_axis: tuple[float, float, float] | None = None  # object frame; default the material's
+    # biaxial stones: principal axes X, Y, Z (rows, object frame); default the material's
+    crystal_axes: tuple[tuple[float, float, float], ...] | None = None
+    # "axes": crystal_axes are X, Y, Z; "bisectrix": they are (acute bisectrix, Y, bisectrix x Y),
+    # mapped to X, Y, Z by the material's optic sign (pipelines/objects.py)
+    crystal_axes_kind: str = "axes"
     absorption_scale: float = 1.0
     path: str | None = None
     name: str | None = None
@@ -235,6 +243,57 @@ class ObjectConfig:
 
     def rotation_matrix(self) -> np.ndarray:
         return self.transform()[:3, :3] / self.scale
+
+
+def _crystal_axes(table: dict, prefix: str, file) -> dict:
+    """A biaxial stone's orientation: ``crystal_axes = [[X], [Y], [Z]]`` (principal axes of
+    n_alpha, n_beta, n_gamma, object frame) or ``optic_axial_plane`` (its normal is Y) with
+    ``acute_bisectrix`` (Z for an optically positive stone, X for a negative one: the material
+    decides which, so the pair is stored as (bisectrix, Y, bisectrix x Y) with
+    ``crystal_axes_kind = "bisectrix"`` and resolved by the pipeline)."""
+    has_axes = "crystal_axes" in table
+    has_pair = "optic_axial_plane" in table or "acute_bisectrix" in table
+    if has_axes and has_pair:
+        raise InputError(
+            "give crystal_axes or optic_axial_plane + acute_bisectrix, not both",
+            file=file,
+            field=prefix + "crystal_axes",
+        )
+    if "optic_axis" in table and (has_axes or has_pair):
+        raise InputError(
+            "optic_axis is for uniaxial stones; a biaxial one takes crystal_axes",
+            file=file,
+            field=prefix + "optic_axis",
+        )
+    if has_axes:
+        a = val.crystal_frame(table["crystal_axes"], file=file, field=prefix + "crystal_axes")
+        return {"crystal_axes": tuple(tuple(float(c) for c in r) for r in a)}
+    if has_pair:
+        for k in ("optic_axial_plane", "acute_bisectrix"):
+            if k not in table:
+                raise InputError(
+                    "optic_axial_plane and acute_bisectrix go together",
+                    file=file,
+                    field=prefix + k,
+                    allowed="both keys (vectors: the plane's normal, the bisectrix)",
+                )
+        y = np.asarray(
+            val.unit_vec3(table["optic_axial_plane"], file=file, field=prefix + "optic_axial_plane")
+        )
+        b = np.asarray(val.unit_vec3(table["acute_bisectrix"], file=file, field=prefix + "acute_bisectrix"))
+        y = y / np.linalg.norm(y)
+        b = b / np.linalg.norm(b)
+        if abs(float(y @ b)) > 1e-4:
+            raise InputError(
+                "the acute bisectrix must lie in the optic-axial plane (perpendicular to its normal)",
+                file=file,
+                field=prefix + "acute_bisectrix",
+                value=list(b),
+                allowed="acute_bisectrix . optic_axial_plane = 0",
+            )
+        rows = (tuple(b), tuple(y), tuple(np.cross(b, y)))
+        return {"crystal_axes": rows, "crystal_axes_kind": "bisectrix"}
+    return {}
 
 
 def object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfig:
@@ -280,6 +339,7 @@ def object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfig
                 "the optic axis must not be zero", file=file, field=prefix + "optic_axis", value=list(ax)
             )
         kw["optic_axis"] = ax
+    kw.update(_crystal_axes(table, prefix, file))
     if "scale" in table:
         kw["scale"] = float(
             val.number(table["scale"], file=file, field=prefix + "scale", lo=1.0e-4, hi=1.0e4)

@@ -6,6 +6,12 @@ of its parameters (material id, world optic axis, absorption multiplier), so tha
 made of is decided in one place.  The laws themselves live in ``optics/`` (``absorption.py``:
 Bouguer–Lambert and kappa per wave; ``birefringence.py``: the uniaxial medium).
 
+A biaxial material (``table.beta_channel[m] >= 0``) gives the medium struct of
+``optics.biaxial.biaxial_medium``: n_alpha, n_beta, n_gamma at the wavelength, the world principal
+axes of the object (its own table entry, turned into the world by the pipelines) and alpha_Y;
+(alpha_o, alpha_e) are then alpha_X and alpha_Z, and each wave absorbs by its own D
+(``optics.biaxial.biaxial_kappa``).  Every other material costs one extra table read.
+
 Interfaces use the real part of the index in the camera tracer: a dielectric's k (< 1e-3 for any
 stone or dye solution one can see through) changes Fresnel coefficients by O(k^2), while with an
 absorbing *incident* medium the plane-wave reflectance is no longer bounded by 1.  k acts where it
@@ -16,8 +22,10 @@ from __future__ import annotations
 
 import warp as wp
 
-from ..materials.dispersion import MaterialTable, material_optics
+from ..materials.dispersion import MaterialTable, material_eval_beta, material_optics
+from ..materials.units import alpha_from_k_func
 from ..optics.absorption import wave_kappa
+from ..optics.biaxial import biaxial_kappa, biaxial_medium, is_biaxial
 from ..optics.birefringence import UniaxialMedium, uniaxial_medium
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -31,6 +39,11 @@ def object_medium(mats: MaterialTable, mat_id: int, axis: wp.vec3f, wavelength: 
     isotropic material —, complex N_o, complex N_e, (alpha_o, alpha_e) in 1/mm) of material
     ``mat_id`` at ``wavelength`` nm, from one evaluation of the material."""
     no, ne, alpha = material_optics(mats, mat_id, wavelength)
+    if mats.beta_channel[mat_id] >= 0:
+        nb = material_eval_beta(mats, mat_id, wavelength)
+        a_y = alpha_from_k_func(nb[1], wp.max(wavelength, 1.0e-3))
+        med = biaxial_medium(no[0], nb[0], ne[0], mats.crystal_frame[mat_id], a_y)
+        return med, no, ne, alpha
     ax = wp.vec3f(0.0, 0.0, 0.0)
     if mats.uniaxial[mat_id] != 0:
         ax = axis
@@ -60,6 +73,12 @@ def segment_kappa(
 ):
     """Intensity absorption coefficient (1/mm, base e) of a wave (mode -1 isotropic, 0 o, 1 e,
     with unit ``wave_normal``) on a segment inside a medium: K^o, or kappa^e(theta) of Guy & Soler
-    2004 eq. 7 (``optics.absorption.wave_kappa``), times the object's absorption multiplier."""
+    2004 eq. 7 (``optics.absorption.wave_kappa``); in a biaxial medium (mode 0 fast, 1 slow) the
+    trichroic kappa of the wave's D; times the object's absorption multiplier."""
     a_o, a_e = medium_alpha(mats, mat_id, alpha, rgb3_channel)
+    if is_biaxial(med):
+        a_y = med.alpha_y
+        if rgb3_channel >= 0:
+            a_y = mats.rgb3_alpha_b[mat_id][rgb3_channel]
+        return biaxial_kappa(mode, wave_normal, med, a_o, a_y, a_e) * scale
     return wave_kappa(mode, wp.dot(wave_normal, med.axis), a_o, a_e, med.no, med.ne) * scale

@@ -8,11 +8,18 @@ Each entry of :data:`GEMS` (in library order) has
               crystal (optic axis +z);
               ``("constants", n_o, n_e, dispersion)``: gemological constants at the sodium D line
               and the dispersion n(430.8) − n(686.7), fitted by a two-term Cauchy formula;
-              ``("seed002",)``: the indices of the Guy & Soler §6.1 table (:mod:`.seed002`)
+              ``("seed002",)``: the indices of the Guy & Soler §6.1 table (:mod:`.seed002`);
+              ``("biaxial", n_alpha, n_beta, n_gamma, dispersion)``: the three principal indices
+              at the sodium D line, each a Cauchy fit with the one dispersion;
+              ``("biaxial_pages", alpha_page, beta_page, gamma_page)``: three refractiveindex.info
+              pages (principal axes X, Y, Z of the object frame)
+``two_v``     biaxial: the literature optic-axial angle ``(low, high, sign, source)`` (degrees; the
+              range is the stated uncertainty) that the indices must reproduce
 ``source``    the provenance string the material carries (index entries other than "page")
 ``absorption`` absent (colourless, k = 0), ``"seed002"`` (the §6.1 absorbances), or
               ``{"o": bands, "e": bands, "source": ...}`` with bands (centre nm, width nm,
-              peak alpha 1/mm) of Gaussian profiles
+              peak alpha 1/mm) of Gaussian profiles; biaxial: ``{"x": ..., "y": ..., "z": ...,
+              "source": ...}`` for D along X, Y, Z
 
 Provenance
 ----------
@@ -31,7 +38,16 @@ Provenance
 
 from __future__ import annotations
 
-__all__ = ["GEMS", "CR3_BANDS_SOURCE"]
+__all__ = ["GEMS", "CR3_BANDS_SOURCE", "BIAXIAL_SOURCES"]
+
+#: provenance of the biaxial entries (indices, 2V, sign)
+BIAXIAL_SOURCES = (
+    "GIA Gem Reference Guide (1995), property tables (RI ranges, birefringence, optic sign); "
+    "J. W. Anthony et al., Handbook of Mineralogy, Mineralogical Society of America (2V(meas.) "
+    "ranges); M. O'Donoghue, Gems, 6th ed. (2006) (tanzanite n_alpha/n_beta/n_gamma, band "
+    "positions 595/528/455 nm); refractiveindex.info main/BeAl2O4/Walling-alpha/-beta/-gamma "
+    "(Walling et al. 1980, IEEE JQE 16, 1302; formula of Loiko & Major 2016, OME 6, 2177)"
+)
 
 #: the source string of every Cr³⁺ band spectrum
 CR3_BANDS_SOURCE = "Cr3+ bands (positions: literature; amplitudes illustrative)"
@@ -90,6 +106,70 @@ GEMS: dict[str, dict] = {
         source="refractiveindex.info main/SiC/Wang-6H-o/-e (6H-SiC), extrapolated below 435.8 nm",
     ),
     "andalusite": dict(index=("seed002",), absorption="seed002"),
+    # biaxial stones (optics/biaxial.py): principal axes X, Y, Z = the object's x, y, z by default
+    "tanzanite": dict(
+        index=("biaxial", 1.692, 1.694, 1.700, 0.019),
+        source=(
+            "tanzanite (zoisite), GIA: RI 1.691-1.700, biaxial (+), dispersion 0.019; n_alpha 1.692, "
+            "n_gamma 1.700 (O'Donoghue 2006), n_beta 1.694 within GIA's range; Cauchy fits"
+        ),
+        two_v=(50.0, 69.0, "+", "Handbook of Mineralogy, zoisite: 2V(meas.) up to 69° (+)"),
+        absorption=dict(
+            x=((528.0, 45.0, 0.45), (455.0, 30.0, 0.05)),
+            y=((595.0, 55.0, 0.70), (528.0, 30.0, 0.10)),
+            z=((455.0, 45.0, 0.55), (400.0, 40.0, 0.40)),
+            source=(
+                "V3+ bands at 595/528/455 nm (O'Donoghue 2006); their assignment to D along X "
+                "(red-violet), Y (blue), Z (yellow-bronze) and the strengths are an illustrative fit"
+            ),
+        ),
+    ),
+    "iolite": dict(
+        index=("biaxial", 1.542, 1.547, 1.551, 0.017),
+        source=(
+            "iolite (cordierite), GIA: RI 1.542-1.551, biaxial (-), dispersion 0.017; n_beta 1.547 "
+            "within the range; Cauchy fits"
+        ),
+        two_v=(35.0, 106.0, "-", "Handbook of Mineralogy, cordierite: 2V(meas.) 35°-106° (-)"),
+        absorption=dict(
+            x=((430.0, 50.0, 0.12),),
+            y=((560.0, 70.0, 0.25),),
+            z=((600.0, 80.0, 0.55),),
+            source=(
+                "Fe2+-Fe3+ charge-transfer band near 590 nm strongest for D along Z (blue), weaker "
+                "along Y (violet), a weak blue band along X (pale yellow); illustrative fit"
+            ),
+        ),
+    ),
+    "chrysoberyl": dict(
+        index=("biaxial_pages", "main/BeAl2O4/Walling-γ", "main/BeAl2O4/Walling-α", "main/BeAl2O4/Walling-β"),
+        source=(
+            "refractiveindex.info main/BeAl2O4/Walling-γ, -α, -β as n_alpha, n_beta, n_gamma (the "
+            "pages are labelled by crystal direction; sorted by index at 589 nm; alexandrite laser "
+            "crystal): 2V from these indices is 60° (+), below the handbook's 70° for gem chrysoberyl"
+        ),
+        two_v=None,
+    ),
+    "alexandrite": dict(
+        index=("biaxial_pages", "main/BeAl2O4/Walling-γ", "main/BeAl2O4/Walling-α", "main/BeAl2O4/Walling-β"),
+        source=(
+            "refractiveindex.info main/BeAl2O4/Walling-γ, -α, -β as n_alpha, n_beta, n_gamma "
+            "(Cr-doped chrysoberyl, the alexandrite laser crystal; 2V 60° (+) from these indices)"
+        ),
+        two_v=None,
+        absorption=dict(
+            x=((575.0, 60.0, 0.35), (420.0, 40.0, 0.40)),
+            y=((560.0, 60.0, 0.45), (415.0, 40.0, 0.45)),
+            z=((590.0, 60.0, 0.30), (425.0, 40.0, 0.30)),
+            source="Cr3+ 4T2/4T1 bands near 580/420 nm (positions: literature; strengths illustrative)",
+        ),
+    ),
+    "kyanite": dict(
+        index=("biaxial", 1.713, 1.722, 1.729, 0.020),
+        source="kyanite, GIA: RI 1.713-1.729 (n_alpha, n_gamma), biaxial (-), dispersion 0.020; "
+        "n_beta 1.722 within the handbook range 1.720-1.725; Cauchy fits",
+        two_v=(78.0, 83.0, "-", "Handbook of Mineralogy, kyanite: 2V(meas.) 78°-83° (-)"),
+    ),
     "water": dict(index=("page", "main/H2O/Daimon-20.0C")),
     "bk7": dict(index=("page", "specs/SCHOTT-optical/N-BK7")),
     "fused_silica": dict(index=("page", "main/SiO2/Malitson")),
