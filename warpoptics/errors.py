@@ -7,7 +7,7 @@ line prints it on one line and exits with status 2; no traceback unless ``--debu
 
 from __future__ import annotations
 
-__all__ = ["InputError"]
+__all__ = ["InputError", "OutputError"]
 
 _MISSING = object()
 
@@ -44,3 +44,24 @@ class InputError(ValueError):
         if self.allowed:
             text += f" (allowed: {self.allowed})"
         return text
+
+
+class OutputError(OSError):
+    """An output file that could not be written (a full disk, a folder in the way, no permission).
+
+    It names the path the user asked for (and the option, e.g. ``-o``), never a temporary file;
+    the file that was at that path before is kept (:func:`warpoptics.atomic.atomic_path`).
+    """
+
+    def __init__(self, path, reason: str, *, field: str | None = None) -> None:
+        self.path = str(path)
+        self.reason = reason
+        self.field = field
+        super().__init__(str(self))
+
+    def __reduce__(self):  # picklable across process pools and Dask workers
+        return (type(self), (self.path, self.reason), {"field": self.field})
+
+    def __str__(self) -> str:
+        opt = f" ({self.field})" if self.field else ""
+        return f"cannot write {self.path}{opt}: {self.reason}; nothing was written there (a file already there is kept)"
