@@ -21,6 +21,7 @@ import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
+from . import interrupt
 from .errors import OutputError
 
 __all__ = ["atomic_path", "fsync_folder"]
@@ -104,6 +105,7 @@ def atomic_path(
             os.close(fd)
         if verify is not None:
             verify(tmp)
+        interrupt.check()  # Ctrl-C that a library swallowed: keep the old file
         os.replace(tmp, dest)
         fsync_folder(dest.parent)
     except OSError as exc:  # OutputError is an OSError too

@@ -64,4 +64,5 @@ class OutputError(OSError):
 
     def __str__(self) -> str:
         opt = f" ({self.field})" if self.field else ""
-        return f"cannot write {self.path}{opt}: {self.reason}; nothing was written there (a file already there is kept)"
+        kept = "nothing was written there (a file already there is kept)"
+        return f"cannot write {self.path}{opt}: {self.reason}; {kept}"

@@ -35,6 +35,8 @@ __all__ = [
     "Sweep",
     "Job",
     "METRICS",
+    "MAX_JOBS",
+    "referenced_files",
     "view_settings",
     "apply_overrides",
     "scene_for",
@@ -49,6 +51,10 @@ METRICS: dict[str, tuple[str, ...]] = {
     "scintillation": ("scintillation",),
 }
 
+
+# the most jobs one sweep expands to (see Sweep.combinations); at a second per tiny job that is a
+# day of rendering, past which a sweep is a mistake or belongs in several folders
+MAX_JOBS = 100_000
 
 _NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
@@ -299,6 +305,8 @@ class Sweep:
             raise InputError("sweep file not found", file=file)
         try:
             data = tomllib.loads(p.read_text(encoding="utf-8"))
+        except UnicodeDecodeError as exc:
+            raise InputError(f"not UTF-8 text (byte {exc.start}); TOML files are UTF-8", file=file) from None
         except tomllib.TOMLDecodeError as exc:
             raise InputError(f"not valid TOML ({exc})", file=file) from None
         return cls.from_dict(data, base_dir=p.parent, source=file, extra_set=extra_set)
@@ -457,7 +465,12 @@ class Sweep:
             raise InputError(
                 "base scene file not found", file=self.source, field="scene", value=str(self.scene)
             )
-        text = p.read_text(encoding="utf-8")
+        try:
+            text = p.read_text(encoding="utf-8")
+        except UnicodeDecodeError as exc:
+            raise InputError(
+                f"not UTF-8 text (byte {exc.start}); TOML files are UTF-8", file=str(p)
+            ) from None
         try:
             data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:
@@ -479,9 +492,24 @@ class Sweep:
                 order.append(groups[a.group])
         return order
 
+    def job_count(self) -> int:
+        """The number of jobs, without enumerating them."""
+        return math.prod(len(g[0].values) for g in self._groups())
+
     def combinations(self) -> list[dict[str, int]]:
-        """Index of each axis's value, per job, in job order (first axis outermost)."""
+        """Index of each axis's value, per job, in job order (first axis outermost).  More than
+        :data:`MAX_JOBS` jobs are refused with the count (enumerating 10 million jobs alone takes
+        minutes and gigabytes before the first render)."""
         groups = self._groups()
+        n = self.job_count()
+        if n > MAX_JOBS:
+            shape = " x ".join(str(len(g[0].values)) for g in groups)
+            raise InputError(
+                f"{n:,} jobs ({shape}) is more than one sweep runs; split it into sweeps of at most "
+                f"{MAX_JOBS:,} jobs",
+                file=self.source,
+                field="axis",
+            )
         out = []
         for combo in itertools.product(*[range(len(g[0].values)) for g in groups]):
             idx = {}
@@ -520,7 +548,9 @@ class Sweep:
 
     def jobs(self) -> list[Job]:
         """All jobs, resolved: overrides are plain data (picklable, hashed into each job's key)."""
-        data, _path, digest = self.scene_source()
+        data, path, digest = self.scene_source()
+        dirs = [Path(path).parent if path else None, self.base_dir]
+        base_files = referenced_files(data, dirs)
         jobs = []
         for index, idx in enumerate(self.combinations()):
             values = {a.name: a.values[idx[a.name]] for a in self.axes}
@@ -553,9 +583,11 @@ class Sweep:
                 label = (
                     ", ".join(f"{a.name}={labels[a.name]}" for a in self.axes if len(a.values) > 1) or "job"
                 )
+            files = {**base_files, **referenced_files([overrides, views], dirs)}
             blob = json.dumps(
                 {
                     "scene": digest,
+                    "files": files,
                     "overrides": overrides,
                     "views": views,
                     "view_settings": [view_settings(v) for v in self.views],
@@ -577,6 +609,23 @@ class Sweep:
             )
         return jobs
 
+    def identity(self) -> str:
+        """What makes a folder's results this sweep's and no other's: its name, the base scene it
+        names, its mode and its axes (names and paths, not their values: editing the values is
+        the same sweep, continued).  Stored in ``sweep.json``; ``--resume`` refuses a folder of
+        another identity."""
+        scene = self.scene if isinstance(self.scene, (str, Path)) else getattr(self.scene, "path", None)
+        blob = json.dumps(
+            {
+                "name": self.name,
+                "scene": Path(str(scene)).name if scene else None,
+                "mode": self.mode,
+                "axes": [[a.name, a.path] for a in self.axes],
+            },
+            sort_keys=True,
+        )
+        return hashlib.sha1(blob.encode()).hexdigest()[:16]
+
     def columns(self) -> list[str]:
         """Metric columns of results.csv (``<view>_<column>`` when there are several views)."""
         cols = []
@@ -593,6 +642,53 @@ class Sweep:
         for job in jobs if jobs is not None else self.jobs():
             for _name, vo in job.views:
                 scene_for(data, path, {**job.overrides, **vo}, self.base_dir)
+
+
+_DIGESTS: dict[tuple[str, int, int], str] = {}
+
+
+def _file_digest(p: Path) -> str:
+    """SHA-1 of a file's bytes, cached per (path, mtime, size) in this process."""
+    st = p.stat()
+    key = (str(p), st.st_mtime_ns, st.st_size)
+    if key not in _DIGESTS:
+        h = hashlib.sha1()
+        with open(p, "rb") as f:
+            for chunk in iter(lambda: f.read(1 << 20), b""):
+                h.update(chunk)
+        _DIGESTS[key] = h.hexdigest()
+    return _DIGESTS[key]
+
+
+def _strings(value):
+    if isinstance(value, str):
+        yield value
+    elif isinstance(value, dict):
+        for v in value.values():
+            yield from _strings(v)
+    elif isinstance(value, (list, tuple)):
+        for v in value:
+            yield from _strings(v)
+
+
+def referenced_files(value, dirs: Sequence[Path | str | None]) -> dict[str, str]:
+    """``{path: content digest}`` of every string inside ``value`` (scene data, overrides) that
+    names an existing file, absolute or relative to one of ``dirs`` (the base scene's folder, the
+    sweep's).  Meshes, GemCAD designs, light maps, textures and material tables are all such
+    strings; hashing whatever names a file keeps the list complete when a new field takes a file.
+    Job keys include these digests, so that replacing a file a scene names re-renders its jobs."""
+    out: dict[str, str] = {}
+    for s in _strings(value):
+        if not Path(s).suffix or len(s) > 4096 or "\0" in s:
+            continue
+        cands = [Path(s)] if Path(s).is_absolute() else [Path(d) / s for d in dirs if d is not None]
+        for c in cands:
+            try:
+                if c.is_file():
+                    out[str(c.resolve())] = _file_digest(c)
+            except OSError:
+                continue
+    return out
 
 
 def view_settings(v: View) -> dict:
