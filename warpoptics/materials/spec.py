@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import validate as val
 from ..errors import InputError
 from .absorption import AbsorptionSpectrum, Band, spectrum_from_rgb, with_absorption
 from .dispersion import Cauchy, Material, Uniaxial
@@ -116,7 +117,7 @@ def material_from_spec(spec: Any) -> Material:
     if "absorption_rgb" in spec:
         if absorption is not None:
             raise InputError("give either bands or absorption_rgb, not both", field="absorption_rgb")
-        absorption = spectrum_from_rgb(spec["absorption_rgb"])
+        absorption = spectrum_from_rgb(val.rgb(spec["absorption_rgb"], field="absorption_rgb", hi=1.0e6))
     kk = spec.get("kramers_kronig", False)
     if not isinstance(kk, bool):
         raise InputError("must be true or false", field="kramers_kronig", value=kk)
@@ -133,11 +134,7 @@ def material_from_spec(spec: Any) -> Material:
             else with_absorption(mat, absorption)
         )
     if "optic_axis" in spec:
-        ax = np.asarray(spec["optic_axis"], dtype=float)
-        if ax.shape != (3,) or not np.isfinite(ax).all() or np.linalg.norm(ax) == 0:
-            raise InputError(
-                "must be a non-zero vector [x, y, z]", field="optic_axis", value=spec["optic_axis"]
-            )
+        ax = np.asarray(val.unit_vec3(spec["optic_axis"], field="optic_axis"), dtype=float)
         if not isinstance(mat, Uniaxial):
             raise InputError(
                 "an optic axis needs a uniaxial base material", field="optic_axis", value=spec["base"]
