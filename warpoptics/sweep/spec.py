@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import validate as val
 from ..errors import InputError
 from .expressions import CONSTANTS, FUNCTIONS, evaluate_expression
 from .results import format_value, job_key
@@ -128,9 +129,33 @@ class View:
                 raise InputError(
                     "unknown metric", field=f"view.{self.name}.metrics", value=m, allowed=", ".join(METRICS)
                 )
-        object.__setattr__(self, "tilts", tuple(tuple(float(c) for c in t) for t in self.tilts))
-        if any(len(t) != 3 for t in self.tilts):
-            raise InputError("each tilt is [x, y, z] in degrees", field=f"view.{self.name}.tilts")
+        pre = f"view.{self.name}."
+        if not isinstance(self.tilts, (list, tuple)):
+            raise InputError(
+                "must be a list of [x, y, z] rotations in degrees", field=pre + "tilts", value=self.tilts
+            )
+        tilts = tuple(val.vec3(t, field=pre + "tilts") for t in self.tilts)
+        if any(abs(c) > 360.0 for t in tilts for c in t):
+            raise InputError(
+                "a tilt is out of range",
+                field=pre + "tilts",
+                value=[list(t) for t in tilts],
+                allowed="-360 to 360 degrees",
+            )
+        object.__setattr__(self, "tilts", tilts)
+        object.__setattr__(
+            self, "tilt_object", val.integer(self.tilt_object, field=pre + "tilt_object", lo=0)
+        )
+        object.__setattr__(
+            self, "white_y", val.number(self.white_y, field=pre + "white_y", lo=0.0, lo_open=True)
+        )
+        object.__setattr__(
+            self,
+            "fire_min_saturation",
+            val.number(self.fire_min_saturation, field=pre + "fire_min_saturation", lo=0.0, hi=1.0),
+        )
+        # "no" is a string, not false: a TOML boolean only
+        object.__setattr__(self, "save", val.boolean(self.save, field=pre + "save"))
         if "scintillation" in self.metrics and not self.tilts:
             raise InputError("scintillation needs tilts", field=f"view.{self.name}.tilts")
         if self.fire_reference not in ("white", "mean"):
@@ -423,13 +448,20 @@ class Sweep:
                 views.append(View(name=name, **kw))
             except TypeError as exc:
                 raise InputError(f"invalid view ({exc})", file=file, field=pre.rstrip(".")) from None
+            except InputError as exc:  # the View's own checks: name the sweep file
+                raise InputError(
+                    exc.message, file=file, field=exc.field, value=exc.value, allowed=exc.allowed
+                ) from None
         compare = None
         if "compare" in data:
             c = data["compare"]
+            if not isinstance(c, dict):
+                raise InputError("must be a table [compare]", file=file, field="compare", value=c)
             _check_keys(c, _COMPARE_KEYS, file=file, prefix="compare.")
             if "axis" not in c or "reference" not in c:
                 raise InputError('needs axis = "name" and reference = value', file=file, field="compare")
-            compare = Compare(c["axis"], c["reference"], float(c.get("scale", 10.0)))
+            scale = val.number(c.get("scale", 10.0), file=file, field="compare.scale", lo=0.0, lo_open=True)
+            compare = Compare(c["axis"], c["reference"], float(scale))
         label = data.get("label")
         if label is not None and not isinstance(label, str):
             raise InputError("must be a format string", file=file, field="label", value=label)
