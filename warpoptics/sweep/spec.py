@@ -318,6 +318,8 @@ class Sweep:
                     field="axis",
                     value={a.name: len(a.values) for a in g},
                 )
+        if self.job_count() > MAX_JOBS:
+            self.combinations()  # raises, with the count
 
     # -- loading -----------------------------------------------------------------------------
 
