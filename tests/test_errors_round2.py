@@ -322,3 +322,53 @@ def test_sweep_compare_scale_string_and_non_utf8_file(tmp_path):
     with pytest.raises(InputError) as info:
         Sweep.load(p)
     assert str(p) in str(info.value) and "UTF-8" in str(info.value)
+
+
+# -- found by the fuzz (tests/test_fuzz_scene.py) ---------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "data, match, field",
+    [
+        (mod(camera__type=[]), "unknown camera type", "camera.type"),
+        (mod(camera__x="\n"), "unknown key", "camera"),
+        (
+            mod(
+                object__0__material={
+                    "base": "diamond",
+                    "bands": [{"center_nm": 500.0, "width_nm": 20.0, "peak_alpha_per_mm": 1.0, "shape": []}],
+                }
+            ),
+            "unknown band shape",
+            "shape",
+        ),
+    ],
+)
+def test_fuzz_findings_are_one_line(data, match, field):
+    """A list where a name was expected was a TypeError (unhashable); a key holding a newline
+    broke the one-line message."""
+    assert_clear_scene_error(data, match, field, None)
+
+
+# -- valid inputs that were refused ---------------------------------------------------------------
+
+
+def test_step_cut_tier_angles_as_lists_in_a_scene():
+    """``crown_angles = [40, 30]`` in a scene was "must be a number", though ``cut
+    --crown-angles 40,30`` takes them; the scene's stone is the command's stone."""
+    from warpoptics.geometry import cuts
+    from warpoptics.pipelines.objects import build_objects
+    from warpoptics.scene import Scene
+
+    data = mod(
+        object__0__shape="step_cut",
+        object__0__diameter=DEL,
+        object__0__crown_angles=[40.0, 30.0],
+        object__0__pavilion_angles=[50.0, 40.0, 30.0],
+    )
+    built = build_objects(Scene.from_dict(data, path=FILE).objects, file=FILE)
+    mesh = built.meshes[0][0]
+    ref = cuts.step_cut(crown_angles=(40.0, 30.0), pavilion_angles=(50.0, 40.0, 30.0))
+    assert mesh.volume == pytest.approx(ref.volume, rel=1e-9)
+    bad = mod(object__0__shape="step_cut", object__0__diameter=DEL, object__0__crown_angles=[40.0, "x"])
+    assert_clear_scene_error(bad, "must be a number", "object.0.crown_angles", None)

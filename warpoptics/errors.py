@@ -34,16 +34,23 @@ class InputError(ValueError):
     def __str__(self) -> str:
         where = []
         if self.file:
-            where.append(self.file)
+            where.append(_printable(self.file))
         if self.field:
-            where.append(self.field)
+            where.append(_printable(self.field))
         text = ": ".join(where)
         if self.value is not _MISSING:
             text += (" = " if text else "value ") + repr(self.value)
-        text = f"{text}: {self.message}" if text else self.message
+        message = " ".join(str(self.message).split("\n"))
+        text = f"{text}: {message}" if text else message
         if self.allowed:
             text += f" (allowed: {self.allowed})"
         return text
+
+
+def _printable(name: str) -> str:
+    """A file or key name as written, or quoted with escapes when it holds a newline or another
+    control character (a key ``"\\n"`` must not break the one-line message)."""
+    return name if name.isprintable() else repr(name)
 
 
 class OutputError(OSError):

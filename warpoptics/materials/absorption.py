@@ -160,7 +160,7 @@ class Band:
     shape: str = "gaussian"
 
     def __post_init__(self):
-        if self.shape not in _SHAPES:
+        if not isinstance(self.shape, str) or self.shape not in _SHAPES:
             raise InputError(
                 "unknown band shape", field="shape", value=self.shape, allowed="gaussian, lorentzian"
             )

@@ -204,6 +204,7 @@ _OBJECT_COMMON = {
     "instances",
 }
 _OBJECT_COMMON |= {"surface", "coating", "film_thickness", "roughness"}  # films: stages/coated.py
+_TIER_ANGLES = ("crown_angles", "pavilion_angles")  # list-valued cut parameters (step_cut)
 
 
 @dataclass(frozen=True)
@@ -266,7 +267,20 @@ def object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfig
             allowed_params |= set(inspect.signature(_shape_functions()["round_brilliant"]).parameters)
     val.check_keys(params, allowed_params | _OBJECT_COMMON, file=file, prefix=prefix)
     for k, v in params.items():
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
+        if k in _TIER_ANGLES and isinstance(v, list):
+            # a step cut's tiers: one angle (degrees) per tier, as `cut --crown-angles 40,30` takes
+            if not 1 <= len(v) <= 16:
+                raise InputError(
+                    "must list 1 to 16 tier angles",
+                    file=file,
+                    field=prefix + k,
+                    value=v,
+                    allowed="[a, b, ...]",
+                )
+            for a in v:
+                val.number(a, file=file, field=prefix + k, lo=0.0, hi=90.0, lo_open=True)
+            params[k] = tuple(float(a) for a in v)
+        elif isinstance(v, bool) or not isinstance(v, (int, float)):
             if not (k == "repair" and isinstance(v, bool)):
                 raise InputError("must be a number", file=file, field=prefix + k, value=v)
         elif not math.isfinite(v):
