@@ -32,6 +32,7 @@ __all__ = ["material_from_spec"]
 
 _KEYS = {"base", "cauchy", "bands", "absorption_rgb", "kramers_kronig", "optic_axis"}
 _FINEST_STEP_NM = 0.1
+_MAX_RGB_ABSORBANCE = 1.0e6  # 1/mm: an absorption depth of a nanometre
 _BAND_KEYS = {"center_nm", "width_nm", "peak_alpha_per_mm", "shape"}
 
 
@@ -117,7 +118,15 @@ def material_from_spec(spec: Any) -> Material:
     if "absorption_rgb" in spec:
         if absorption is not None:
             raise InputError("give either bands or absorption_rgb, not both", field="absorption_rgb")
-        absorption = spectrum_from_rgb(val.rgb(spec["absorption_rgb"], field="absorption_rgb", hi=1.0e6))
+        rgb = val.vec3(spec["absorption_rgb"], field="absorption_rgb")
+        if max(rgb) > _MAX_RGB_ABSORBANCE:
+            raise InputError(
+                "too large",
+                field="absorption_rgb",
+                value=list(rgb),
+                allowed=f"<= {_MAX_RGB_ABSORBANCE:g} 1/mm",
+            )
+        absorption = spectrum_from_rgb(rgb)
     kk = spec.get("kramers_kronig", False)
     if not isinstance(kk, bool):
         raise InputError("must be true or false", field="kramers_kronig", value=kk)
@@ -134,7 +143,11 @@ def material_from_spec(spec: Any) -> Material:
             else with_absorption(mat, absorption)
         )
     if "optic_axis" in spec:
-        ax = np.asarray(val.unit_vec3(spec["optic_axis"], field="optic_axis"), dtype=float)
+        ax = np.asarray(val.vec3(spec["optic_axis"], field="optic_axis"), dtype=float)
+        if np.linalg.norm(ax) == 0:
+            raise InputError(
+                "must be a non-zero vector [x, y, z]", field="optic_axis", value=spec["optic_axis"]
+            )
         if not isinstance(mat, Uniaxial):
             raise InputError(
                 "an optic axis needs a uniaxial base material", field="optic_axis", value=spec["base"]
