@@ -28,7 +28,7 @@ from pathlib import Path
 # from its own layer or below.  The lead adjusts this while the package is being re-layered; a
 # module that no entry matches is reported as unplaced.
 LAYERS: list[tuple[str, ...]] = [
-    ("errors", "device", "validate", "atomic"),
+    ("errors", "device", "validate", "atomic", "interrupt"),
     ("spectra", "color", "fields"),
     ("materials.*", "optics.*", "geometry.*"),
     ("film.*",),

@@ -11,6 +11,10 @@ Public API (see DESIGN.md)::
 
 from __future__ import annotations
 
+# first, before the heavy imports below: importing it guards Ctrl-C while the command starts
+from . import interrupt  # noqa: F401
+
+# isort: split
 from importlib import metadata as _metadata
 
 try:

@@ -12,6 +12,7 @@ import importlib
 import os
 import sys
 
+from . import interrupt
 from .errors import InputError
 
 # Modules that provide `register(subparsers)`; order = order in `warpoptics --help`.
@@ -62,7 +63,8 @@ def main(argv: list[str] | None = None) -> int:
         parser.print_help()
         return 2
     try:
-        result = args.func(args)
+        with interrupt.handling():
+            result = args.func(args)
         return int(result or 0)
     except (InputError, FileNotFoundError, ValueError) as exc:
         if args.debug:
@@ -77,7 +79,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     except KeyboardInterrupt:
         print("warpoptics: interrupted", file=sys.stderr)
-        return 130
+        return interrupt.EXIT_STATUS
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -21,7 +21,10 @@ NVRTC had not finished the render module after 9.5 minutes on an H100 host.
 
 from __future__ import annotations
 
+import contextlib
 import os
+import sys
+import tempfile
 import threading
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
@@ -53,8 +56,41 @@ def init() -> None:
             return
         wp.config.log_level = wp.LOG_WARNING
         wp.config.quiet = True
-        wp.init()
+        if (os.environ.get("WARPOPTICS_DEVICE") or "cpu").startswith("cuda"):
+            wp.init()
+        else:
+            with _without_cuda_driver_warning():
+                wp.init()
         _initialized = True
+
+
+@contextlib.contextmanager
+def _without_cuda_driver_warning():
+    """Drop the line Warp's native code prints to stderr when a machine has no CUDA driver
+    ("Could not find or load the NVIDIA CUDA driver"): a CPU user did not ask for CUDA.  Everything
+    else written to stderr meanwhile is passed on."""
+    try:
+        sys.stderr.flush()
+        saved = os.dup(2)
+    except (OSError, ValueError, AttributeError):  # no real stderr (an embedded interpreter)
+        yield
+        return
+    with tempfile.TemporaryFile() as capture:
+        os.dup2(capture.fileno(), 2)
+        try:
+            yield
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            capture.seek(0)
+            text = capture.read().decode("utf-8", errors="replace")
+            rest = [
+                ln
+                for ln in text.splitlines(True)
+                if "Could not find or load the NVIDIA CUDA driver" not in ln
+            ]
+            if rest:
+                sys.stderr.write("".join(rest))
 
 
 def get_device(device: str | wp.Device | None = None) -> wp.Device:

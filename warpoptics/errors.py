@@ -7,7 +7,7 @@ line prints it on one line and exits with status 2; no traceback unless ``--debu
 
 from __future__ import annotations
 
-__all__ = ["InputError"]
+__all__ = ["InputError", "OutputError"]
 
 _MISSING = object()
 
@@ -34,13 +34,42 @@ class InputError(ValueError):
     def __str__(self) -> str:
         where = []
         if self.file:
-            where.append(self.file)
+            where.append(_printable(self.file))
         if self.field:
-            where.append(self.field)
+            where.append(_printable(self.field))
         text = ": ".join(where)
         if self.value is not _MISSING:
             text += (" = " if text else "value ") + repr(self.value)
-        text = f"{text}: {self.message}" if text else self.message
+        message = " ".join(str(self.message).split("\n"))
+        text = f"{text}: {message}" if text else message
         if self.allowed:
             text += f" (allowed: {self.allowed})"
         return text
+
+
+def _printable(name: str) -> str:
+    """A file or key name as written, or quoted with escapes when it holds a newline or another
+    control character (a key ``"\\n"`` must not break the one-line message)."""
+    return name if name.isprintable() else repr(name)
+
+
+class OutputError(OSError):
+    """An output file that could not be written (a full disk, a folder in the way, no permission).
+
+    It names the path the user asked for (and the option, e.g. ``-o``), never a temporary file;
+    the file that was at that path before is kept (:func:`warpoptics.atomic.atomic_path`).
+    """
+
+    def __init__(self, path, reason: str, *, field: str | None = None) -> None:
+        self.path = str(path)
+        self.reason = reason
+        self.field = field
+        super().__init__(str(self))
+
+    def __reduce__(self):  # picklable across process pools and Dask workers
+        return (type(self), (self.path, self.reason), {"field": self.field})
+
+    def __str__(self) -> str:
+        opt = f" ({self.field})" if self.field else ""
+        kept = "nothing was written there (a file already there is kept)"
+        return f"cannot write {self.path}{opt}: {self.reason}; {kept}"

@@ -34,6 +34,17 @@ def run(args) -> int:
         # an optical-bench scene ([source] type = "beam"): trace it forward onto its screens
         from . import bench as bench_command
 
+        camera_only = [
+            f"--{k}" for k in ("width", "height", "spp", "view") if getattr(args, k, None) is not None
+        ]
+        if camera_only:
+            raise InputError(
+                "a bench scene has no camera, so these options do not apply",
+                file=args.scene,
+                field=", ".join(camera_only),
+                allowed="--rays, --wavelengths, --set (or warpoptics bench)",
+            )
+
         return bench_command.run(args)
     scene = Scene.load(args.scene)
     overrides = {}
@@ -62,6 +73,12 @@ def run(args) -> int:
         from ..film.views import parse_view
 
         kind, _ = parse_view(view)
+        if kind in ("analyzer", "dichroscope") and not scene.render.polarization:
+            print(
+                f"warpoptics render: warning: {view} of an unpolarized render (render.polarization = "
+                "false) passes half of the light whatever its angle",
+                file=sys.stderr,
+            )
         if kind == "polariscope" and scene.lights[0].polarizer is None:
             raise InputError(
                 "a polariscope view needs polarized light",

@@ -41,12 +41,15 @@ def write_image(
     channel_names: Sequence[str] | None = None,
     dtype: str | None = None,
     attributes: dict | None = None,
+    field: str | None = None,
 ) -> Path:
-    """Write ``pixels`` (height, width, channels) atomically; the format follows the extension.
+    """Write ``pixels`` (height, width, channels) atomically and verified (re-read before it
+    replaces ``path``; :func:`warpoptics.atomic.atomic_path`); the format follows the extension.
 
     ``dtype`` is an OpenImageIO type name ("float", "half", "uint8", "uint16"); default "float"
     for EXR/HDR, "uint8" otherwise.  Floats for 8/16-bit formats are taken as [0, 1].
     ``attributes``: extra metadata (name -> str/int/float) stored in the file header.
+    ``field``: the option the path came from (``"-o"``), named in an :class:`OutputError`.
     """
     import OpenImageIO as oiio
 
@@ -80,17 +83,30 @@ def write_image(
     spec.attribute("DateTime", stamp)
     for key, value in (attributes or {}).items():
         spec.attribute(key, value)
-    with atomic_path(path) as tmp:
-        out = oiio.ImageOutput.create(tmp)
-        if out is None:
-            raise InputError(f"cannot write this format: {oiio.geterror()}", file=str(path))
+    out = oiio.ImageOutput.create(str(path))
+    if out is None:
+        raise InputError(f"cannot write this format: {oiio.geterror()}", file=str(path))
+
+    def verify(tmp: str) -> None:
+        # re-read every pixel: a chunk lost at the end of an EXR or PNG fails here (cheap next to
+        # the render that made the image)
         try:
-            if not out.open(tmp, spec):
-                raise OSError(f"{path}: {out.geterror()}")
-            if not out.write_image(np.ascontiguousarray(a)):
-                raise OSError(f"{path}: {out.geterror()}")
-        finally:
-            out.close()
+            back, _ = read_image(tmp)
+        except InputError as exc:
+            msg = exc.message.splitlines()[0] if exc.message else ""
+            raise OSError(0, f"the written file does not read back ({msg})") from exc
+        if back.shape != (h, w, nch):
+            raise OSError(f"the file reads back as {back.shape}, not {(h, w, nch)}")
+
+    with atomic_path(path, field=field, verify=verify) as tmp:
+        opened = out.open(tmp, spec)
+        ok = opened and out.write_image(np.ascontiguousarray(a))
+        # OpenImageIO reports a failed final flush (a full disk) only in close()'s result
+        closed = out.close() if opened else True
+        if not (ok and closed):
+            raise OSError(
+                0, out.geterror() or oiio.geterror() or "the image library could not write the file"
+            )
     return path
 
 

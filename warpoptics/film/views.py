@@ -96,6 +96,9 @@ def parse_view(
         raise InputError("the analyzer needs an angle, e.g. analyzer:30 (degrees)", field=field, value=spec)
     if value is not None and not math.isfinite(value):
         raise InputError("the angle must be finite", field=field, value=spec)
+    if value is not None and abs(value) > 360.0:
+        # cos(2θ) of a huge angle in float32 is NaN (1e308 gave NaN pixels with exit 0)
+        raise InputError("the angle is out of range", field=field, value=spec, allowed="-360 to 360 degrees")
     return kind, (0.0 if value is None else float(value))
 
 

@@ -60,11 +60,21 @@ def load_mesh(
     if not os.path.isfile(path):
         raise InputError("no such file", file=path)
     try:
-        loaded = trimesh.load(path, force="mesh", process=True, validate=False)
+        # process=False first: processing drops NaN vertices, which would then be reported as
+        # "not watertight" instead of what they are
+        loaded = trimesh.load(path, force="mesh", process=False, validate=False)
     except Exception as exc:  # trimesh raises many types for bad files
-        raise InputError(f"cannot read mesh: {exc}", file=path) from exc
-    if not isinstance(loaded, trimesh.Trimesh):
+        raise InputError(f"cannot read mesh: not a valid {ext} file ({exc})", file=path) from exc
+    if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
         raise InputError("the file holds no triangle mesh", file=path)
+    bad = ~np.isfinite(loaded.vertices).all(axis=1)
+    if bad.any():
+        raise InputError(
+            f"{int(bad.sum())} vertex(es) with non-finite coordinates, "
+            f"e.g. vertex {int(np.flatnonzero(bad)[0])}",
+            file=path,
+        )
+    loaded.process(validate=False)
     if scale != 1.0:
         if not np.isfinite(scale) or scale <= 0:
             raise InputError("scale must be a positive number", field="scale", value=scale)

@@ -145,6 +145,10 @@ def pleochroic_alpha(alpha_o, alpha_e, n_o, n_e, cos_theta, *, device=None) -> n
 _SHAPES = {"gaussian": 0, "lorentzian": 1}
 
 
+# the largest band peak (1/mm): a metal's is ~1e5; above ~3e38 float32 tables overflow to inf
+_MAX_ALPHA = 1e9
+
+
 @dataclass(frozen=True)
 class Band:
     """One absorption band: peak alpha (1/mm) at ``center_nm``; ``width_nm`` is σ for a Gaussian,
@@ -156,7 +160,7 @@ class Band:
     shape: str = "gaussian"
 
     def __post_init__(self):
-        if self.shape not in _SHAPES:
+        if not isinstance(self.shape, str) or self.shape not in _SHAPES:
             raise InputError(
                 "unknown band shape", field="shape", value=self.shape, allowed="gaussian, lorentzian"
             )
@@ -169,6 +173,13 @@ class Band:
                 "band centre and width must be > 0 nm",
                 field="center_nm/width_nm",
                 value=(self.center_nm, self.width_nm),
+            )
+        if self.peak_alpha_per_mm > _MAX_ALPHA:
+            raise InputError(
+                "band peak too large (an absorption depth below a picometre)",
+                field="peak_alpha_per_mm",
+                value=self.peak_alpha_per_mm,
+                allowed=f"<= {_MAX_ALPHA:g} 1/mm",
             )
         if self.peak_alpha_per_mm < 0:
             raise InputError(

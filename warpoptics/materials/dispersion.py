@@ -857,14 +857,19 @@ def build_material_table(
     lam_min, lam_max, axes, uni, rgb_o, rgb_e = [], [], [], [], [], []
     fl_yield, fl_row, fl_rows = [], [], []
     beta_ch, frames, rgb_b, extra = [], [], [], []
+    # linear in the number of materials (100,000 instances share one material object): a running
+    # curve offset, and each distinct material's eq. 9 integrals computed once
+    total = [0]
+    rgb3_of: dict[int, tuple] = {}
 
     def add_curve(curve, offs, cnts):
         if curve is None:
             offs.append(0)
             cnts.append(0)
             return
-        offs.append(sum(len(a) for a in lam_all))
+        offs.append(total[0])
         cnts.append(len(curve[0]))
+        total[0] += len(curve[0])
         lam_all.append(np.asarray(curve[0], dtype=np.float32))
         val_all.append(np.asarray(curve[1], dtype=np.float32))
 
@@ -895,7 +900,9 @@ def build_material_table(
             if mat.rgb3_alpha is not None:
                 ro, rb, re_ = mat.rgb3_alpha
             elif rgb3:
-                ro, rb, re_ = rgb3_alpha_of(mat, device=dev)
+                if id(mat) not in rgb3_of:
+                    rgb3_of[id(mat)] = rgb3_alpha_of(mat, device=dev)
+                ro, rb, re_ = rgb3_of[id(mat)]
             else:
                 ro, re_ = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
         else:
@@ -904,7 +911,9 @@ def build_material_table(
             if mat.rgb3_alpha is not None:
                 ro, re_ = mat.rgb3_alpha
             elif rgb3:
-                ro, re_ = rgb3_alpha_of(mat, device=dev)
+                if id(mat) not in rgb3_of:
+                    rgb3_of[id(mat)] = rgb3_alpha_of(mat, device=dev)
+                ro, re_ = rgb3_of[id(mat)]
             else:
                 ro, re_ = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
         rgb_o.append(ro)

@@ -64,6 +64,7 @@ __all__ = [
     "maclaurin_term",
     "kramers_kronig",
     "kramers_kronig_maclaurin",
+    "band_delta_n",
     "anomalous",
     "rose_bengal_absorption",
     "fuchsine_absorption",
@@ -127,6 +128,47 @@ def kramers_kronig_maclaurin(wavelength_nm, k, *, device=None) -> np.ndarray:
         extra=(lam_w, k_w, h),
         device=dev,
     )
+    return dn
+
+
+def band_delta_n(bands, wavelength_nm) -> np.ndarray:
+    """Δn(λ) of absorption bands by the Kramers–Kronig integral in closed form, over the whole
+    spectrum (no table range: a band in the UV or IR gives the visible index its tail, as real
+    ones do; no grid: a band of any width is exact).
+
+    With k = αλ/4π, eq. 12 becomes Δn(λ) = (λ²/2π²) P∫ α(λ')/(λ² − λ'²) dλ', and
+    1/(λ² − λ'²) = (1/2λ)[1/(λ − λ') + 1/(λ + λ')] splits it into two Hilbert transforms of the
+    band (each band taken over the whole line, which for width ≪ centre is the physical band):
+
+    - Gaussian α = A exp(−(λ' − c)²/2σ²): P∫ e^{−t²}/(y − t) dt = 2√π F(y), F Dawson's integral
+      (Abramowitz & Stegun 7.1.17; King, *Hilbert Transforms* vol. 2, table 1.2), so
+      Δn = λA/(2π^{3/2}) · [F((λ − c)/√2σ) + F((λ + c)/√2σ)];
+    - Lorentzian α = A γ²/((λ' − c)² + γ²): P∫ γ/(t² + γ²)/(x − t) dt = π x/(x² + γ²), so
+      Δn = λAγ/4π · [(λ − c)/((λ − c)² + γ²) + (λ + c)/((λ + c)² + γ²)].
+
+    ``bands``: :class:`~warpoptics.materials.absorption.Band` s (α in 1/mm, nm); returns Δn at
+    ``wavelength_nm`` (float64).  A set-up step in float64 NumPy (Dawson's integral from SciPy),
+    like the Maclaurin sum's preparation; checked against a direct principal-value quadrature
+    of eq. 12 in ``tests/test_kramers_kronig.py``.
+    """
+    from scipy.special import dawsn
+
+    lam = np.asarray(wavelength_nm, dtype=np.float64)
+    dn = np.zeros_like(lam)
+    for b in bands:
+        a = float(b.peak_alpha_per_mm) * 1e-6  # 1/mm -> 1/nm: λ and the widths are in nm
+        c, w = float(b.center_nm), float(b.width_nm)
+        if b.shape == "lorentzian":
+            dn += (
+                lam
+                * a
+                * w
+                / (4.0 * math.pi)
+                * ((lam - c) / ((lam - c) ** 2 + w * w) + (lam + c) / ((lam + c) ** 2 + w * w))
+            )
+        else:
+            s = math.sqrt(2.0) * w
+            dn += lam * a / (2.0 * math.pi**1.5) * (dawsn((lam - c) / s) + dawsn((lam + c) / s))
     return dn
 
 
@@ -252,9 +294,14 @@ def anomalous(
     tail_width_nm: float | None = None,
     name: str | None = None,
     source: str | None = None,
+    bands=None,
     device=None,
 ) -> Material:
     """A complex material n_base(λ) + Δn_KK(λ) + i k(λ), k = alpha λ / 4π of ``absorption``.
+
+    ``bands``: the :class:`~warpoptics.materials.absorption.Band` s ``absorption`` was made of;
+    then Δn is their closed form (:func:`band_delta_n`: every band counts wherever it lies, any
+    width is exact) on the absorption table's own nodes, not the numerical integral of the table.
 
     ``absorption`` is an :class:`AbsorptionSpectrum` (alpha, 1/mm); for a :class:`Uniaxial`
     base, a pair (K^o, K^e) or one spectrum for both.  Δn is computed on a uniform grid of
@@ -266,7 +313,7 @@ def anomalous(
         if isinstance(absorption, AbsorptionSpectrum):
             absorption = (absorption, absorption)
         so, se = absorption
-        kw = dict(step_nm=step_nm, tails=tails, tail_width_nm=tail_width_nm, device=device)
+        kw = dict(step_nm=step_nm, tails=tails, tail_width_nm=tail_width_nm, bands=bands, device=device)
         o = anomalous(base.ordinary, so, **kw)
         e = anomalous(base.extraordinary, se, **kw)
         return Uniaxial(
@@ -283,10 +330,15 @@ def anomalous(
             "absorption must be an AbsorptionSpectrum", field="absorption", value=type(absorption).__name__
         )
     lo_a, hi_a = absorption.wavelength_nm[0], absorption.wavelength_nm[-1]
-    count = int(math.floor((hi_a - lo_a) / step_nm + 1e-9)) + 1
-    grid = lo_a + step_nm * np.arange(count)
-    k = k_from_alpha(absorption.alpha(grid), grid, device=device).astype(np.float64)
-    dn = kramers_kronig(grid, k, 1.0, tails=tails, tail_width_nm=tail_width_nm, device=device) - 1.0
+    if bands is not None:
+        grid = np.asarray(absorption.wavelength_nm, dtype=np.float64)
+        k = k_from_alpha(absorption.alpha(grid), grid, device=device).astype(np.float64)
+        dn = band_delta_n(bands, grid)
+    else:
+        count = int(math.floor((hi_a - lo_a) / step_nm + 1e-9)) + 1
+        grid = lo_a + step_nm * np.arange(count)
+        k = k_from_alpha(absorption.alpha(grid), grid, device=device).astype(np.float64)
+        dn = kramers_kronig(grid, k, 1.0, tails=tails, tail_width_nm=tail_width_nm, device=device) - 1.0
     lo_b, hi_b = base.wavelength_range_nm
     keep = (grid >= lo_b) & (grid <= hi_b)
     if keep.sum() < 2:

@@ -145,14 +145,32 @@ def set_dotted(data: dict, dotted: str, value, *, file: str = "<scene>") -> None
                     f"no element {part!r} (there are {len(node)})", file=file, field=".".join(parts[: i + 1])
                 ) from None
         else:
+            if not isinstance(node, dict):
+                raise InputError(
+                    "is a value, not a table: nothing can be set inside it",
+                    file=file,
+                    field=".".join(parts[:i]),
+                    value=node,
+                )
             if part not in node:
                 if part in ("object", "light", "surface"):
                     raise InputError("no such array of tables", file=file, field=".".join(parts[: i + 1]))
                 node[part] = {}
+            if part == "material" and isinstance(node[part], str):
+                # a library material named by a string becomes the table it stands for, so
+                # that --set object.0.material.kramers_kronig=true reaches below it
+                node[part] = {"base": node[part]}
             node = node[part]
     last = parts[-1]
     if isinstance(node, list):
         raise InputError("cannot replace a whole table", file=file, field=dotted)
+    if not isinstance(node, dict):
+        raise InputError(
+            "is a value, not a table: nothing can be set inside it",
+            file=file,
+            field=".".join(parts[:-1]),
+            value=node,
+        )
     node[last] = value
 
 

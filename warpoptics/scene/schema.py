@@ -43,6 +43,8 @@ SPECTRAL_MODES = ("rgb3", "uniform", "importance", "stratified")
 BIREFRINGENCE_MODES = ("exact", "approx")
 TONE_CURVES = ("filmic", "reinhard", "clip")
 MIS_CHOICES = tuple(MIS_MODES)
+# the largest light tint (a factor on radiance, itself <= 1e12): products stay inside float32
+MAX_TINT = 1.0e6
 
 
 @dataclass(frozen=True)
@@ -111,6 +113,15 @@ class RenderConfig:
                 file=file,
                 field=f("pilot_spp") if self.pilot_spp else f("spp"),
                 value=self.pilot_spp if self.pilot_spp else self.spp,
+            )
+        if self.spp * self.wavelengths >= 2**31:
+            # samples are counted in int32 in the kernels: past 2^31 they wrap and render black
+            raise InputError(
+                f"spp x wavelengths = {self.spp * self.wavelengths:,} samples per pixel is too many",
+                file=file,
+                field=f("spp"),
+                value=self.spp,
+                allowed=f"spp x wavelengths < 2^31 (here spp <= {(2**31 - 1) // self.wavelengths:,})",
             )
         if self.spectral == "rgb3" and self.wavelengths not in (3, _DEFAULT_WAVELENGTHS):
             raise InputError(
@@ -197,6 +208,7 @@ _OBJECT_COMMON = {
     "instances",
 }
 _OBJECT_COMMON |= {"surface", "coating", "film_thickness", "roughness"}  # films: stages/coated.py
+_TIER_ANGLES = ("crown_angles", "pavilion_angles")  # list-valued cut parameters (step_cut)
 
 
 @dataclass(frozen=True)
@@ -315,7 +327,20 @@ def object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfig
             allowed_params |= set(inspect.signature(_shape_functions()["round_brilliant"]).parameters)
     val.check_keys(params, allowed_params | _OBJECT_COMMON, file=file, prefix=prefix)
     for k, v in params.items():
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
+        if k in _TIER_ANGLES and isinstance(v, list):
+            # a step cut's tiers: one angle (degrees) per tier, as `cut --crown-angles 40,30` takes
+            if not 1 <= len(v) <= 16:
+                raise InputError(
+                    "must list 1 to 16 tier angles",
+                    file=file,
+                    field=prefix + k,
+                    value=v,
+                    allowed="[a, b, ...]",
+                )
+            for a in v:
+                val.number(a, file=file, field=prefix + k, lo=0.0, hi=90.0, lo_open=True)
+            params[k] = tuple(float(a) for a in v)
+        elif isinstance(v, bool) or not isinstance(v, (int, float)):
             if not (k == "repair" and isinstance(v, bool)):
                 raise InputError("must be a number", file=file, field=prefix + k, value=v)
         elif not math.isfinite(v):
@@ -482,9 +507,8 @@ def light_config(
             val.number(table["intensity"], file=file, field=prefix + "intensity", lo=0.0, hi=1.0e12)
         )
     if "tint" in table:
-        kw["tint"] = val.vec3(table["tint"], file=file, field=prefix + "tint")
-        if min(kw["tint"]) < 0:
-            raise InputError("must be >= 0", file=file, field=prefix + "tint", value=list(kw["tint"]))
+        # bounded like intensity: radiance x tint must stay far inside float32
+        kw["tint"] = val.rgb(table["tint"], file=file, field=prefix + "tint", hi=MAX_TINT)
     if "rotation" in table:
         kw["rotation_deg"] = float(val.number(table["rotation"], file=file, field=prefix + "rotation"))
     if "convention" in table:
@@ -549,12 +573,15 @@ def _lamp_config(table: dict, ltype: str, prefix: str, file, base_dir: Path | No
     if "center" in table:
         kw["center"] = val.vec3(table["center"], file=file, field=prefix + "center")
     if "size" in table:
-        kw["size"] = val.pair(table["size"], file=file, field=prefix + "size", hi=1.0e6)
+        # a lamp below a micrometre: its 1/area sampling density overflows float32 with the radiance
+        kw["size"] = val.pair(
+            table["size"], file=file, field=prefix + "size", lo=1.0e-3, lo_open=False, hi=1.0e6
+        )
     for k in ("irradiance", "radiance", "intensity"):
         if k in table:
             kw[k] = float(val.number(table[k], file=file, field=prefix + k, lo=0.0, hi=1.0e12))
     if "tint" in table:
-        kw["tint"] = val.rgb(table["tint"], file=file, field=prefix + "tint")
+        kw["tint"] = val.rgb(table["tint"], file=file, field=prefix + "tint", hi=MAX_TINT)
     if "angular_radius" in table:
         kw["angular_radius"] = float(
             val.number(table["angular_radius"], file=file, field=prefix + "angular_radius", lo=0.0, hi=45.0)

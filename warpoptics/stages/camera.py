@@ -89,7 +89,7 @@ class CameraConfig:
         return InputError(message, file=self.source, field=f"camera.{name}", value=value, allowed=allowed)
 
     def __post_init__(self):
-        if self.type not in CAMERA_KINDS:
+        if not isinstance(self.type, str) or self.type not in CAMERA_KINDS:
             raise self._err("type", self.type, "unknown camera type", ", ".join(CAMERA_KINDS))
         for name in ("width", "height"):
             v = getattr(self, name)

@@ -110,6 +110,10 @@ LATLONG_CONVENTIONS = {
 }
 
 
+# the brightest environment-map pixel accepted (the sun's disc in a real HDR is ~1e5-1e9)
+MAX_MAP_VALUE = 1.0e20
+
+
 def latlong_frame(convention: str = "blender", rotation_deg: float = 0.0) -> np.ndarray:
     """World -> map-frame matrix (3x3) of a lat-long map in ``convention`` turned by
     ``rotation_deg`` about +z: the map is read at ``u = 0.5 - atan2(m_y, m_x) / 2 pi``,
@@ -500,6 +504,16 @@ class EnvironmentLight:
                 file=self.config.source,
                 field=field_name,
                 value=path,
+            )
+        if pixels.max() > MAX_MAP_VALUE:
+            # finite float32 values near 3e38 overflow to inf in the map's row sums (importance
+            # sampling) and in radiance x throughput: bright, but never that bright
+            raise InputError(
+                f"the map has pixels up to {float(pixels.max()):.3g}; scale it down (intensity = ...)",
+                file=self.config.source,
+                field=field_name,
+                value=path,
+                allowed=f"pixel values <= {MAX_MAP_VALUE:g}",
             )
         if p.suffix.lower() not in (".exr", ".hdr"):
             # display-encoded 8-bit image: decode sRGB to linear

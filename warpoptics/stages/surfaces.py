@@ -140,6 +140,9 @@ _EPS = 1.0e-3  # mm, origin offset off a surface
 _BIG = 1.0e30
 _P_SPEC = 0.5  # glossy: probability of sampling the GGX lobe (the rest: cosine)
 
+# the largest texture atlas (float32 RGB): textures are stacked by rows, the widest sets its width
+_MAX_ATLAS_BYTES = 2 << 30
+
 
 @wp.struct
 class Surfaces:
@@ -1060,6 +1063,16 @@ class SurfaceStage:
         s.tex_size = _arr(rows["tex_size"], wp.vec2i, 2, dev)
         if textures:
             wmax = max(t.shape[1] for t in textures)
+            need = tex_rows * wmax * 3 * 4
+            if need > _MAX_ATLAS_BYTES:
+                sizes = ", ".join(f"{t.shape[1]}x{t.shape[0]}" for t in textures)
+                raise InputError(
+                    f"the textures ({sizes}) are packed into one {wmax}x{tex_rows} atlas of "
+                    f"{need / 2**30:.1f} GiB; use smaller textures",
+                    file=source,
+                    field="surface.texture",
+                    allowed=f"an atlas (widest texture x all heights) <= {_MAX_ATLAS_BYTES / 2**30:g} GiB",
+                )
             atlas = np.zeros((tex_rows, wmax, 3), dtype=np.float32)
             r0 = 0
             for t in textures:

@@ -196,8 +196,20 @@ def write_plots(sweep, out_dir, jobs: list[Job], by_key: dict, pairs: list[dict]
     return files
 
 
-def write_summary(sweep, out_dir, jobs: list[Job], by_key: dict, pairs: list[dict], rendered: int) -> Path:
-    """``summary.md``: the run, a table of every job's plotted columns, extremes, pairs, files."""
+def write_summary(
+    sweep,
+    out_dir,
+    jobs: list[Job],
+    by_key: dict,
+    pairs: list[dict],
+    rendered: int,
+    *,
+    archived: int = 0,
+    moved: int = 0,
+) -> Path:
+    """``summary.md``: the run, a table of every job's plotted columns, extremes, pairs, files.
+    ``archived``: rows in ``archive.csv`` (finished jobs of an earlier definition), ``moved`` of
+    them in this run."""
     sw = sweep
     rows = [by_key[j.key] for j in jobs]
     cols = plot_columns(sweep)
@@ -211,6 +223,13 @@ def write_summary(sweep, out_dir, jobs: list[Job], by_key: dict, pairs: list[dic
         f"- {len(jobs)} jobs ({sw.mode} of {shape}); rendered in this run: {rendered}; "
         f"render time of all jobs: {seconds:.1f} s",
         "- views: " + "; ".join(f"{v.name} ({', '.join(v.metrics)})" for v in sw.views),
+    ]
+    if archived:
+        lines.append(
+            f"- archive.csv: {archived} finished rows of earlier definitions of this sweep (values "
+            f"removed or files replaced; {moved} moved there in this run), kept, not in this table"
+        )
+    lines += [
         "",
     ]
     lines += [

@@ -85,10 +85,17 @@ def read_results(path: str | Path, *, repair: bool = False) -> tuple[list[str] |
 
 
 def append_line(path: Path, line: str) -> None:
-    with open(path, "a", encoding="utf-8") as f:  # not-a-replace: append-only journal, fsync per row
-        f.write(line)
-        f.flush()
-        os.fsync(f.fileno())
+    """Append one row and fsync it.  A failed append (a full disk) may leave a partial last line,
+    which :func:`read_results` ignores and ``repair`` cuts; it is an :class:`OutputError`."""
+    from ..errors import OutputError
+
+    try:
+        with open(path, "a", encoding="utf-8") as f:  # not-a-replace: append-only journal, fsync per row
+            f.write(line)
+            f.flush()
+            os.fsync(f.fileno())
+    except OSError as exc:
+        raise OutputError(path, exc.strerror or str(exc)) from exc
 
 
 def write_text_atomic(path: Path, text: str) -> None:

@@ -202,11 +202,13 @@ class SweepRunner:
         self.out_dir.mkdir(parents=True, exist_ok=True)
         with self._lock():
             header = self.header()
+            self._check_identity()
             done = self._prepare_results(header, jobs)
             write_text_atomic(
                 self.out_dir / "sweep.json",
                 json.dumps(
                     {
+                        "identity": sw.identity(),
                         "name": sw.name,
                         "description": sw.description,
                         "source": sw.source,
@@ -246,6 +248,25 @@ class SweepRunner:
             yield
         finally:
             f.close()
+
+    def _check_identity(self) -> None:
+        """Refuse to resume in a folder that holds another sweep's results (its ``sweep.json``
+        names another identity): its rows would be mixed with or replaced by this one's."""
+        meta = self.out_dir / "sweep.json"
+        if self.overwrite or not self.results_path.is_file() or not meta.is_file():
+            return
+        try:
+            old = json.loads(meta.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            old = {}
+        theirs = old.get("identity") if isinstance(old, dict) else None
+        if theirs is not None and theirs != self.sweep.identity():
+            raise InputError(
+                f"this folder holds the results of another sweep ({old.get('name')!r} from "
+                f"{old.get('source')}; this is {self.sweep.name!r} from {self.sweep.source}): use "
+                "another folder, or --overwrite to replace them",
+                file=str(self.out_dir),
+            )
 
     def _prepare_results(self, header: list[str], jobs: list[Job]) -> set[str]:
         path = self.results_path
@@ -358,15 +379,44 @@ class SweepRunner:
 
     # -- outputs -----------------------------------------------------------------------------
 
+    @property
+    def archive_path(self) -> Path:
+        return self.out_dir / "archive.csv"
+
+    def _archive(self, header: list[str], rows: list[dict]) -> int:
+        """Move finished rows that are no job of this definition (values removed from an axis, a
+        file the scene names replaced, a changed setting) to ``archive.csv``, never deleting one.
+        Returns how many rows the archive holds."""
+        old_header, kept = read_results(self.archive_path)
+        if old_header is not None and old_header != header:
+            # the archive of an earlier definition with other columns: keep it under its own name
+            n = 1
+            while (self.out_dir / f"archive.{n}.csv").exists():
+                n += 1
+            (self.archive_path).rename(self.out_dir / f"archive.{n}.csv")
+            kept = []
+        have = {r["key"] for r in kept}
+        merged = kept + [r for r in rows if r["key"] not in have]
+        if merged:
+            text = csv_line(header) + "".join(csv_line([r[h] for h in header]) for r in merged)
+            write_text_atomic(self.archive_path, text)
+        return len(merged)
+
     def _finalize(self, jobs: list[Job], header: list[str], rendered: int) -> SweepResult:
         _h, rows = read_results(self.results_path)
         by_key: dict[str, dict] = {}
         for r in rows:
             by_key.setdefault(r["key"], r)
         ordered = [by_key[j.key] for j in jobs if j.key in by_key]
+        keys = {j.key for j in jobs}
+        stale = [r for k, r in by_key.items() if k not in keys]
+        # the archive first: a kill between the two writes leaves a row in both, never in neither
+        archived = self._archive(header, stale) if stale or self.archive_path.is_file() else 0
         text = csv_line(header) + "".join(csv_line([r[h] for h in header]) for r in ordered)
         write_text_atomic(self.results_path, text)
         files = {"results": self.results_path}
+        if archived:
+            files["archive"] = self.archive_path
         complete = len(ordered) == len(jobs)
         pairs = write_pairs(self.sweep, self.out_dir, jobs, by_key) if complete and self.sweep.compare else []
         if pairs:
@@ -374,7 +424,9 @@ class SweepRunner:
         if complete:
             files["contact_sheet"] = write_contact_sheet(self.sweep, self.out_dir, jobs, pairs)
             files.update(write_plots(self.sweep, self.out_dir, jobs, by_key, pairs))
-            files["summary"] = write_summary(self.sweep, self.out_dir, jobs, by_key, pairs, rendered)
+            files["summary"] = write_summary(
+                self.sweep, self.out_dir, jobs, by_key, pairs, rendered, archived=archived, moved=len(stale)
+            )
         return SweepResult(
             out_dir=self.out_dir, jobs=jobs, rows=ordered, pairs=pairs, rendered=rendered, files=files
         )

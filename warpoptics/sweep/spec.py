@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import validate as val
 from ..errors import InputError
 from .expressions import CONSTANTS, FUNCTIONS, evaluate_expression
 from .results import format_value, job_key
@@ -35,6 +36,8 @@ __all__ = [
     "Sweep",
     "Job",
     "METRICS",
+    "MAX_JOBS",
+    "referenced_files",
     "view_settings",
     "apply_overrides",
     "scene_for",
@@ -49,6 +52,10 @@ METRICS: dict[str, tuple[str, ...]] = {
     "scintillation": ("scintillation",),
 }
 
+
+# the most jobs one sweep expands to (see Sweep.combinations); at a second per tiny job that is a
+# day of rendering, past which a sweep is a mistake or belongs in several folders
+MAX_JOBS = 100_000
 
 _NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
@@ -122,9 +129,33 @@ class View:
                 raise InputError(
                     "unknown metric", field=f"view.{self.name}.metrics", value=m, allowed=", ".join(METRICS)
                 )
-        object.__setattr__(self, "tilts", tuple(tuple(float(c) for c in t) for t in self.tilts))
-        if any(len(t) != 3 for t in self.tilts):
-            raise InputError("each tilt is [x, y, z] in degrees", field=f"view.{self.name}.tilts")
+        pre = f"view.{self.name}."
+        if not isinstance(self.tilts, (list, tuple)):
+            raise InputError(
+                "must be a list of [x, y, z] rotations in degrees", field=pre + "tilts", value=self.tilts
+            )
+        tilts = tuple(val.vec3(t, field=pre + "tilts") for t in self.tilts)
+        if any(abs(c) > 360.0 for t in tilts for c in t):
+            raise InputError(
+                "a tilt is out of range",
+                field=pre + "tilts",
+                value=[list(t) for t in tilts],
+                allowed="-360 to 360 degrees",
+            )
+        object.__setattr__(self, "tilts", tilts)
+        object.__setattr__(
+            self, "tilt_object", val.integer(self.tilt_object, field=pre + "tilt_object", lo=0)
+        )
+        object.__setattr__(
+            self, "white_y", val.number(self.white_y, field=pre + "white_y", lo=0.0, lo_open=True)
+        )
+        object.__setattr__(
+            self,
+            "fire_min_saturation",
+            val.number(self.fire_min_saturation, field=pre + "fire_min_saturation", lo=0.0, hi=1.0),
+        )
+        # "no" is a string, not false: a TOML boolean only
+        object.__setattr__(self, "save", val.boolean(self.save, field=pre + "save"))
         if "scintillation" in self.metrics and not self.tilts:
             raise InputError("scintillation needs tilts", field=f"view.{self.name}.tilts")
         if self.fire_reference not in ("white", "mean"):
@@ -287,6 +318,8 @@ class Sweep:
                     field="axis",
                     value={a.name: len(a.values) for a in g},
                 )
+        if self.job_count() > MAX_JOBS:
+            self.combinations()  # raises, with the count
 
     # -- loading -----------------------------------------------------------------------------
 
@@ -299,6 +332,8 @@ class Sweep:
             raise InputError("sweep file not found", file=file)
         try:
             data = tomllib.loads(p.read_text(encoding="utf-8"))
+        except UnicodeDecodeError as exc:
+            raise InputError(f"not UTF-8 text (byte {exc.start}); TOML files are UTF-8", file=file) from None
         except tomllib.TOMLDecodeError as exc:
             raise InputError(f"not valid TOML ({exc})", file=file) from None
         return cls.from_dict(data, base_dir=p.parent, source=file, extra_set=extra_set)
@@ -415,13 +450,20 @@ class Sweep:
                 views.append(View(name=name, **kw))
             except TypeError as exc:
                 raise InputError(f"invalid view ({exc})", file=file, field=pre.rstrip(".")) from None
+            except InputError as exc:  # the View's own checks: name the sweep file
+                raise InputError(
+                    exc.message, file=file, field=exc.field, value=exc.value, allowed=exc.allowed
+                ) from None
         compare = None
         if "compare" in data:
             c = data["compare"]
+            if not isinstance(c, dict):
+                raise InputError("must be a table [compare]", file=file, field="compare", value=c)
             _check_keys(c, _COMPARE_KEYS, file=file, prefix="compare.")
             if "axis" not in c or "reference" not in c:
                 raise InputError('needs axis = "name" and reference = value', file=file, field="compare")
-            compare = Compare(c["axis"], c["reference"], float(c.get("scale", 10.0)))
+            scale = val.number(c.get("scale", 10.0), file=file, field="compare.scale", lo=0.0, lo_open=True)
+            compare = Compare(c["axis"], c["reference"], float(scale))
         label = data.get("label")
         if label is not None and not isinstance(label, str):
             raise InputError("must be a format string", file=file, field="label", value=label)
@@ -457,7 +499,12 @@ class Sweep:
             raise InputError(
                 "base scene file not found", file=self.source, field="scene", value=str(self.scene)
             )
-        text = p.read_text(encoding="utf-8")
+        try:
+            text = p.read_text(encoding="utf-8")
+        except UnicodeDecodeError as exc:
+            raise InputError(
+                f"not UTF-8 text (byte {exc.start}); TOML files are UTF-8", file=str(p)
+            ) from None
         try:
             data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:
@@ -479,9 +526,24 @@ class Sweep:
                 order.append(groups[a.group])
         return order
 
+    def job_count(self) -> int:
+        """The number of jobs, without enumerating them."""
+        return math.prod(len(g[0].values) for g in self._groups())
+
     def combinations(self) -> list[dict[str, int]]:
-        """Index of each axis's value, per job, in job order (first axis outermost)."""
+        """Index of each axis's value, per job, in job order (first axis outermost).  More than
+        :data:`MAX_JOBS` jobs are refused with the count (enumerating 10 million jobs alone takes
+        minutes and gigabytes before the first render)."""
         groups = self._groups()
+        n = self.job_count()
+        if n > MAX_JOBS:
+            shape = " x ".join(str(len(g[0].values)) for g in groups)
+            raise InputError(
+                f"{n:,} jobs ({shape}) is more than one sweep runs; split it into sweeps of at most "
+                f"{MAX_JOBS:,} jobs",
+                file=self.source,
+                field="axis",
+            )
         out = []
         for combo in itertools.product(*[range(len(g[0].values)) for g in groups]):
             idx = {}
@@ -520,7 +582,9 @@ class Sweep:
 
     def jobs(self) -> list[Job]:
         """All jobs, resolved: overrides are plain data (picklable, hashed into each job's key)."""
-        data, _path, digest = self.scene_source()
+        data, path, digest = self.scene_source()
+        dirs = [Path(path).parent if path else None, self.base_dir]
+        base_files = referenced_files(data, dirs)
         jobs = []
         for index, idx in enumerate(self.combinations()):
             values = {a.name: a.values[idx[a.name]] for a in self.axes}
@@ -553,9 +617,11 @@ class Sweep:
                 label = (
                     ", ".join(f"{a.name}={labels[a.name]}" for a in self.axes if len(a.values) > 1) or "job"
                 )
+            files = {**base_files, **referenced_files([overrides, views], dirs)}
             blob = json.dumps(
                 {
                     "scene": digest,
+                    "files": files,
                     "overrides": overrides,
                     "views": views,
                     "view_settings": [view_settings(v) for v in self.views],
@@ -577,6 +643,23 @@ class Sweep:
             )
         return jobs
 
+    def identity(self) -> str:
+        """What makes a folder's results this sweep's and no other's: its name, the base scene it
+        names, its mode and its axes (names and paths, not their values: editing the values is
+        the same sweep, continued).  Stored in ``sweep.json``; ``--resume`` refuses a folder of
+        another identity."""
+        scene = self.scene if isinstance(self.scene, (str, Path)) else getattr(self.scene, "path", None)
+        blob = json.dumps(
+            {
+                "name": self.name,
+                "scene": Path(str(scene)).name if scene else None,
+                "mode": self.mode,
+                "axes": [[a.name, a.path] for a in self.axes],
+            },
+            sort_keys=True,
+        )
+        return hashlib.sha1(blob.encode()).hexdigest()[:16]
+
     def columns(self) -> list[str]:
         """Metric columns of results.csv (``<view>_<column>`` when there are several views)."""
         cols = []
@@ -593,6 +676,53 @@ class Sweep:
         for job in jobs if jobs is not None else self.jobs():
             for _name, vo in job.views:
                 scene_for(data, path, {**job.overrides, **vo}, self.base_dir)
+
+
+_DIGESTS: dict[tuple[str, int, int], str] = {}
+
+
+def _file_digest(p: Path) -> str:
+    """SHA-1 of a file's bytes, cached per (path, mtime, size) in this process."""
+    st = p.stat()
+    key = (str(p), st.st_mtime_ns, st.st_size)
+    if key not in _DIGESTS:
+        h = hashlib.sha1()
+        with open(p, "rb") as f:
+            for chunk in iter(lambda: f.read(1 << 20), b""):
+                h.update(chunk)
+        _DIGESTS[key] = h.hexdigest()
+    return _DIGESTS[key]
+
+
+def _strings(value):
+    if isinstance(value, str):
+        yield value
+    elif isinstance(value, dict):
+        for v in value.values():
+            yield from _strings(v)
+    elif isinstance(value, (list, tuple)):
+        for v in value:
+            yield from _strings(v)
+
+
+def referenced_files(value, dirs: Sequence[Path | str | None]) -> dict[str, str]:
+    """``{path: content digest}`` of every string inside ``value`` (scene data, overrides) that
+    names an existing file, absolute or relative to one of ``dirs`` (the base scene's folder, the
+    sweep's).  Meshes, GemCAD designs, light maps, textures and material tables are all such
+    strings; hashing whatever names a file keeps the list complete when a new field takes a file.
+    Job keys include these digests, so that replacing a file a scene names re-renders its jobs."""
+    out: dict[str, str] = {}
+    for s in _strings(value):
+        if not Path(s).suffix or len(s) > 4096 or "\0" in s:
+            continue
+        cands = [Path(s)] if Path(s).is_absolute() else [Path(d) / s for d in dirs if d is not None]
+        for c in cands:
+            try:
+                if c.is_file():
+                    out[str(c.resolve())] = _file_digest(c)
+            except OSError:
+                continue
+    return out
 
 
 def view_settings(v: View) -> dict:
