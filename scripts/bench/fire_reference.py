@@ -222,12 +222,13 @@ def compare(
     ours_passes: int,
     polarized: bool = True,
     device=None,
-    with_twins: bool = True,
+    twins: tuple[str, ...] = ("clear", "unpolarized"),
 ) -> dict:
     """Mitsuba's band-by-band reference against our dispersive render of ``scene``: the converged
     relative RMSE of linear sRGB and the checks around it (see the module docstring).
-    ``with_twins`` also compares what must *not* agree: our non-dispersive twin (constant index,
-    the dispersion removed) and, if ``polarized``, our unpolarized render."""
+    ``twins`` also compares what must *not* agree: ``"clear"``, our non-dispersive twin (constant
+    index, the dispersion removed), and ``"unpolarized"`` (if ``polarized``), our unpolarized
+    render."""
     import warpoptics as wo
 
     mat = wo.materials.get("diamond")
@@ -268,14 +269,14 @@ def compare(
     res["agreement_stone"] = converged_difference(
         ours[:, alpha], mit[:, alpha], labels=("ours", "mitsuba"), quantity="rgb"
     )
-    if with_twins:
+    if "clear" in twins:
         twin = scene.with_overrides({"object.0.material": {"cauchy": [CLEAR_INDEX]}})
         clear = np.stack([ours_rgb(twin, seed=200 + k, device=device) for k in range(ours_passes)])
         res["nondispersive_vs_reference"] = converged_difference(clear, mit, labels=("ours_clear", "mitsuba"))
-        if polarized:
-            unpol = scene.with_overrides({"render.polarization": False})
-            up = np.stack([ours_rgb(unpol, seed=300 + k, device=device) for k in range(ours_passes)])
-            res["unpolarized_vs_reference"] = converged_difference(up, mit, labels=("ours_unpol", "mitsuba"))
+    if "unpolarized" in twins and polarized:
+        unpol = scene.with_overrides({"render.polarization": False})
+        up = np.stack([ours_rgb(unpol, seed=300 + k, device=device) for k in range(ours_passes)])
+        res["unpolarized_vs_reference"] = converged_difference(up, mit, labels=("ours_unpol", "mitsuba"))
     res["_images"] = {"ours": ours.mean(0), "mitsuba": mit.mean(0)}
     return res
 
