@@ -102,6 +102,53 @@ def spectral_bands(n_bands: int, index) -> list[dict]:
     return out
 
 
+def band_weights(bands: list[dict], spectrum: np.ndarray) -> np.ndarray:
+    """(band, 3) CIE weights of ``bands`` for a white of relative spectrum ``spectrum`` (1 nm,
+    360-830 nm), normalised to Y = 1: what :func:`spectral_bands` gives for D65."""
+    wl, cmfs, _ = observer_and_illuminant()
+    norm = np.trapezoid(cmfs[:, 1] * spectrum, wl)
+    out = []
+    for b in bands:
+        sl = (wl >= b["lo"]) & (wl <= b["hi"])
+        out.append(np.trapezoid(cmfs[sl] * spectrum[sl, None], wl[sl], axis=0) / norm)
+    return np.array(out)
+
+
+def upsampling_effect(scene, *, n_bands: int, spp: int, peer_spectrum: np.ndarray, device=None) -> dict:
+    """What the white spectrum of a grey map alone does to the dispersive image: our band images
+    G_b (the non-dispersive stone at each band's index, polarized, Y of a white-Y map = 1) summed
+    once with D65 (ours) and once with ``peer_spectrum`` (indicatrix's spectrum of an RGB
+    (1, 1, 1) texel, ``indicatrix_peer --spectrum 1 1 1``): the relative RMSE of linear sRGB
+    between the two images.  Both come from the same G_b, so their noise is shared."""
+    import warpoptics as wo
+
+    bands = spectral_bands(n_bands, wo.materials.get("diamond").n)
+    g = np.stack(
+        [
+            wo.render(
+                scene.with_overrides({"object.0.material": {"cauchy": [b["n"]]}, "render.spp": spp}),
+                seed=7,
+                device=device,
+            ).xyz[..., 1]
+            for b in bands
+        ]
+    )
+    _, _, d65 = observer_and_illuminant()
+    out = {}
+    for name, spec in (("d65", d65), ("indicatrix_white", peer_spectrum)):
+        w = band_weights(bands, spec)
+        from warpoptics.color import xyz_to_srgb_linear
+
+        out[name] = xyz_to_srgb_linear(np.tensordot(g, w, axes=([0], [0])))
+    a, b = out["indicatrix_white"], out["d65"]
+    return {
+        "bands": n_bands,
+        "spp_per_band": spp,
+        "rel_rmse_linear_srgb": float(np.sqrt(((a - b) ** 2).mean()) / b.mean()),
+        "mean_rel_diff": float(a.mean() / b.mean() - 1.0),
+    }
+
+
 def grey_map(src: str | Path, dst: str | Path, *, blur_deg: float = 0.0) -> Path:
     """The luminance of the RGB lat-long map ``src`` (Rec. 709 / sRGB weights) as a grey map,
     optionally blurred by a Gaussian of ``blur_deg`` degrees (in texel space: periodic in
@@ -153,6 +200,7 @@ def mitsuba_band_images(
     from warpoptics.pipelines import mitsuba_export as mx
 
     mi.set_variant("scalar_spectral_polarized" if polarized else "scalar_spectral")
+    spp = effective_spp(spp, sampler)
     # the exporter wants a clear, isotropic stone: give it the constant-index twin (same mesh);
     # a grey map bakes exactly at any env_step (its spectrum has the XYZ of D65 x g)
     twin = scene.with_overrides(
@@ -194,6 +242,13 @@ def mitsuba_band_images(
             white = float(np.asarray(mi.render(mi.load_dict(wd), spp=64), dtype=np.float64).mean())
             out[i] = img[..., 0] / white
     return out
+
+
+def effective_spp(spp: int, sampler: str) -> int:
+    """The sample count Mitsuba renders: its ``ldsampler`` rounds up to a power of 4."""
+    if sampler != "ldsampler":
+        return int(spp)
+    return int(4 ** int(np.ceil(np.log(max(spp, 1)) / np.log(4) - 1e-9)))
 
 
 def synthesize_rgb(g: np.ndarray, bands: list[dict]) -> np.ndarray:
@@ -240,7 +295,7 @@ def compare(
         "band_edges_nm": [b["lo"] for b in bands] + [bands[-1]["hi"]],
         "band_index": [b["n"] for b in bands],
         "polarized": polarized,
-        "mitsuba_spp_per_band_per_pass": mitsuba_spp,
+        "mitsuba_spp_per_band_per_pass": effective_spp(mitsuba_spp, "ldsampler"),
     }
     t0 = time.process_time()
     mit = np.stack(
@@ -297,6 +352,12 @@ def main(argv=None) -> int:
     ap.add_argument("--ours-passes", type=int, default=16)
     ap.add_argument("--unpolarized", action="store_true", help="compare unpolarized renders")
     ap.add_argument("--quick", action="store_true", help="a smoke run: 16x16, 6 bands, few samples")
+    ap.add_argument(
+        "--upsampling-effect",
+        metavar="PEER_BIN",
+        help="instead: measure what indicatrix's white spectrum (from this indicatrix_peer binary) "
+        "changes against D65 (our band images, --bands, --ours-spp per band)",
+    )
     ap.add_argument("--json", help="write the results here")
     ap.add_argument("--save", help="write the two mean images to this .npz")
     args = ap.parse_args(argv)
@@ -308,6 +369,21 @@ def main(argv=None) -> int:
         scene = reference_scene(
             gmap, width=args.width, height=args.height, polarization=not args.unpolarized, scene=args.scene
         ).with_overrides({"render.spp": args.ours_spp})
+        if args.upsampling_effect:
+            import subprocess
+
+            out = subprocess.run(
+                [args.upsampling_effect, "--spectrum", "1", "1", "1"],
+                capture_output=True,
+                text=True,
+                check=True,
+            ).stdout
+            spec = np.array([float(line.split()[1]) for line in out.splitlines()])
+            res = upsampling_effect(scene, n_bands=args.bands, spp=args.ours_spp, peer_spectrum=spec)
+            print(json.dumps(res, indent=2))
+            if args.json:
+                Path(args.json).write_text(json.dumps(res, indent=2))
+            return 0
         log(
             f"{args.scene} under the grey luminance of {args.map}: {args.width}x{args.height}, "
             f"{args.bands} bands x {args.mitsuba_spp} spp x {args.mitsuba_passes} Mitsuba passes; ours "

@@ -6,6 +6,7 @@
 //! Usage:
 //!     indicatrix_peer SCENE.txt --spp N --offset K --out PASS.pfm [--threads T]
 //!     indicatrix_peer SCENE.txt --calibrate
+//!     indicatrix_peer --spectrum R G B
 //!
 //! `SCENE.txt` (written by bench_fire.py, already in indicatrix's y-up frame), one item a line:
 //!     width W / height H / max_bounces B / material NAME
@@ -17,7 +18,9 @@
 //! on (pixel, sample index) only, so disjoint offsets are independent passes) as a 3-channel
 //! PFM, and prints `seconds S` (wall time of the trace, not of loading).  `--calibrate`
 //! prints the XYZ that a white (1, 1, 1) texel seen directly produces (the scale that maps
-//! indicatrix's XYZ to warpoptics', whose white texel has Y = 1).
+//! indicatrix's XYZ to warpoptics', whose white texel has Y = 1).  `--spectrum R G B` prints
+//! the spectral radiance indicatrix gives a map texel of linear RGB (R, G, B), 360-830 nm at 1 nm
+//! (`renderer::env_map::rgb_to_spectral_radiance`), one `wavelength value` pair a line.
 //!
 //! Threads: the pixels are split into interleaved partitions (`first_pixel = t, stride = T`),
 //! one per thread, as indicatrix's own desktop front end does; the sums do not depend on T.
@@ -30,7 +33,7 @@ use indicatrix::geometry::GpuFacetPlane;
 use indicatrix::optics::materials::GemMaterial;
 use indicatrix::optics::raytracer::{Camera, EnvironmentSource};
 use indicatrix::renderer::cpu_frame::{scatter_interleaved, trace_pixels_interleaved};
-use indicatrix::renderer::env_map::EnvironmentMap;
+use indicatrix::renderer::env_map::{EnvironmentMap, rgb_to_spectral_radiance};
 use indicatrix::renderer::frame_scene::FrameScene;
 use indicatrix::simd::PlanesSoA32;
 
@@ -171,6 +174,13 @@ fn render(frame: &FrameScene<'_>, offset: u32, spp: u32, threads: u32) -> Vec<Ve
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
+    if args.len() == 5 && args[1] == "--spectrum" {
+        let rgb: Vec<f32> = args[2..5].iter().map(|a| a.parse().unwrap_or_else(|_| fail("--spectrum R G B"))).collect();
+        for nm in 360..=830 {
+            println!("{nm} {}", rgb_to_spectral_radiance([rgb[0], rgb[1], rgb[2]], nm as f32));
+        }
+        return;
+    }
     if args.len() < 2 {
         fail("usage: indicatrix_peer SCENE.txt (--spp N --offset K --out PASS.pfm [--threads T] | --calibrate)");
     }
