@@ -112,8 +112,9 @@ def facet_planes(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return out
 
 
-def export_peer_scene(scene, directory: Path) -> Path:
-    """indicatrix_peer's scene file (and its map PFM, and the stone as OBJ) for ``scene``."""
+def export_peer_scene(scene, directory: Path, *, index: float | None = None) -> Path:
+    """indicatrix_peer's scene file (and its map PFM, and the stone as OBJ) for ``scene``;
+    ``index``: indicatrix's diamond with this constant index instead of its dispersion."""
     import trimesh
 
     from warpoptics.film.image import read_image
@@ -151,6 +152,7 @@ def export_peer_scene(scene, directory: Path) -> Path:
         f"height {cam.height}",
         f"max_bounces {scene.render.max_depth}",
         "material Diamond",
+        *([f"index {index:.9g}"] if index is not None else []),
         "camera " + " ".join(f"{x:.9g}" for v in vec for x in v) + f" {np.tan(np.radians(cam.fov) / 2):.9g}",
         f"env {directory / 'env.pfm'}",
     ]
@@ -165,11 +167,23 @@ def export_peer_scene(scene, directory: Path) -> Path:
 class PeerRunner:
     """indicatrix passes of ``spp`` samples each, through ``indicatrix_peer``."""
 
-    def __init__(self, scene, binary: Path, spp: int, directory: Path, log, threads: int | None = None):
-        self.binary, self.spp, self.name = str(binary), int(spp), "indicatrix"
+    def __init__(
+        self,
+        scene,
+        binary: Path,
+        spp: int,
+        directory: Path,
+        log,
+        threads: int | None = None,
+        *,
+        index: float | None = None,
+        name: str = "indicatrix",
+    ):
+        self.binary, self.spp, self.name = str(binary), int(spp), name
         self.threads = threads or os.cpu_count() or 1
         self.dir = directory
-        self.scene_file = export_peer_scene(scene, directory)
+        directory.mkdir(parents=True, exist_ok=True)
+        self.scene_file = export_peer_scene(scene, directory, index=index)
         self.ims: list[np.ndarray] = []
         self.times: list[float] = []
         self.cpu_times: list[float] = []
@@ -177,10 +191,10 @@ class PeerRunner:
             [self.binary, str(self.scene_file), "--calibrate"], capture_output=True, text=True, check=True
         ).stdout
         self.white_xyz = np.array([float(x) for x in out.split()[1:4]])
-        log(f"indicatrix: white texel XYZ {self.white_xyz} (ours: Y = 1); {self.threads} threads")
+        log(f"{name}: white texel XYZ {self.white_xyz} (ours: Y = 1); {self.threads} threads")
         t0 = time.perf_counter()
         self._run(10_000_000, 1)  # warm-up (page cache, first-touch)
-        log(f"indicatrix: warm-up pass {time.perf_counter() - t0:.1f} s")
+        log(f"{name}: warm-up pass {time.perf_counter() - t0:.1f} s")
 
     def _run(self, offset: int, spp: int):
         out = self.dir / "pass.pfm"
@@ -222,6 +236,12 @@ def main(argv=None) -> int:
     ap.add_argument("--peer-bin", default=str(PEER_BIN))
     ap.add_argument("--peer-threads", type=int, help="indicatrix threads (default: the CPU count)")
     ap.add_argument("--no-peer", action="store_true", help="run without indicatrix")
+    ap.add_argument(
+        "--peer-clear-seconds",
+        type=float,
+        default=0.0,
+        help="also run indicatrix on the clear twin (its diamond at the constant index) for this budget",
+    )
     ap.add_argument("--json", help="write the results here")
     ap.add_argument("--log", help="also write this log here")
     ap.add_argument("--save", help="write the mean images (linear sRGB) to this .npz")
@@ -235,6 +255,7 @@ def main(argv=None) -> int:
         print(line, flush=True)
 
     import warpoptics as wo
+    from warpoptics.pipelines.objects import build_objects
 
     over: dict = {}
     if args.quick:
@@ -299,6 +320,24 @@ def main(argv=None) -> int:
         budgets.append(args.peer_seconds)
         res["peer"] = "indicatrix 0.9.0 (crates.io) through scripts/bench/indicatrix_peer"
         res["peer_white_xyz"] = peer.white_xyz.tolist()
+        if args.peer_clear_seconds > 0:
+            mat = build_objects(scenes["clear"].objects, file=scenes["clear"].path).materials[0]
+            n = np.asarray(mat.n(np.array([400.0, 589.3, 700.0]))).ravel()
+            if abs(n[0] - n[2]) > 1e-9:
+                raise SystemExit("--peer-clear-seconds needs a clear twin with a constant index")
+            runners.append(
+                PeerRunner(
+                    scenes["clear"],
+                    Path(args.peer_bin),
+                    args.peer_spp,
+                    Path(peer_dir.name) / "clear",
+                    log,
+                    args.peer_threads,
+                    index=float(n[1]),
+                    name="indicatrix clear",
+                )
+            )
+            budgets.append(args.peer_clear_seconds)
     run_interleaved(runners, budgets, args.min_passes, args.max_passes, log)
 
     per_pass = {
@@ -306,6 +345,7 @@ def main(argv=None) -> int:
         "ours clear": scenes["clear"].render.spp
         * (scenes["clear"].render.wavelengths if scenes["clear"].render.spectral == "stratified" else 1),
         "indicatrix": args.peer_spp,
+        "indicatrix clear": args.peer_spp,
     }
     res["renderers"] = {}
     for run in runners:
@@ -323,6 +363,13 @@ def main(argv=None) -> int:
     if peer is not None:
         res["agreement"]["dispersive_vs_indicatrix"] = converged_difference(
             disp, np.array(peer.ims), labels=("ours", "indicatrix"), quantity="rgb"
+        )
+    if len(runners) > 3:
+        res["agreement"]["clear_vs_indicatrix_clear"] = converged_difference(
+            np.array(runners[1].ims),
+            np.array(runners[3].ims),
+            labels=("ours_clear", "indicatrix_clear"),
+            quantity="rgb",
         )
     # ratios at each target: the peer's time / ours, ours / our clear twin's
     res["ratios"] = {}

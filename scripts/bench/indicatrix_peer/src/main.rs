@@ -10,6 +10,7 @@
 //!
 //! `SCENE.txt` (written by bench_fire.py, already in indicatrix's y-up frame), one item a line:
 //!     width W / height H / max_bounces B / material NAME
+//!     index N           (optional: replace the material's dispersion by the constant index N)
 //!     camera ox oy oz  fx fy fz  rx ry rz  ux uy uz  fov_tan   (origin, unit forward/right/up)
 //!     env PATH.pfm      (lat-long RGB map in indicatrix's layout, a PFM file, top row = zenith)
 //!     plane nx ny nz d  (one per facet: n . x + d <= 0 inside, n the outward unit normal)
@@ -30,6 +31,7 @@ use std::time::Instant;
 
 use glam::Vec3;
 use indicatrix::geometry::GpuFacetPlane;
+use indicatrix::optics::dispersion::DispersionModel;
 use indicatrix::optics::materials::GemMaterial;
 use indicatrix::optics::raytracer::{Camera, EnvironmentSource};
 use indicatrix::renderer::cpu_frame::{scatter_interleaved, trace_pixels_interleaved};
@@ -42,6 +44,7 @@ struct Scene {
     height: u32,
     max_bounces: u32,
     material: String,
+    index: Option<f32>,
     camera: [f32; 13],
     env: String,
     planes: Vec<GpuFacetPlane>,
@@ -69,6 +72,7 @@ fn read_scene(path: &str) -> Scene {
         height: 0,
         max_bounces: 16,
         material: "Diamond".into(),
+        index: None,
         camera: [0.0; 13],
         env: String::new(),
         planes: Vec::new(),
@@ -81,6 +85,7 @@ fn read_scene(path: &str) -> Scene {
             "height" => s.height = floats(rest, 1, key)[0] as u32,
             "max_bounces" => s.max_bounces = floats(rest, 1, key)[0] as u32,
             "material" => s.material = rest.join(" "),
+            "index" => s.index = Some(floats(rest, 1, key)[0]),
             "camera" => s.camera.copy_from_slice(&floats(rest, 13, key)),
             "env" => s.env = rest.join(" "),
             "plane" => {
@@ -206,8 +211,11 @@ fn main() {
         i += 2;
     }
     let scene = read_scene(&args[1]);
-    let material = GemMaterial::by_name(&scene.material)
+    let mut material = GemMaterial::by_name(&scene.material)
         .unwrap_or_else(|| fail(&format!("no built-in material {}", scene.material)));
+    if let Some(n) = scene.index {
+        material.dispersion = DispersionModel::Cauchy { a: n, b: 0.0, c: 0.0 };
+    }
     let c = scene.camera;
     let camera = Camera {
         origin: Vec3::new(c[0], c[1], c[2]),
