@@ -54,82 +54,13 @@ ROOT = Path(__file__).resolve().parents[2]
 LLVM = "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1"
 if "DRJIT_LIBLLVM_PATH" not in os.environ and os.path.exists(LLVM):
     os.environ["DRJIT_LIBLLVM_PATH"] = LLVM
-
-
-def rel_noise(passes: np.ndarray) -> float:
-    """sigma_1: relative RMSE of one pass against the expectation (per-pixel variances)."""
-    return float(np.sqrt(passes.var(axis=0, ddof=1).mean()) / passes.mean())
-
-
-def half_split_check(passes: np.ndarray) -> tuple[float, float]:
-    """(measured, predicted) relative RMSE between the means of the two halves."""
-    k = len(passes) // 2
-    a, b = passes[:k].mean(0), passes[k : 2 * k].mean(0)
-    mean = passes.mean()
-    measured = float(np.sqrt(((a - b) ** 2).mean()) / mean)
-    return measured, float(np.sqrt(2.0 / k) * rel_noise(passes))
-
-
-def converged_difference(ours: np.ndarray, theirs: np.ndarray) -> dict:
-    """Noise-free estimate of the relative RMSE between the converged images (split halves)."""
-    ka, kb = len(ours) // 2, len(theirs) // 2
-    a1, a2 = ours[:ka].mean(0), ours[ka : 2 * ka].mean(0)
-    b1, b2 = theirs[:kb].mean(0), theirs[kb : 2 * kb].mean(0)
-    prod = ((a1 - b1) * (a2 - b2)).ravel()
-    est, se = float(prod.mean()), float(prod.std(ddof=1) / np.sqrt(prod.size))
-    ref = float(theirs.mean())
-    raw = float(np.sqrt(((ours.mean(0) - theirs.mean(0)) ** 2).mean()) / ref)
-    return {
-        "converged_rel_rmse": float(np.sqrt(max(est, 0.0)) / ref),
-        "converged_rel_rmse_upper_2sigma": float(np.sqrt(max(est + 2 * se, 0.0)) / ref),
-        "raw_rel_rmse_of_means": raw,
-        "mean_y_ours": float(ours.mean()),
-        "mean_y_mitsuba": ref,
-        "mean_rel_diff": float(ours.mean() / ref - 1.0),
-    }
-
-
-def time_to_target(passes: np.ndarray, times: list[float], samples_per_pass: int, target: float) -> dict:
-    """Time to ``target`` from independent passes: k = (sigma_1 / target)^2 passes.  When one pass
-    is already below the target (k < 1) the time is that of one pass: a smaller pass would not
-    reach it in k pass-times (low-discrepancy and adaptive samplers gain faster than 1/sqrt(N)
-    within a pass), so fewer-than-one-pass extrapolations are never reported."""
-    s1 = rel_noise(passes)
-    t_pass = float(np.median(times))
-    k = (s1 / target) ** 2
-    out = {
-        "passes": len(passes),
-        "seconds_per_pass": t_pass,
-        "samples_per_pass": samples_per_pass,
-        "rel_noise_one_pass": s1,
-        "passes_to_target": k,
-        "seconds_to_target": max(k, 1.0) * t_pass,
-        "samples_to_target": max(k, 1.0) * samples_per_pass,
-        "one_pass_reaches_target": bool(k <= 1.0),
-    }
-    # direct reading when the run itself got there
-    if len(passes) >= 2 and s1 / np.sqrt(len(passes)) <= target:
-        out["seconds_to_target_measured"] = float(np.sum(times[: int(np.ceil(k))]))
-    m, p = half_split_check(passes) if len(passes) >= 4 else (float("nan"), float("nan"))
-    out["half_split_rel_rmse_measured"] = m
-    out["half_split_rel_rmse_predicted"] = p
-    return out
-
-
-class OursRunner:
-    def __init__(self, scene, log, name="ours"):
-        import warpoptics as wo
-
-        self.wo, self.scene, self.ims, self.times, self.name = wo, scene, [], [], name
-        t0 = time.perf_counter()
-        wo.render(scene, seed=10_000)  # warm-up: kernel compilation / loading
-        log(f"{name}: warm-up pass {time.perf_counter() - t0:.1f} s")
-
-    def step(self):
-        t = time.perf_counter()
-        img = self.wo.render(self.scene, seed=len(self.ims))
-        self.times.append(time.perf_counter() - t)
-        self.ims.append(img.xyz[..., 1])
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from equal_error import (  # noqa: E402  (the machinery shared with bench_fire.py)
+    OursRunner,
+    converged_difference,
+    run_interleaved,
+    time_to_target,
+)
 
 
 class MitsubaRunner:
@@ -154,24 +85,6 @@ class MitsubaRunner:
         r = self.mx.render_mitsuba(self.scene, spp=self.spp, seed=len(self.ims), mi_scene=self.loaded)
         self.times.append(r["seconds"])
         self.ims.append(r["y"])
-
-
-def run_interleaved(runners: list, budgets: list[float], min_passes: int, max_passes: int, log) -> None:
-    """Alternate the renderers so that all see the same (shared-machine) load: the next pass is
-    always the one of the renderer furthest behind its budget (time spent / budget)."""
-    last = time.perf_counter()
-    while True:
-        todo = [
-            (sum(r.times) / max(b, 1e-9), i)
-            for i, (r, b) in enumerate(zip(runners, budgets, strict=True))
-            if len(r.ims) < max_passes and (len(r.ims) < min_passes or sum(r.times) < b)
-        ]
-        if not todo:
-            break
-        runners[min(todo)[1]].step()
-        if time.perf_counter() - last > 60:
-            last = time.perf_counter()
-            log("; ".join(f"{r.name} {len(r.ims)} passes {sum(r.times):.0f} s" for r in runners))
 
 
 def pick_variant(requested: str | None, log) -> str:
@@ -233,8 +146,7 @@ def main(argv=None) -> int:
     ap.add_argument("--save", help="write the mean images (ours, Mitsuba) to this .npz")
     args = ap.parse_args(argv)
 
-    def log(msg):
-        print(f"[{time.strftime('%H:%M:%S')}] {msg}", flush=True)
+    from equal_error import log
 
     import warpoptics as wo
 
