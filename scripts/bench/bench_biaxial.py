@@ -108,7 +108,9 @@ def main(argv=None) -> dict:
     for k, v in out.items():
         print(f"{k:24s} {v}")
     if args.json:
-        with open(args.json, "w") as f:
+        from warpoptics.atomic import atomic_path
+
+        with atomic_path(args.json) as tmp, open(tmp, "w") as f:
             json.dump(out, f, indent=2)
     return out
 

@@ -78,7 +78,7 @@ def write_pfm(path: Path, rgb: np.ndarray) -> None:
     """A little-endian 3-channel PFM (rows stored bottom to top)."""
     h, w = rgb.shape[:2]
     data = np.ascontiguousarray(rgb[::-1], dtype="<f4").tobytes()
-    Path(path).write_bytes(f"PF\n{w} {h}\n-1.0\n".encode("ascii") + data)
+    Path(path).write_bytes(f"PF\n{w} {h}\n-1.0\n".encode("ascii") + data)  # not-a-replace: peer scratch
 
 
 def read_pfm(path: Path) -> np.ndarray:
@@ -126,7 +126,7 @@ def export_peer_scene(scene, directory: Path, *, index: float | None = None) -> 
     mesh, xf = built.meshes[0]
     verts = np.asarray(mesh.vertices, dtype=np.float64) @ xf[:3, :3].T + xf[:3, 3]
     obj = directory / "stone.obj"
-    trimesh.Trimesh(verts, np.asarray(mesh.faces), process=False).export(obj)
+    trimesh.Trimesh(verts, np.asarray(mesh.faces), process=False).export(obj)  # not-a-replace: peer scratch
     back = trimesh.load(obj, process=False)  # the peer's stone is the exported file's
     planes = facet_planes(np.asarray(back.vertices, np.float64), np.asarray(back.faces))
 
@@ -169,7 +169,7 @@ def export_peer_scene(scene, directory: Path, *, index: float | None = None) -> 
         n = TO_PEER @ p[:3]
         lines.append(f"plane {n[0]:.9g} {n[1]:.9g} {n[2]:.9g} {p[3]:.9g}")
     path = directory / "scene.txt"
-    path.write_text("\n".join(lines) + "\n")
+    path.write_text("\n".join(lines) + "\n")  # not-a-replace: the peer's scratch scene
     return path
 
 

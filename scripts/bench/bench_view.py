@@ -209,8 +209,10 @@ def main() -> int:
             print(f"  pavilion angle change -> its first frame {r['cut_change_s']:.3f} s")
         ok = ok and r["orbit_every_frame_restarted"]
     if args.json:
-        Path(args.json).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.json).write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
+        from warpoptics.atomic import atomic_path
+
+        with atomic_path(args.json) as tmp:
+            Path(tmp).write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
     return 0 if ok else 1
 
 

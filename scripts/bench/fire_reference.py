@@ -382,7 +382,10 @@ def main(argv=None) -> int:
             res = upsampling_effect(scene, n_bands=args.bands, spp=args.ours_spp, peer_spectrum=spec)
             print(json.dumps(res, indent=2))
             if args.json:
-                Path(args.json).write_text(json.dumps(res, indent=2))
+                from warpoptics.atomic import atomic_path
+
+                with atomic_path(args.json) as tmp:
+                    Path(tmp).write_text(json.dumps(res, indent=2))
             return 0
         log(
             f"{args.scene} under the grey luminance of {args.map}: {args.width}x{args.height}, "

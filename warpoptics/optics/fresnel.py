@@ -62,6 +62,7 @@ __all__ = [
     "refract_from_fresnel",
     "flux_ratio",
     "p_normal_flux",
+    "flux_transmittance",
     "transmitted_flux_ratio",
     "unpolarized_power",
     "fresnel",
@@ -135,12 +136,22 @@ def flux_ratio(in_flux: float, out_flux: float):
 
 
 @wp.func
-def flux_ratio(in_flux: wp.float64, out_flux: wp.float64):  # noqa: F811 (float64 overload)
-    """:func:`flux_ratio` in double precision (the thin-film stacks)."""
+def flux_transmittance(t_abs2: float, in_flux: float, out_flux: float):
+    """Transmitted power per unit incident power of a wave with |t|^2 = ``t_abs2``:
+    |t|^2 out / in (the product first: at grazing incidence ``in`` underflows while |t|^2 -> 0),
+    0 where either flux vanishes."""
+    if in_flux <= 0.0 or out_flux <= 0.0:
+        return 0.0
+    return t_abs2 * out_flux / in_flux
+
+
+@wp.func
+def flux_transmittance(t_abs2: wp.float64, in_flux: wp.float64, out_flux: wp.float64):  # noqa: F811
+    """:func:`flux_transmittance` in double precision (the thin-film stacks)."""
     zero = wp.float64(0.0)
     if in_flux <= zero or out_flux <= zero:
         return zero
-    return out_flux / in_flux
+    return t_abs2 * out_flux / in_flux
 
 
 @wp.func
@@ -180,9 +191,9 @@ def fresnel_power_coefficients(f: FresnelAmplitudes, n1: wp.vec2f, n2: wp.vec2f)
     """(Rs, Rp, Ts, Tp): reflectances |r|^2 and the transmitted normal energy fluxes per unit
     incident flux, Ts = |ts|^2 Re(N2 cos t) / Re(N1 cos i) and Tp = |tp|^2 Re(conj(N2) cos t) /
     Re(conj(N1) cos i) (Byrnes 2016 eq. 21-22; the thin-film stacks use the same two laws,
-    :func:`flux_ratio` and :func:`p_normal_flux`).  Zero transmittance beyond the critical angle."""
-    ts = transmitted_flux_ratio(f) * c_abs2(f.ts)
-    tp = flux_ratio(p_normal_flux(f.n1_cos_i, n1), p_normal_flux(f.n2_cos_t, n2)) * c_abs2(f.tp)
+    :func:`flux_transmittance` and :func:`p_normal_flux`).  Zero transmittance beyond the critical angle."""
+    ts = flux_transmittance(c_abs2(f.ts), f.n1_cos_i[0], f.n2_cos_t[0])
+    tp = flux_transmittance(c_abs2(f.tp), p_normal_flux(f.n1_cos_i, n1), p_normal_flux(f.n2_cos_t, n2))
     return wp.vec4(c_abs2(f.rs), c_abs2(f.rp), ts, tp)
 
 

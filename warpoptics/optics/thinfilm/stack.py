@@ -45,7 +45,7 @@ import warp as wp
 from ...device import elementwise, get_device
 from ...errors import InputError
 from ..complex import c_abs2, c_div, c_exp, c_mul, c_normal_component
-from ..fresnel import flux_ratio, p_normal_flux
+from ..fresnel import flux_transmittance, p_normal_flux
 from .inputs import complex_pairs, cos_angle, positive
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -283,8 +283,8 @@ def stack_power(
     q_in = c_normal_component(n_in, n_in, cos_i)
     q_out = c_normal_component(n_in, n_out, cos_i)
     # the flux laws of the bare interface (optics/fresnel.py), in double precision
-    Ts = c_abs2(ts) * flux_ratio(q_in[0], q_out[0])
-    Tp = c_abs2(tp) * flux_ratio(p_normal_flux(q_in, n_in), p_normal_flux(q_out, n_out))
+    Ts = flux_transmittance(c_abs2(ts), q_in[0], q_out[0])
+    Tp = flux_transmittance(c_abs2(tp), p_normal_flux(q_in, n_in), p_normal_flux(q_out, n_out))
     return wp.vec4d(c_abs2(rs), c_abs2(rp), Ts, Tp)
 
 
