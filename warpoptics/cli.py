@@ -24,6 +24,7 @@ SUBCOMMAND_MODULES = [
     "warpoptics.commands.cut",
     "warpoptics.commands.thinfilm",
     "warpoptics.commands.sweep",
+    "warpoptics.commands.grade",
 ]
 
 
