@@ -193,7 +193,7 @@ def run(args) -> int:
             size=args.size,
             wavelengths=args.wavelengths,
             tilt_deg=args.tilt,
-            **kw,
+            frame_mm=kw.get("frame_mm"),
         )
         im = render(Scene.from_dict(sc))
         img, fr, _rel = brightness_map(im.xyz, im.alpha, reference=args.reference)
@@ -284,7 +284,7 @@ def _optimize(args, stone, kw) -> None:
         except ValueError:
             raise InputError("expected METRIC=WEIGHT,...", field="--objective", value=part) from None
 
-    def rng(text, field):
+    def span(text, field):
         if text is None:
             return None
         v = _numbers(text.replace(":", ","), field)
@@ -293,8 +293,8 @@ def _optimize(args, stone, kw) -> None:
         return (v[0], v[1])
 
     cons = Constraints(
-        depth=rng(args.depth, "--depth"),
-        table=rng(args.table_range, "--table-range"),
+        depth=span(args.depth, "--depth"),
+        table=span(args.table_range, "--table-range"),
         min_weight_retention=args.min_weight,
         rough_height=args.rough_height,
     )

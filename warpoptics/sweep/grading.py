@@ -48,6 +48,9 @@ __all__ = [
     "write_tilt_series",
 ]
 
+#: the tilt series' default tilts: 0-30 deg in 2 deg steps
+DEFAULT_TILTS: tuple[float, ...] = tuple(float(t) for t in range(0, 31, 2))
+
 #: metrics of each view's ISO render and of its spot-lit render
 BRIGHTNESS_METRICS = ("light_return", "contrast", "extinction")
 SPOT_METRICS = ("fire", "scintillation")
@@ -200,7 +203,7 @@ def light_performance(
 def tilt_series_sweep(
     stone: dict,
     *,
-    tilts: Sequence[float] = tuple(float(t) for t in range(0, 31, 2)),
+    tilts: Sequence[float] = DEFAULT_TILTS,
     azimuths: Sequence[float] = (0.0, 22.5),
     protocol: Protocol = PROTOCOL,
     frame_mm: float | None = None,
@@ -324,7 +327,7 @@ def tilt_series(
     stone: dict,
     out_dir: str | Path,
     *,
-    tilts: Sequence[float] = tuple(float(t) for t in range(0, 31, 2)),
+    tilts: Sequence[float] = DEFAULT_TILTS,
     azimuths: Sequence[float] = (0.0, 22.5),
     protocol: Protocol = PROTOCOL,
     frame_mm: float | None = None,
