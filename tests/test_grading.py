@@ -206,3 +206,25 @@ def test_preset_scenes_load():
         sc = Scene.load(root / f"{name}.toml")
         assert (sc.lights[0].map, sc.lights[0].head_radius_deg) == (m, head)
         assert sc.camera.position[2] == 250.0
+
+
+def test_aset_centre_of_deep_stones_sees_the_head_not_leakage():
+    # A ray entering the table along the axis meets two opposite pavilion mains (incidences p and
+    # 180 - 3p, both above the critical angle for 24.4 < p < 51.9) and leaves the table at
+    # asin(n sin|180 - 4p|) from the zenith: 19.7 deg for p = 43 (the red zone, 10-45 deg) and
+    # 4.8 deg for p = 44.5 (inside the 10 deg head: blue).  The toggle at 45 deg (red/green) falls
+    # at p = 40.76, as the AGS/ASET literature states (Whiteflash, "ASET table reflection": "at
+    # pavilion angles right about 40.76 the reflection draws light from the point where red meets
+    # green").  So the dark centre of a deep stone is the observer's reflection, not leakage.
+    n = 2.4175  # diamond at 589 nm
+    for p, zone in ((43.0, "band1"), (44.5, "band0")):
+        src = math.degrees(math.asin(n * math.sin(math.radians(abs(180.0 - 4.0 * p)))))
+        assert (zone == "band0") == (src < PROTOCOL.head_radius_deg)
+        b = aset({**DIAMOND, "pavilion_angle": p}, size=48)[2]
+        centre = b.fractions(_radius(b) < 0.1)
+        # measured 0.80 (43) and 0.98 (44.5); leakage 0.03 and 0.00
+        assert centre[zone] > 0.7 and centre["leak"] < 0.05, (p, centre)
+    # the exit angle moves ~10 deg per degree of pavilion here: 0.25 deg is 0.025 deg of pavilion
+    # ("right about 40.76"; n of diamond 2.417-2.4175)
+    toggle = math.degrees(math.asin(n * math.sin(math.radians(180.0 - 4 * 40.76))))
+    assert toggle == pytest.approx(45.0, abs=0.25)

@@ -27,6 +27,7 @@ SUBCOMMAND_MODULES = [
     "warpoptics.commands.thinfilm",
     "warpoptics.commands.sweep",
     "warpoptics.commands.colorchange",
+    "warpoptics.commands.grade",
 ]
 
 

@@ -2,6 +2,11 @@
 Arrows), light-performance metrics over a tilt protocol with the observer's head, and design
 tools (critical angles per tier, retargeting to another index, perturbed brilliants).
 
+What runs many renders through the sweep runner (resumable, on Dask) sits one layer up, beside
+the runner: :mod:`warpoptics.sweep.grading` (the full protocol with fire and scintillation, the
+tilt series with its tables, plots and animation) and :mod:`warpoptics.sweep.optimize` (the cut
+optimizer).
+
 Modules: :mod:`.presets` (lightings, the observer, face-up scenes), :mod:`.scopes` (direction-band
 decomposition and the scope views), :mod:`.performance` (the protocol and the metrics),
 :mod:`.design` (design tools).
@@ -10,7 +15,17 @@ decomposition and the scope views), :mod:`.performance` (the protocol and the me
 from __future__ import annotations
 
 from .design import brilliant_with_misaligned_main, critical_angle, retarget, tier_report
-from .performance import PROTOCOL, Protocol, bow_tie, contrast, extinction, tilted_light_return, windowing
+from .performance import (
+    PROTOCOL,
+    Protocol,
+    average_views,
+    bow_tie,
+    brightness_map,
+    contrast,
+    extinction,
+    tilted_light_return,
+    windowing,
+)
 from .presets import (
     HEAD_RADIUS_DEG,
     LIGHTINGS,
@@ -35,7 +50,6 @@ __all__ = [
     "OBSERVER_DISTANCE_MM",
     "HEAD_RADIUS_DEG",
     "head_radius_for",
-    "head_radius_for",
     "lighting_table",
     "tilt_rotation",
     "face_up_scene",
@@ -53,6 +67,8 @@ __all__ = [
     "extinction",
     "windowing",
     "bow_tie",
+    "brightness_map",
+    "average_views",
     "critical_angle",
     "tier_report",
     "retarget",

@@ -25,6 +25,27 @@ Where this follows and where it differs from the sources:
   obstruction, over tilts; their weights of the ASET zones are not reproduced here.
 - Spectral, polarized transport with the renderer's depth / energy cut-off (``max_depth`` 12).
 
+**Fire and scintillation over the same tilts** (the full protocol, run through the sweep
+runner by :func:`warpoptics.sweep.grading.light_performance`; :meth:`Protocol.view_rotations`
+gives the views): each view is rendered a second time under the ``spots`` lighting (24 small
+discs over a dim dome, with the same head; :mod:`warpoptics.grading.presets`), where
+
+- *fire* is :func:`warpoptics.metrics.fire` (alpha-weighted mean of luminance x CIE 1976 u'v'
+  saturation about D65; units: Y x s_uv) of the spot-lit view, and
+- *scintillation* is :func:`warpoptics.metrics.scintillation` between the spot-lit view and the
+  same view with the stone turned a further ``scintillation_step_deg`` (2 deg) about its own x
+  axis (a luminance-weighted Michelson contrast in [0, 1]: how much of the returned light
+  changes pixel when the stone moves a little);
+
+the protocol's fire and scintillation are their plain means over the views, like light return.
+Where they differ from the sources: GIA's DCLR (Reinitz et al. 2001) sums, over observer and
+light positions, rays whose colour is saturated enough to be seen; ours is an image measure of
+saturation x luminance under a fixed set of spots.  GIA judged scintillation (Moses et al. 2004)
+by observers, not by a computed number; AGS (Sasian et al. 2007) use a contrast measure of the
+face-up pattern under tilt.  Ours is the change of the pattern under a small motion at each
+tilt of the protocol, with the head in place.  A protocol view costs 3 renders (ISO, spots,
+spots turned), so the full protocol is 27 renders; ``fire=False`` keeps 1 per view.
+
 Further metrics of one view (each a function of a render's ``xyz`` and ``alpha``):
 
 - :func:`contrast` — C = sqrt(Σ α (Y − Ȳ)² / Σ α) / Ȳ, the coefficient of variation of the stone's
@@ -36,6 +57,13 @@ Further metrics of one view (each a function of a render's ``xyz`` and ``alpha``
 - :func:`windowing` — from a :class:`~warpoptics.grading.scopes.Bands` decomposition: the
   alpha-weighted fraction of the stone's area where more than half of the pixel's light comes
   from below the girdle plane (see-through "window", unitless).
+- :func:`brightness_map` — a classified brightness/contrast map for colourless and coloured
+  stones: each pixel's luminance relative to a reference (the dome's white, or for coloured
+  stones the stone's own 95th-percentile luminance, so that the body colour's absorption does not
+  make every pixel dark), shown as bright (>= 0.5), medium, or dark (< 0.15, extinction);
+  returned with the area fractions of the three classes (unitless, sum 1).  The thresholds
+  follow :func:`extinction`; coloured-stone graders (e.g. the GIA coloured-stone "brightness"
+  and "extinction" terms) judge the same split by eye.
 - :func:`bow_tie` — for elongated fancy shapes: the mean luminance of a band across the centre
   along the short axis (width ``band`` of the width) relative to the whole stone's, subtracted from
   1: > 0 when a dark bow-tie crosses the centre (unitless).
@@ -51,7 +79,7 @@ import numpy as np
 
 from .. import metrics as wm
 from ..errors import InputError
-from .presets import HEAD_RADIUS_DEG, face_up_scene
+from .presets import HEAD_RADIUS_DEG, face_up_scene, tilt_rotation
 
 __all__ = [
     "Protocol",
@@ -62,6 +90,9 @@ __all__ = [
     "extinction",
     "windowing",
     "bow_tie",
+    "brightness_map",
+    "BRIGHTNESS_MAP_COLORS",
+    "average_views",
 ]
 
 
@@ -75,6 +106,31 @@ class Protocol:
     head_radius_deg: float = HEAD_RADIUS_DEG
     size: int = 80
     wavelengths: int = 8
+    fire_lighting: str = "spots"
+    scintillation_step_deg: float = 2.0
+
+    def __post_init__(self):
+        if not self.tilts or any(not -80.0 <= t <= 80.0 for t in self.tilts):
+            raise InputError("tilts must be in [-80, 80] degrees", field="tilts", value=self.tilts)
+        if not self.azimuths:
+            raise InputError("needs at least one azimuth", field="azimuths", value=self.azimuths)
+        if not 0.0 < self.scintillation_step_deg <= 10.0:
+            raise InputError(
+                "must be in (0, 10] degrees", field="scintillation_step", value=self.scintillation_step_deg
+            )
+        if self.size < 4 or self.wavelengths < 1:
+            raise InputError(
+                "size >= 4 and wavelengths >= 1", field="size", value=(self.size, self.wavelengths)
+            )
+
+    def view_rotations(self) -> list[tuple[str, float, float, list[float]]]:
+        """(name, tilt, azimuth, ``object.rotation``) of each view of :meth:`views`; names like
+        ``t05_a22`` (tilt 5, azimuth 22.5), usable as sweep view names."""
+        out = []
+        for t, a in self.views():
+            name = f"t{t:02.0f}_a{a:02.0f}".replace("-", "m")
+            out.append((name, t, a, tilt_rotation(t, a)))
+        return out
 
     def views(self) -> list[tuple[float, float]]:
         """Distinct (tilt, azimuth) pairs: face-up once, every other tilt at every azimuth."""
@@ -193,3 +249,64 @@ def bow_tie(xyz, alpha=None, *, band: float = 0.25, long_axis: str = "y") -> flo
     if whole <= 0 or m.sum() <= 0:
         return 0.0
     return float(1.0 - ((m * y).sum() / m.sum()) / whole)
+
+
+#: display colours (linear sRGB) of :func:`brightness_map`'s classes
+BRIGHTNESS_MAP_COLORS = {"bright": (1.0, 0.85, 0.1), "medium": (0.15, 0.45, 0.9), "dark": (0.6, 0.0, 0.0)}
+
+
+def brightness_map(
+    xyz,
+    alpha=None,
+    *,
+    reference: str = "white",
+    white_y: float = 1.0,
+    bright: float = 0.5,
+    dark: float = 0.15,
+):
+    """Brightness/contrast map of a face-up view (module docstring): ``(image, fractions,
+    relative)``: ``image`` (H, W, 3) linear sRGB in [0, 1] (:data:`BRIGHTNESS_MAP_COLORS`, black
+    off the stone, weighted by alpha), ``fractions`` ``{"bright", "medium", "dark"}`` of the
+    stone's area (alpha-weighted, sum 1), ``relative`` (H, W) the pixels' luminance over the
+    reference: ``white_y`` (``reference="white"``) or the stone's alpha-weighted 95th percentile
+    of Y (``"stone"``, for coloured stones)."""
+    if reference not in ("white", "stone"):
+        raise InputError("unknown reference", field="reference", value=reference, allowed="white, stone")
+    if not 0 < dark < bright:
+        raise InputError("needs 0 < dark < bright", field="bright", value=(dark, bright))
+    if not white_y > 0:
+        raise InputError("must be > 0", field="white_y", value=white_y)
+    y, a = _y_alpha(xyz, alpha)
+    ref = float(white_y)
+    if reference == "stone":
+        on = a > 0
+        if not on.any():
+            raise InputError("the view shows no stone", field="alpha")
+        order = np.argsort(y[on])
+        cw = np.cumsum(a[on][order])
+        ref = float(y[on][order][np.searchsorted(cw, 0.95 * cw[-1])])
+        if not ref > 0:
+            raise InputError("the stone is black in this view", field="xyz")
+    rel = y / ref
+    classes = {"bright": rel >= bright, "dark": rel < dark}
+    classes["medium"] = ~(classes["bright"] | classes["dark"])
+    w = a.sum()
+    img = np.zeros(y.shape + (3,))
+    fr = {}
+    for k in ("bright", "medium", "dark"):
+        img[classes[k]] = BRIGHTNESS_MAP_COLORS[k]
+        fr[k] = float((a * classes[k]).sum() / w) if w > 0 else 0.0
+    return np.clip(img * a[..., None], 0.0, 1.0), fr, rel
+
+
+def average_views(per_view: list[dict[str, float]]) -> dict[str, float]:
+    """The protocol's value of each metric: the plain mean over the views' dicts (module
+    docstring); every view must carry the same keys."""
+    if not per_view:
+        raise InputError("no views to average", field="views")
+    keys = set(per_view[0])
+    if any(set(v) != keys for v in per_view):
+        raise InputError(
+            "views measure different metrics", field="views", value=[sorted(v) for v in per_view]
+        )
+    return {k: float(np.mean([v[k] for v in per_view])) for k in sorted(keys)}

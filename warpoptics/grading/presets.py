@@ -23,6 +23,11 @@ Lightings (``[[light]]`` tables, :func:`lighting_table`):
 - ``lightbox`` — a diffuse light box with lamps overhead and at the sides over a dark surround
   (the built-in ``studio`` map; GIA's DiamondDock-like trade lighting).
 - ``daylight`` — a blue sky with a sun over a grey ground (the built-in ``sky``).
+- ``spots`` — the fire lighting of the light-performance sweeps (``scenes/sweeps/spots.exr``,
+  written by ``scripts/make_sweep_maps.py``): 24 small bright discs (0.75 deg radius) over
+  10-70 deg from the zenith above a dim dome, with the head.  GIA's fire metric (DCLR, Reinitz
+  et al. 2001) uses directed, point-like light; the tilt protocol measures fire and
+  scintillation under it (:mod:`warpoptics.grading.performance`).
 
 References:
     R. W. Strickland, *GemRay* and *BOG* documentation (GemCad suite, gemcad.com).
@@ -36,6 +41,7 @@ from __future__ import annotations
 
 import copy
 import math
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -47,6 +53,7 @@ __all__ = [
     "OBSERVER_DISTANCE_MM",
     "HEAD_RADIUS_DEG",
     "GIA_DARK_RADIUS_DEG",
+    "SPOTS_MAP",
     "head_radius_for",
     "lighting_table",
     "tilt_rotation",
@@ -61,12 +68,16 @@ HEAD_RADIUS_DEG = 10.0
 #: the dark cap of GIA's brightness metric (GIA Diamond Cut Research Technical FAQ)
 GIA_DARK_RADIUS_DEG = 23.0
 
+#: the lat-long map of the ``spots`` lighting (module docstring), in the repository's scenes
+SPOTS_MAP = Path(__file__).resolve().parents[2] / "scenes" / "sweeps" / "spots.exr"
+
 LIGHTINGS: dict[str, dict[str, Any]] = {
     "iso": {"map": "dome", "head": True},
     "cos": {"map": "cos", "head": True},
     "grading_dome": {"map": "dome", "head": True, "head_radius": GIA_DARK_RADIUS_DEG},
     "lightbox": {"map": "studio", "head": False},
     "daylight": {"map": "sky", "head": False},
+    "spots": {"map": str(SPOTS_MAP), "head": True},
 }
 
 
@@ -85,6 +96,13 @@ def lighting_table(name: str, *, head_radius_deg: float | None = None, intensity
     if name not in LIGHTINGS:
         raise InputError("unknown lighting", field="lighting", value=name, allowed=", ".join(LIGHTINGS))
     spec = LIGHTINGS[name]
+    if name == "spots" and not SPOTS_MAP.is_file():
+        raise InputError(
+            "the spots map is missing (python scripts/make_sweep_maps.py writes it)",
+            file=str(SPOTS_MAP),
+            field="lighting",
+            value=name,
+        )
     table: dict[str, Any] = {"type": "environment", "map": spec["map"], "intensity": float(intensity)}
     if spec["head"] or head_radius_deg is not None:
         r = head_radius_deg if head_radius_deg is not None else spec.get("head_radius", HEAD_RADIUS_DEG)

@@ -29,7 +29,8 @@ metrics of :mod:`warpoptics.metrics`.  It is defined in TOML (``Sweep.load``) or
     name = "dome"
     set = { "light.0.map" = "dome" }
     expr = { }
-    metrics = ["color", "light_return"]    # color, light_return, fire, scintillation
+    metrics = ["color", "light_return"]    # color, light_return, fire, scintillation,
+                                           # contrast, extinction (warpoptics.grading)
     tilts = [[2.0, 0.0, 0.0], [0.0, 2.0, 0.0]]   # scintillation: stone tilts in degrees
     save = true                            # write this view's EXR + PNG
 

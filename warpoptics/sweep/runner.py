@@ -54,6 +54,7 @@ def run_job(payload: dict) -> dict:
     Returns ``{"key", "index", "metrics": {column: value}, "images": {view: arrays}, "rays",
     "seconds"}``; writes nothing (the runner owns the output folder)."""
     from .. import metrics as wm
+    from ..grading import performance as grading_performance
 
     t0 = time.perf_counter()
     job = payload["job"]
@@ -84,6 +85,10 @@ def run_job(payload: dict) -> dict:
                     rays += int(flat.stats.get("rays", 0))
                     vals["fire_nondispersive"] = wm.fire(flat.xyz, flat.alpha, **kw)
                     vals["fire_excess"] = vals["fire"] - vals["fire_nondispersive"]
+            elif m == "contrast":
+                vals["contrast"] = grading_performance.contrast(img.xyz, img.alpha)
+            elif m == "extinction":
+                vals["extinction"] = grading_performance.extinction(img.xyz, img.alpha, white_y=vs["white_y"])
             elif m == "scintillation":
                 i = int(vs["tilt_object"])
                 if not 0 <= i < len(scene.objects):

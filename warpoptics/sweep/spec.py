@@ -50,6 +50,9 @@ METRICS: dict[str, tuple[str, ...]] = {
     "fire": ("fire",),
     "fire_excess": ("fire_nondispersive", "fire_excess"),
     "scintillation": ("scintillation",),
+    # warpoptics.grading.performance: the face-up pattern's contrast and dark (extinct) area
+    "contrast": ("contrast",),
+    "extinction": ("extinction",),
 }
 
 

@@ -1,0 +1,417 @@
+"""`warpoptics grade`: cut grading of a stone, a GemCAD design or a scene's first object.
+
+    warpoptics grade report round_brilliant --set pavilion_angle=41 -o out/report   # protocol metrics
+    warpoptics grade aset design.asc -o aset.png                   # ASET zones (AGS)
+    warpoptics grade idealscope scene.toml -o is.png               # Ideal Scope
+    warpoptics grade hearts round_brilliant -o arrows.png [--face-down]
+    warpoptics grade map sapphire.toml --reference stone -o map.png   # brightness/contrast map
+    warpoptics grade tilt design.asc -o out/tilt [--tilts 0:30:2 --azimuths 0,22.5 --dask-local 2]
+    warpoptics grade optimize round_brilliant --param pavilion_angle=38:44:43 \\
+        --param crown_angle=25:40:30 --budget 40 -o out/opt [--resume --dask-local 2]
+    warpoptics grade retarget design.asc --index 1.544 -o quartz.asc
+
+STONE is a cut name (``warpoptics.geometry.cuts``: round_brilliant, oval, ...; keywords with
+``--set KEY=VALUE``), a GemCAD design (.asc/.gem), a mesh (.ply/.stl/.obj/.glb/.off) or a scene
+(.toml: its first ``[[object]]``).  Every file is written atomically; the runs of ``report``,
+``tilt`` and ``optimize`` go through the sweep runner (``--resume`` after a kill, ``--dask-local
+N``).  Errors are one line.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import sys
+from pathlib import Path
+
+from ..errors import InputError
+
+_MESH_EXT = (".ply", ".stl", ".obj", ".glb", ".off")
+SUBCOMMANDS = ("report", "aset", "idealscope", "hearts", "map", "tilt", "optimize", "retarget")
+
+
+def _numbers(text: str, field: str) -> list[float]:
+    """``a,b,c`` or ``start:stop:step`` (stop included)."""
+    import numpy as np
+
+    try:
+        if ":" in text:
+            a, b, s = (float(x) for x in text.split(":"))
+            if not s > 0 or b < a:
+                raise ValueError
+            return [float(v) for v in np.round(np.arange(a, b + 0.5 * s, s), 9)]
+        return [float(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise InputError(
+            "expected comma-separated numbers or start:stop:step", field=field, value=text
+        ) from None
+
+
+def stone_from_args(args) -> tuple[dict, float | None]:
+    """The ``[[object]]`` table of STONE (module docstring) with ``--set`` and ``--material``
+    applied, and the frame (mm) the face-up camera needs for meshes (None: from the table)."""
+    import tomllib
+
+    from ..geometry import cuts
+    from ..scene.load import parse_value
+    from ..scene.schema import SHAPES
+
+    src = args.stone
+    p = Path(src)
+    ext = p.suffix.lower()
+    frame = None
+    if ext == ".toml":
+        if not p.is_file():
+            raise InputError("scene file not found", file=src)
+        try:
+            data = tomllib.loads(p.read_text(encoding="utf-8"))
+        except tomllib.TOMLDecodeError as exc:
+            raise InputError(f"not valid TOML ({exc})", file=src) from None
+        objs = data.get("object")
+        if not isinstance(objs, list) or not objs or not isinstance(objs[0], dict):
+            raise InputError("the scene has no [[object]]", file=src, field="object")
+        stone = dict(objs[0])
+        stone.pop("rotation", None)
+        stone.pop("position", None)
+        if "path" in stone and not Path(stone["path"]).is_absolute():
+            stone["path"] = str((p.parent / stone["path"]).resolve())
+        if stone.get("shape") == "mesh":
+            frame = args.diameter
+    elif ext in (".asc", ".gem"):
+        if not p.is_file():
+            raise InputError("GemCAD file not found", file=src)
+        stone = {"shape": "gemcad", "path": str(p.resolve()), "diameter": args.diameter}
+    elif ext in _MESH_EXT:
+        if not p.is_file():
+            raise InputError("mesh file not found", file=src)
+        stone = {"shape": "mesh", "path": str(p.resolve())}
+        frame = args.diameter
+    else:
+        names = [n for n in SHAPES if n not in ("mesh", "gemcad") and hasattr(cuts, n)]
+        if src not in names:
+            raise InputError("not a cut name or a file", field="STONE", value=src, allowed=", ".join(names))
+        stone = {"shape": src, "diameter": args.diameter}
+    if args.material:
+        stone["material"] = args.material
+    for item in args.set or []:
+        if "=" not in item:
+            raise InputError("expected KEY=VALUE", field="--set", value=item)
+        k, v = item.split("=", 1)
+        stone[k.strip()] = parse_value(v.strip())
+    return stone, frame
+
+
+def _protocol(args):
+    from ..grading.performance import PROTOCOL
+
+    kw = {"size": args.size, "wavelengths": args.wavelengths, "lighting": args.lighting}
+    if args.head is not None:
+        kw["head_radius_deg"] = args.head
+    if getattr(args, "protocol_tilts", None):
+        kw["tilts"] = tuple(_numbers(args.protocol_tilts, "--protocol-tilts"))
+    if getattr(args, "protocol_azimuths", None):
+        kw["azimuths"] = tuple(_numbers(args.protocol_azimuths, "--protocol-azimuths"))
+    return dataclasses.replace(PROTOCOL, **kw)
+
+
+def _runner_kw(args) -> dict:
+    return {
+        "resume": args.resume,
+        "overwrite": args.overwrite,
+        "dask_local": args.dask_local,
+        "workers": args.workers,
+        "progress": not args.quiet,
+    }
+
+
+def _write_json(path: Path, data) -> None:
+    from ..sweep.results import write_text_atomic
+
+    write_text_atomic(path, json.dumps(data, indent=1, default=str) + "\n")
+
+
+def _png(path: str, rgb_linear) -> None:
+    from ..color import encode_srgb
+    from ..film.image import write_png
+
+    if Path(path).suffix.lower() != ".png":
+        raise InputError("the output must be a .png", field="-o", value=path)
+    write_png(path, encode_srgb(rgb_linear))
+
+
+def _print_fractions(name: str, fr: dict) -> None:
+    print(f"{name}: " + ", ".join(f"{k} {v:.3f}" for k, v in fr.items()))
+
+
+def run(args) -> int:
+    sub = args.grade
+    if sub == "retarget":
+        return _retarget(args)
+    if sub in ("aset", "idealscope", "hearts", "map") and Path(args.output).suffix.lower() != ".png":
+        raise InputError("the output must be a .png", field="-o", value=args.output)
+    stone, frame = stone_from_args(args)
+    kw = {"frame_mm": frame} if frame is not None else {}
+    if sub == "aset":
+        from ..grading.scopes import aset
+
+        img, zones, _b = aset(stone, head_radius_deg=args.head or 10.0, size=args.size, **kw)
+        _png(args.output, img)
+        _write_json(Path(args.output).with_suffix(".json"), {"stone": stone, "zones": zones})
+        _print_fractions("ASET zones", zones)
+    elif sub == "idealscope":
+        from ..grading.scopes import ideal_scope
+
+        img, fr, _b = ideal_scope(stone, size=args.size, **kw)
+        _png(args.output, img)
+        _write_json(Path(args.output).with_suffix(".json"), {"stone": stone, "fractions": fr})
+        _print_fractions("Ideal Scope", fr)
+    elif sub == "hearts":
+        import numpy as np
+
+        from ..grading.scopes import count_dark_lobes, hearts_and_arrows, ring_profile
+
+        img, _b = hearts_and_arrows(stone, face_down=args.face_down, size=args.size, **kw)
+        half = args.size / 2 / 1.08
+        radii = np.linspace(0.12, 0.3, 7) if args.face_down else np.linspace(0.15, 0.45, 9)
+        lobes = [count_dark_lobes(ring_profile(img, r * half)) for r in radii]
+        vals, counts = np.unique(lobes, return_counts=True)
+        n = int(vals[np.argmax(counts)])
+        _png(args.output, np.repeat(np.clip(img, 0, 1)[..., None], 3, axis=-1))
+        what = "hearts" if args.face_down else "arrows"
+        _write_json(Path(args.output).with_suffix(".json"), {"stone": stone, what: n, "per_ring": lobes})
+        print(f"{what}: {n} (dark lobes per ring: {lobes})")
+    elif sub == "map":
+        from ..grading.performance import brightness_map
+        from ..grading.presets import face_up_scene
+        from ..pipelines.render import render
+        from ..scene.load import Scene
+
+        sc = face_up_scene(
+            stone,
+            lighting=args.lighting,
+            head_radius_deg=args.head,
+            size=args.size,
+            wavelengths=args.wavelengths,
+            tilt_deg=args.tilt,
+            frame_mm=kw.get("frame_mm"),
+        )
+        im = render(Scene.from_dict(sc))
+        img, fr, _rel = brightness_map(im.xyz, im.alpha, reference=args.reference)
+        _png(args.output, img)
+        _write_json(Path(args.output).with_suffix(".json"), {"stone": stone, "fractions": fr})
+        _print_fractions("brightness map", fr)
+    elif sub == "report":
+        _report(args, stone, kw)
+    elif sub == "tilt":
+        from ..sweep.grading import tilt_series
+
+        res = tilt_series(
+            stone,
+            args.output,
+            tilts=_numbers(args.tilts, "--tilts"),
+            azimuths=_numbers(args.azimuths, "--azimuths"),
+            protocol=_protocol(args),
+            fps=args.fps,
+            **kw,
+            **_runner_kw(args),
+        )
+        print(f"{args.output}: {res['rendered']} jobs rendered now ({res['renders']} renders)")
+        for k in ("table", "plot", "animation"):
+            if k in res["files"]:
+                print(f"{k}: {res['files'][k]}")
+    elif sub == "optimize":
+        _optimize(args, stone, kw)
+    sys.stdout.flush()
+    return 0
+
+
+def _report(args, stone, kw) -> None:
+    from ..sweep.grading import light_performance
+
+    proto = _protocol(args)
+    out = Path(args.output)
+    r = light_performance(
+        stone, proto, out_dir=out / "sweep", fire=not args.no_fire, **kw, **_runner_kw(args)
+    )
+    names = ["light_return", "contrast", "extinction"] + ([] if args.no_fire else ["fire", "scintillation"])
+    lines = [
+        "# Light-performance report",
+        "",
+        f"Stone: `{json.dumps(stone)}`",
+        "",
+        f"Protocol (warpoptics.grading.performance): tilts {list(proto.tilts)} deg about azimuths "
+        f"{list(proto.azimuths)} deg, {proto.lighting} light with a {proto.head_radius_deg:g} deg head, "
+        f"observer at 250 mm, {proto.size} px, {proto.wavelengths} wavelengths; fire and scintillation "
+        f"under `{proto.fire_lighting}`. {r['renders']} renders.",
+        "",
+        "| metric | protocol mean |",
+        "|---|---|",
+        *[f"| {k} | {r[k]:.4f} |" for k in names],
+        "",
+        "Per view: see `report.json`; the face-up image: `sweep/images/`.",
+        "",
+    ]
+    from ..sweep.results import write_text_atomic
+
+    write_text_atomic(out / "report.md", "\n".join(lines))
+    _write_json(out / "report.json", {"stone": stone, "protocol": dataclasses.asdict(proto), **r})
+    for k in names:
+        print(f"{k:14s} {r[k]:.4f}")
+    print(f"report: {out / 'report.md'}")
+
+
+def _optimize(args, stone, kw) -> None:
+    from ..sweep.optimize import Constraints, CutOptimizer, Parameter
+
+    params = []
+    for item in args.param or []:
+        name, _, rng = item.partition("=")
+        vals = rng.split(":")
+        try:
+            nums = [float(v) for v in vals]
+        except ValueError:
+            nums = []
+        if not name or len(nums) not in (2, 3):
+            raise InputError("expected KEYWORD=LOW:HIGH[:START]", field="--param", value=item)
+        params.append(Parameter(name.strip(), f"object.0.{name.strip()}", *nums))
+    if not params:
+        raise InputError("give at least one --param KEYWORD=LOW:HIGH[:START]", field="--param")
+    objective = {}
+    for part in args.objective.split(","):
+        k, _, w = part.partition("=")
+        try:
+            objective[k.strip()] = float(w) if w else 1.0
+        except ValueError:
+            raise InputError("expected METRIC=WEIGHT,...", field="--objective", value=part) from None
+
+    def span(text, field):
+        if text is None:
+            return None
+        v = _numbers(text.replace(":", ","), field)
+        if len(v) != 2:
+            raise InputError("expected MIN:MAX", field=field, value=text)
+        return (v[0], v[1])
+
+    cons = Constraints(
+        depth=span(args.depth, "--depth"),
+        table=span(args.table_range, "--table-range"),
+        min_weight_retention=args.min_weight,
+        rough_height=args.rough_height,
+    )
+    opt = CutOptimizer(
+        stone,
+        params,
+        args.output,
+        objective=objective,
+        protocol=_protocol(args),
+        constraints=cons,
+        budget=args.budget,
+        popsize=args.popsize,
+        seed=args.seed,
+        **kw,
+        **_runner_kw(args),
+    )
+    r = opt.run()
+    best = r["best"]
+    print(
+        "best: "
+        + ", ".join(f"{k} {v:.3f}" for k, v in best["values"].items())
+        + f"; objective {best['objective']:.4f} ({r['evaluations']} evaluations, {r['renders']} renders)"
+    )
+    print(f"design: {r['files']['best']}; report: {r['files']['report']}")
+
+
+def _retarget(args) -> int:
+    from ..geometry import gemcad
+    from ..grading.design import retarget, tier_report
+
+    src = Path(args.stone)
+    if src.suffix.lower() not in (".asc", ".gem") or not src.is_file():
+        raise InputError("retarget needs a GemCAD design file (.asc/.gem)", field="STONE", value=args.stone)
+    if args.index is None:
+        raise InputError("give the new refractive index", field="--index")
+    design = gemcad.read_design(src)
+    before = tier_report(design, n=args.index)
+    new, after = retarget(design, args.index)
+    if not args.output.lower().endswith(".asc"):
+        raise InputError("the output must be a .asc", field="-o", value=args.output)
+    gemcad.write(new, args.output)
+    print(f"critical angle {before[0]['critical_angle']:.2f} deg at n = {args.index:g}")
+    print(f"{'tier':>4} {'part':9s} {'angle':>8} {'windows as cut':>15} {'retargeted':>11} {'windows':>8}")
+    for b, a in zip(before, after, strict=True):
+        if b["part"] in ("pavilion", "crown"):
+            print(
+                f"{b['tier']:4d} {b['part']:9s} {b['angle']:8.2f} {('yes' if b['windows'] else 'no'):>15} "
+                f"{a['angle']:11.2f} {('yes' if a['windows'] else 'no'):>8}"
+            )
+    print(f"wrote {args.output}")
+    return 0
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "grade", help="cut grading: light performance, ASET, Ideal Scope, H&A, tilt, optimizer"
+    )
+    gs = p.add_subparsers(dest="grade", metavar="WHAT", required=True)
+    helps = {
+        "report": "light-performance report under the tilted, head-obscured protocol (folder)",
+        "aset": "ASET image (AGS zones) and zone fractions (.png + .json)",
+        "idealscope": "Ideal Scope image and fractions (.png + .json)",
+        "hearts": "Hearts & Arrows viewer image and the count of dark lobes (.png + .json)",
+        "map": "brightness/contrast map (colourless or coloured stones) (.png + .json)",
+        "tilt": "tilt series: metrics vs tilt over azimuths, CSV, plot, GIF (folder)",
+        "optimize": "CMA-ES cut optimizer: best design (.asc), journal, report (folder)",
+        "retarget": "re-cut a GemCAD design for another index; tiers that window",
+    }
+    for name in SUBCOMMANDS:
+        q = gs.add_parser(name, help=helps[name])
+        q.add_argument("stone", metavar="STONE", help="cut name, .asc/.gem, mesh or scene .toml")
+        q.add_argument("-o", "--output", required=True, help="output file or folder")
+        q.add_argument("--diameter", type=float, default=6.5, help="girdle diameter, mm (default 6.5)")
+        q.add_argument("--material", help="material name (default diamond, or the design's index)")
+        q.add_argument(
+            "--set", action="append", metavar="KEY=VALUE", help="a cut keyword, e.g. pavilion_angle=41"
+        )
+        q.add_argument(
+            "--size", type=int, default=96 if name in ("aset", "idealscope", "hearts", "map") else 64
+        )
+        q.add_argument("--wavelengths", type=int, default=8)
+        q.add_argument("--lighting", default="iso", help="iso, cos, grading_dome, lightbox, daylight, spots")
+        q.add_argument("--head", type=float, default=None, help="head radius, degrees (default 10)")
+        if name in ("report", "tilt", "optimize"):
+            q.add_argument("--resume", action="store_true", help="continue after a kill")
+            q.add_argument("--overwrite", action="store_true", help="start again in a folder with results")
+            q.add_argument("--dask-local", type=int, metavar="N", help="run on a local Dask cluster of N")
+            q.add_argument("--workers", type=int, default=1, help="jobs at once on this machine")
+            q.add_argument("--quiet", action="store_true", help="no progress bar")
+        if name in ("report", "optimize"):
+            q.add_argument("--protocol-tilts", help="protocol tilts, degrees (default 0,5,10,15,20)")
+            q.add_argument("--protocol-azimuths", help="protocol azimuths, degrees (default 0,22.5)")
+        if name == "report":
+            q.add_argument(
+                "--no-fire", action="store_true", help="skip fire and scintillation (1/3 the renders)"
+            )
+        if name == "hearts":
+            q.add_argument("--face-down", action="store_true", help="pavilion up: hearts (default arrows)")
+        if name == "map":
+            q.add_argument("--reference", choices=("white", "stone"), default="white")
+            q.add_argument("--tilt", type=float, default=0.0, help="tilt, degrees")
+        if name == "tilt":
+            q.add_argument("--tilts", default="0:30:2", help="degrees: a,b,c or start:stop:step")
+            q.add_argument("--azimuths", default="0,22.5", help="degrees (default 0,22.5)")
+            q.add_argument("--fps", type=float, default=6.0, help="animation frames per second")
+        if name == "optimize":
+            q.add_argument("--param", action="append", metavar="KEYWORD=LOW:HIGH[:START]")
+            q.add_argument(
+                "--objective", default="light_return", help="METRIC=WEIGHT,... (default light_return)"
+            )
+            q.add_argument("--budget", type=int, default=40, help="evaluations that render (default 40)")
+            q.add_argument("--popsize", type=int, default=None)
+            q.add_argument("--seed", type=int, default=1)
+            q.add_argument("--depth", metavar="MIN:MAX", help="total depth / diameter range")
+            q.add_argument("--table-range", metavar="MIN:MAX", help="table / diameter range")
+            q.add_argument("--min-weight", type=float, help="minimum weight retention (V / V_rough)")
+            q.add_argument("--rough-height", type=float, default=1.0, help="rough height / diameter")
+        if name == "retarget":
+            q.add_argument("--index", type=float, help="the new refractive index")
+        q.set_defaults(func=run)

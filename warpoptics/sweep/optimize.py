@@ -1,0 +1,555 @@
+"""The cut optimizer: maximize a light-performance metric (or a weighted mix) over cut parameters.
+
+:class:`CutOptimizer` searches the box of :class:`Parameter` s (dotted paths into the stone's
+``[[object]]`` table: ``object.0.pavilion_angle``, ``object.0.crown_angle``, ``object.0.table``,
+any keyword of a parametric cut) for the maximum of
+
+    J = sum_k w_k M_k
+
+where M_k are the protocol metrics of :func:`warpoptics.sweep.grading.protocol_scores`
+(``light_return``, ``contrast``, ``extinction``, ``fire``, ``scintillation``: the tilted,
+head-obscured protocol of :mod:`warpoptics.grading.performance`) and w_k the ``objective``
+weights (negative to penalise, e.g. extinction).  The search is CMA-ES (N. Hansen's ``cma``
+package, ``cma.CMAEvolutionStrategy``; Hansen & Ostermeier 2001), gradient-free, on the
+parameters scaled to [0, 1] with ``cma``'s bound transform; its random numbers come from a
+seeded generator of its own (``randn`` option), so a run is a deterministic function of its
+settings and of the metric values it is told.
+
+**Constraints** (:class:`Constraints`) are checked on the candidate's geometry before anything is
+rendered: total depth and table (fractions of the girdle width, ``geometry.cuts.Proportions``)
+within ranges, and *weight retention* V / V_rough at least a minimum, with V_rough the elliptic
+cylinder over the girdle's length x width of height ``rough_height`` x width (a sawn or
+preformed rough; for a round stone π/4 d² h).  A candidate that violates them costs no render:
+CMA-ES is told 1 + (its total relative violation), worse than any feasible value (-J <= 0 for
+metrics in [0, 1] with positive weights).
+
+**Parallel and resumable.**  Each generation's feasible candidates are one zipped sweep of the
+protocol (:func:`~warpoptics.sweep.grading.protocol_sweep`) run by
+:class:`~warpoptics.sweep.SweepRunner` in ``generations/gNNN/`` (``resume=True``: in a pool or on
+Dask with ``workers``, ``dask_local`` or ``scheduler``).  Every evaluation is appended to
+``journal.csv`` (fsynced rows, a torn last line dropped).  A rerun with ``resume=True`` replays
+the search: CMA-ES asks the same candidates, the ones in the journal are not rendered again, a
+generation cut short by a kill resumes inside its sweep folder.  ``optimizer.json`` holds the
+settings; a journal of other settings is refused.
+
+**Outputs** (atomic): ``best.asc`` (the best design, GemCAD, ``geometry.gemcad.write``),
+``report.md`` and ``report.json`` (settings, the best parameters and metrics, renders spent),
+``trace.png`` (J per evaluation and the best so far) and, for two parameters,
+``parameters.png`` (the evaluated points over the parameter plane).
+
+Reference: N. Hansen, A. Ostermeier, "Completely derandomized self-adaptation in evolution
+strategies", Evolutionary Computation 9(2), 159-195 (2001); ``cma`` (pypi.org/project/cma).
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import json
+import math
+import shutil
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..grading.performance import PROTOCOL, Protocol
+from .grading import SPOT_METRICS, protocol_scene, protocol_scores, protocol_sweep, renders_per_job
+from .results import append_line, csv_line, format_value, read_results, write_text_atomic
+from .runner import SweepRunner
+from .spec import Axis
+
+__all__ = ["Parameter", "Constraints", "OBJECTIVE_METRICS", "CutOptimizer", "stone_mesh"]
+
+OBJECTIVE_METRICS = ("light_return", "contrast", "extinction", "fire", "scintillation")
+_NAME_OK = set("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_")
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A searched parameter: ``name`` (an identifier: the sweep axis and journal column), ``path``
+    (dotted, into the scene: ``object.0.<keyword>``), the box [``low``, ``high``] and the start
+    (default the middle)."""
+
+    name: str
+    path: str
+    low: float
+    high: float
+    start: float | None = None
+
+    def __post_init__(self):
+        if not self.name or not set(self.name) <= _NAME_OK or self.name[0].isdigit():
+            raise InputError("must be an identifier", field="parameter.name", value=self.name)
+        if not self.path.startswith("object.0."):
+            raise InputError(
+                "must be a path into the stone, object.0.<keyword>",
+                field=f"{self.name}.path",
+                value=self.path,
+            )
+        if not (math.isfinite(self.low) and math.isfinite(self.high) and self.low < self.high):
+            raise InputError("needs low < high", field=f"{self.name}.bounds", value=(self.low, self.high))
+        s = self.start if self.start is not None else 0.5 * (self.low + self.high)
+        if not self.low <= s <= self.high:
+            raise InputError(
+                "the start must lie within the bounds",
+                field=f"{self.name}.start",
+                value=s,
+                allowed=f"[{self.low}, {self.high}]",
+            )
+        object.__setattr__(self, "start", float(s))
+
+    def scaled(self, v: float) -> float:
+        return (v - self.low) / (self.high - self.low)
+
+    def value(self, u: float) -> float:
+        # rounded to 1e-9: the value rendered, written to the journal and looked up in it
+        return round(self.low + min(1.0, max(0.0, float(u))) * (self.high - self.low), 9)
+
+
+@dataclass(frozen=True)
+class Constraints:
+    """Geometric constraints of a candidate (module docstring); ``None``: no constraint.
+    ``depth`` and ``table``: (min, max) fractions of the girdle width; ``min_weight_retention``:
+    V / V_rough; ``rough_height``: the rough's height / width."""
+
+    depth: tuple[float, float] | None = None
+    table: tuple[float, float] | None = None
+    min_weight_retention: float | None = None
+    rough_height: float = 1.0
+
+    def __post_init__(self):
+        for name in ("depth", "table"):
+            r = getattr(self, name)
+            if r is not None:
+                if len(r) != 2 or not 0 <= r[0] < r[1]:
+                    raise InputError("must be (min, max) with 0 <= min < max", field=name, value=r)
+                object.__setattr__(self, name, (float(r[0]), float(r[1])))
+        w = self.min_weight_retention
+        if w is not None and not 0 < w < 1:
+            raise InputError("must be in (0, 1)", field="min_weight_retention", value=w)
+        if not self.rough_height > 0:
+            raise InputError("must be > 0", field="rough_height", value=self.rough_height)
+
+    def measure(self, mesh) -> dict[str, float]:
+        """``depth``, ``table`` (fractions of the width) and ``weight_retention`` of ``mesh``."""
+        from ..geometry.cuts import measure_proportions
+
+        pr = mesh.metadata.get("proportions") or measure_proportions(mesh)
+        rough = math.pi / 4 * pr.length * pr.width * self.rough_height * pr.width
+        return {
+            "depth": float(pr.total_depth),
+            "table": float(pr.table),
+            "weight_retention": float(mesh.volume / rough),
+        }
+
+    def violation(self, measured: dict[str, float]) -> float:
+        """Sum of the relative violations (0: feasible)."""
+        v = 0.0
+        for name in ("depth", "table"):
+            r = getattr(self, name)
+            if r is not None:
+                x = measured[name]
+                v += max(0.0, r[0] - x) / r[0] if r[0] > 0 else 0.0
+                v += max(0.0, x - r[1]) / r[1]
+        if self.min_weight_retention is not None:
+            v += (
+                max(0.0, self.min_weight_retention - measured["weight_retention"]) / self.min_weight_retention
+            )
+        return float(v)
+
+
+def stone_mesh(stone: dict):
+    """The mesh of a stone's ``[[object]]`` table, built as the renderer builds it."""
+    from ..pipelines.objects import build_objects
+
+    scene = protocol_scene(stone, Protocol(size=4, wavelengths=1))
+    return build_objects(scene.objects, file=None).meshes[0][0]
+
+
+def _set_path(stone: dict, path: str, value) -> dict:
+    out = copy.deepcopy(stone)
+    keys = path.split(".")[2:]
+    node = out
+    for k in keys[:-1]:
+        node = node.setdefault(k, {})
+    node[keys[-1]] = value
+    return out
+
+
+@dataclass
+class _Eval:
+    index: int
+    generation: int
+    candidate: int
+    values: dict
+    feasible: bool
+    violation: float
+    measured: dict
+    metrics: dict = field(default_factory=dict)
+    objective: float = float("nan")
+    renders: int = 0
+
+
+class CutOptimizer:
+    """CMA-ES over cut parameters (module docstring).
+
+    ``stone``: the base ``[[object]]`` table; ``parameters``: :class:`Parameter` s;
+    ``objective``: metric -> weight (default ``{"light_return": 1.0}``); ``protocol``: the views
+    and image size of every evaluation; ``budget``: the most evaluations that render (whole
+    generations: the search stops before one that would exceed it); ``popsize`` (default
+    CMA-ES's 4 + 3 ln N) and ``sigma0`` (initial step, in units of each parameter's range);
+    ``seed``.  ``runner_kw`` go to each generation's :class:`SweepRunner` (``workers``,
+    ``dask_local``, ``scheduler``, ``executor``, ``device``, ``progress``)."""
+
+    def __init__(
+        self,
+        stone: dict,
+        parameters: Sequence[Parameter],
+        out_dir: str | Path,
+        *,
+        objective: dict[str, float] | None = None,
+        protocol: Protocol = PROTOCOL,
+        constraints: Constraints | None = None,
+        budget: int = 40,
+        popsize: int | None = None,
+        sigma0: float = 0.25,
+        seed: int = 1,
+        frame_mm: float | None = None,
+        resume: bool = False,
+        overwrite: bool = False,
+        **runner_kw,
+    ):
+        self.stone = dict(stone)
+        self.parameters = tuple(parameters)
+        if not self.parameters:
+            raise InputError("needs at least one parameter", field="parameters")
+        names = [p.name for p in self.parameters]
+        if len(set(names)) != len(names):
+            raise InputError("parameter names must be unique", field="parameters", value=names)
+        self.objective = dict(objective or {"light_return": 1.0})
+        for k, w in self.objective.items():
+            if k not in OBJECTIVE_METRICS:
+                raise InputError(
+                    "unknown metric", field="objective", value=k, allowed=", ".join(OBJECTIVE_METRICS)
+                )
+            if not math.isfinite(w):
+                raise InputError("weights must be finite", field=f"objective.{k}", value=w)
+        if not any(w != 0 for w in self.objective.values()):
+            raise InputError("needs a non-zero weight", field="objective", value=self.objective)
+        self.fire = any(self.objective.get(m, 0.0) != 0 for m in SPOT_METRICS)
+        self.protocol = protocol
+        self.constraints = constraints or Constraints()
+        if budget < 1:
+            raise InputError("must be >= 1", field="budget", value=budget)
+        self.budget = int(budget)
+        n = len(self.parameters)
+        self.popsize = int(popsize) if popsize is not None else 4 + int(3 * math.log(n))
+        if self.popsize < 2:
+            raise InputError("must be >= 2", field="popsize", value=popsize)
+        if not 0 < sigma0 <= 1:
+            raise InputError("must be in (0, 1]", field="sigma0", value=sigma0)
+        self.sigma0 = float(sigma0)
+        self.seed = int(seed)
+        self.frame_mm = frame_mm
+        self.out_dir = Path(out_dir)
+        self.resume = resume
+        self.overwrite = overwrite
+        runner_kw.setdefault("progress", False)
+        self.runner_kw = runner_kw
+
+    # -- settings and journal --------------------------------------------------------------------
+
+    def settings(self) -> dict:
+        return {
+            "stone": self.stone,
+            "parameters": [asdict(p) for p in self.parameters],
+            "objective": self.objective,
+            "protocol": asdict(self.protocol),
+            "constraints": asdict(self.constraints),
+            "popsize": self.popsize,
+            "sigma0": self.sigma0,
+            "seed": self.seed,
+            "frame_mm": self.frame_mm,
+        }
+
+    @property
+    def journal_path(self) -> Path:
+        return self.out_dir / "journal.csv"
+
+    def header(self) -> list[str]:
+        return [
+            "eval",
+            "generation",
+            "candidate",
+            *[p.name for p in self.parameters],
+            "feasible",
+            "violation",
+            "depth",
+            "table",
+            "weight_retention",
+            *OBJECTIVE_METRICS,
+            "objective",
+            "renders",
+        ]
+
+    def _key(self, values: dict) -> str:
+        return json.dumps([format_value(float(values[p.name])) for p in self.parameters])
+
+    def _prepare(self) -> dict[str, dict]:
+        self.out_dir.mkdir(parents=True, exist_ok=True)
+        settings = json.dumps(self.settings(), sort_keys=True, default=repr)
+        digest = hashlib.sha1(settings.encode()).hexdigest()
+        meta = self.out_dir / "optimizer.json"
+        header, rows = read_results(self.journal_path, repair=True)
+        if header is not None and self.overwrite:
+            header, rows = None, []
+            shutil.rmtree(self.out_dir / "generations", ignore_errors=True)
+        if header is not None:
+            if not self.resume:
+                raise InputError(
+                    "this folder has an optimizer journal: pass --resume to continue, or --overwrite",
+                    file=str(self.journal_path),
+                )
+            old = json.loads(meta.read_text()).get("digest") if meta.is_file() else None
+            if header != self.header() or old != digest:
+                raise InputError(
+                    "the journal was written with other settings: use another folder or --overwrite",
+                    file=str(self.journal_path),
+                )
+        else:
+            write_text_atomic(self.journal_path, csv_line(self.header()))
+        write_text_atomic(meta, json.dumps({"digest": digest, "settings": self.settings()}, indent=1) + "\n")
+        return {self._key(r): r for r in rows}
+
+    def _journal(self, e: _Eval) -> None:
+        m = {k: e.metrics.get(k, float("nan")) for k in OBJECTIVE_METRICS}
+        row = [
+            e.index,
+            e.generation,
+            e.candidate,
+            *[format_value(float(e.values[p.name])) for p in self.parameters],
+            "true" if e.feasible else "false",
+            format_value(e.violation),
+            *[format_value(e.measured[k]) for k in ("depth", "table", "weight_retention")],
+            *[format_value(float(m[k])) for k in OBJECTIVE_METRICS],
+            format_value(float(e.objective)),
+            e.renders,
+        ]
+        append_line(self.journal_path, csv_line(row))
+
+    @staticmethod
+    def _from_row(row: dict, e: _Eval) -> _Eval:
+        e.feasible = row["feasible"] == "true"
+        e.violation = float(row["violation"])
+        e.metrics = {k: float(row[k]) for k in OBJECTIVE_METRICS if row[k] != "nan"}
+        e.objective = float(row["objective"])
+        e.renders = 0  # rendered by an earlier run
+        return e
+
+    # -- the search ------------------------------------------------------------------------------
+
+    def score(self, metrics: dict[str, float]) -> float:
+        """J = sum_k w_k M_k (module docstring)."""
+        return float(sum(w * metrics[k] for k, w in self.objective.items()))
+
+    def candidate_stone(self, values: dict) -> dict:
+        st = self.stone
+        for p in self.parameters:
+            st = _set_path(st, p.path, float(values[p.name]))
+        return st
+
+    def _evaluate_generation(self, gen: int, evals: list[_Eval]) -> int:
+        todo = [e for e in evals if e.feasible and math.isnan(e.objective)]
+        if not todo:
+            return 0
+        axes = [
+            Axis(p.name, tuple(float(e.values[p.name]) for e in todo), path=p.path) for p in self.parameters
+        ]
+        sweep = protocol_sweep(
+            self.stone,
+            self.protocol,
+            axes=axes,
+            mode="zip",
+            fire=self.fire,
+            frame_mm=self.frame_mm,
+            name=f"optimize_g{gen:03d}",
+        )
+        folder = self.out_dir / "generations" / f"g{gen:03d}"
+        res = SweepRunner(sweep, folder, resume=True, **self.runner_kw).run()
+        if len(res.rows) != len(todo):
+            raise InputError("a generation's sweep did not finish", file=str(folder / "results.csv"))
+        per = renders_per_job(sweep)
+        for e, row in zip(todo, res.rows, strict=True):
+            e.metrics = protocol_scores(row, self.protocol, fire=self.fire)
+            e.objective = self.score(e.metrics)
+        for e in todo:
+            e.renders = per  # the cost of an evaluation (res.rendered: how many this run paid)
+        spent = res.rendered * per
+        return spent
+
+    def run(self) -> dict:
+        import cma
+
+        journal = self._prepare()
+        rng = np.random.default_rng(self.seed)
+        x0 = [p.scaled(float(p.start)) for p in self.parameters]  # type: ignore[arg-type]
+        opts = {
+            "bounds": [0.0, 1.0],
+            "popsize": self.popsize,
+            "seed": np.nan,  # cma leaves numpy's global generator alone; ours comes through randn
+            "randn": lambda *shape: rng.standard_normal(shape),
+            "verbose": -9,
+        }
+        es = cma.CMAEvolutionStrategy(x0, self.sigma0, opts)
+        evals: list[_Eval] = []
+        evaluations = renders = gen = 0
+        while not es.stop():
+            xs = es.ask()
+            batch = []
+            for i, x in enumerate(xs):
+                values = {p.name: p.value(u) for p, u in zip(self.parameters, x, strict=True)}
+                e = _Eval(len(evals) + i, gen, i, values, True, 0.0, {})
+                e.measured = self.constraints.measure(stone_mesh(self.candidate_stone(values)))
+                key = self._key(values)
+                if key in journal:
+                    self._from_row(journal[key], e)
+                else:
+                    e.violation = self.constraints.violation(e.measured)
+                    e.feasible = e.violation == 0.0
+                batch.append(e)
+            need = sum(1 for e in batch if e.feasible and math.isnan(e.objective))
+            prior = sum(1 for e in batch if e.feasible and self._key(e.values) in journal)
+            if evaluations + prior + need > self.budget:
+                break
+            renders += self._evaluate_generation(gen, batch)
+            for e in batch:
+                if self._key(e.values) not in journal:
+                    self._journal(e)
+                if e.feasible:
+                    evaluations += 1
+            es.tell(xs, [-e.objective if e.feasible else 1.0 + e.violation for e in batch])
+            evals.extend(batch)
+            gen += 1
+            if gen > 20 * self.budget:  # every candidate infeasible for this long: give up
+                break
+        return self._finish(evals, evaluations, renders, gen)
+
+    # -- outputs ---------------------------------------------------------------------------------
+
+    def _finish(self, evals: list[_Eval], evaluations: int, renders: int, generations: int) -> dict:
+        from ..atomic import atomic_path
+        from ..geometry import gemcad
+        from ..materials import material_from_spec
+
+        feasible = [e for e in evals if e.feasible]
+        if not feasible:
+            raise InputError(
+                "no candidate met the constraints: widen the bounds or the constraints", field="constraints"
+            )
+        best = max(feasible, key=lambda e: e.objective)
+        stone = self.candidate_stone(best.values)
+        mat = material_from_spec(stone.get("material", "diamond"))
+        n_d = float(np.real(np.asarray(mat.n(np.array([589.3])))).ravel()[0])  # type: ignore[attr-defined]
+        files = {"journal": self.journal_path, "best": self.out_dir / "best.asc"}
+        gemcad.write(
+            stone_mesh(stone),
+            files["best"],
+            refractive_index=n_d,
+            title="warpoptics cut optimizer: "
+            + ", ".join(f"{k} {v:.3f}" for k, v in best.values.items())
+            + f"; objective {best.objective:.4f}",
+        )
+        per_eval = renders_per_job(
+            protocol_sweep(self.stone, self.protocol, fire=self.fire, frame_mm=self.frame_mm)
+        )
+        summary = {
+            "best": {
+                "values": best.values,
+                "objective": best.objective,
+                "metrics": best.metrics,
+                "measured": best.measured,
+            },
+            "evaluations": evaluations,
+            "infeasible": len(evals) - len(feasible),
+            "generations": generations,
+            "renders_per_evaluation": per_eval,
+            "renders": evaluations * per_eval,
+            "renders_this_run": renders,
+            "settings": self.settings(),
+        }
+        files["json"] = self.out_dir / "report.json"
+        write_text_atomic(files["json"], json.dumps(summary, indent=1, default=repr) + "\n")
+
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(6, 3.4))
+        xs = [e.index for e in feasible]
+        ys = [e.objective for e in feasible]
+        ax.plot(xs, ys, "o", ms=3, color="0.5", label="candidate")
+        ax.plot(xs, np.maximum.accumulate(ys), "-", color="C3", label="best so far")
+        ax.set_xlabel("evaluation")
+        ax.set_ylabel("objective J")
+        ax.set_title("CMA-ES: " + " + ".join(f"{w:g}·{k}" for k, w in self.objective.items()), fontsize=9)
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        files["trace"] = self.out_dir / "trace.png"
+        with atomic_path(files["trace"]) as tmp:
+            fig.savefig(tmp, dpi=100)
+        plt.close(fig)
+        if len(self.parameters) == 2:
+            pa, pb = self.parameters
+            fig, ax = plt.subplots(figsize=(4.8, 4.0))
+            bad = [e for e in evals if not e.feasible]
+            if bad:
+                ax.plot([e.values[pa.name] for e in bad], [e.values[pb.name] for e in bad], "x", color="0.6")
+            sc = ax.scatter(
+                [e.values[pa.name] for e in feasible], [e.values[pb.name] for e in feasible], c=ys, s=14
+            )
+            ax.plot([best.values[pa.name]], [best.values[pb.name]], "*", ms=14, color="C3")
+            ax.set_xlim(pa.low, pa.high)
+            ax.set_ylim(pb.low, pb.high)
+            ax.set_xlabel(pa.name)
+            ax.set_ylabel(pb.name)
+            fig.colorbar(sc, label="objective J")
+            fig.tight_layout()
+            files["parameters"] = self.out_dir / "parameters.png"
+            with atomic_path(files["parameters"]) as tmp:
+                fig.savefig(tmp, dpi=100)
+            plt.close(fig)
+        lines = [
+            "# Cut optimizer report",
+            "",
+            f"Objective J = {' + '.join(f'{w:g} x {k}' for k, w in self.objective.items())} under the "
+            f"protocol (tilts {list(self.protocol.tilts)}, azimuths {list(self.protocol.azimuths)}, "
+            f"{self.protocol.lighting}, head {self.protocol.head_radius_deg:g} deg, "
+            f"{self.protocol.size} px).",
+            "",
+            "| | " + " | ".join(p.name for p in self.parameters) + " | J |",
+            "|---|" + "---|" * (len(self.parameters) + 1),
+            "| start | "
+            + " | ".join(f"{p.start:.3f}" for p in self.parameters)
+            + f" | {feasible[0].objective:.4f} (first candidate) |",
+            "| best | "
+            + " | ".join(f"{best.values[p.name]:.3f}" for p in self.parameters)
+            + f" | {best.objective:.4f} |",
+            "",
+            "Best metrics: " + ", ".join(f"{k} {v:.4f}" for k, v in best.metrics.items()),
+            f"Best geometry: depth {best.measured['depth']:.3f}, table {best.measured['table']:.3f}, "
+            f"weight retention {best.measured['weight_retention']:.3f}",
+            "",
+            f"{evaluations} evaluations ({len(evals) - len(feasible)} infeasible, not rendered) in "
+            f"{generations} generations, {evaluations * per_eval} renders ({per_eval} per evaluation).",
+            "",
+            "Files: `best.asc` (GemCAD), `journal.csv`, `trace.png`"
+            + (", `parameters.png`" if "parameters" in files else "")
+            + ", `report.json`, `generations/` (one sweep per generation).",
+            "",
+        ]
+        files["report"] = self.out_dir / "report.md"
+        write_text_atomic(files["report"], "\n".join(lines))
+        return {**summary, "files": files, "trace": [(e.index, e.objective) for e in feasible]}
