@@ -76,6 +76,9 @@ class RenderConfig:
     # every pixel decides where the rest go; the pass costs about what spp everywhere would
     adaptive: bool = False
     pilot_spp: int = 0
+    # dispersive stones: one path tree per bundle of up to 16 wavelengths (stages/bundle.py) where
+    # the scene allows it; false: one tree per wavelength sample
+    bundle: bool = True
     source: str | None = field(default=None, compare=False)  # scene file, for messages
 
     def __post_init__(self) -> None:
@@ -84,7 +87,7 @@ class RenderConfig:
         val.choice(self.birefringence, BIREFRINGENCE_MODES, file=file, field=f("birefringence"))
         val.choice(self.tone, TONE_CURVES, file=file, field=f("tone"))
         val.choice(self.mis, MIS_CHOICES, file=file, field=f("mis"))
-        for k in ("polarization", "stone_shadows", "caustics", "adaptive"):
+        for k in ("polarization", "stone_shadows", "caustics", "adaptive", "bundle"):
             val.boolean(getattr(self, k), file=file, field=f(k))
         for k, lo, hi in (
             ("wavelengths", 1, 4096),
