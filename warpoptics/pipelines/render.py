@@ -28,7 +28,7 @@ from ..materials.dispersion import MaterialTable, build_material_table
 from ..optics.jones import stokes_from_coherency
 from ..scene import Scene
 from ..spectra import STRATEGY_STRATIFIED, SpectralTables, sample_wavelength, spectral_tables, strategy_id
-from ..stages.bundle import LANES, LaneWavelengths, LaneWeights, bundle_applies, trace_bundle
+from ..stages.bundle import LaneWavelengths, LaneWeights, bundle_applies, trace_bundle
 from ..stages.camera import Camera, CameraParams, camera_ray
 from ..stages.coated import build_film_surfaces
 from ..stages.environment import Environment, EnvironmentLight, spectral_response
@@ -402,16 +402,16 @@ class Renderer:
         )
         film.shared = 1 if self.shared_spectrum else 0
         # a dispersive (or absorbing) scene of isotropic, uncoated stones in an environment light
-        # traces one path tree per bundle of up to LANES wavelengths at one pixel position
+        # traces one path tree per bundle of up to render.bundle_lanes wavelengths at one pixel position
         # (stages/bundle.py); `spectral_bundle=False` or `render.bundle = false` traces a tree
         # per wavelength
         self.spectral_bundle = (
             not self.shared_spectrum
             and spectral_bundle is not False
-            and bundle_applies(scene, built, max_depth=r.max_depth)
+            and bundle_applies(scene, built)
         )
         film.bundle = 1 if self.spectral_bundle else 0
-        film.groups = -(-film.count // LANES) if self.spectral_bundle else 1
+        film.groups = -(-film.count // r.bundle_lanes) if self.spectral_bundle else 1
         # the whole spectrum at every leaf, integrated exactly (no spectral noise); a shared
         # scene's `wavelengths` then only multiplies the pixel samples per spp
         film.response = wp.mat33f(

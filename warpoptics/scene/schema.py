@@ -76,9 +76,11 @@ class RenderConfig:
     # every pixel decides where the rest go; the pass costs about what spp everywhere would
     adaptive: bool = False
     pilot_spp: int = 0
-    # dispersive stones: one path tree per bundle of up to 16 wavelengths (stages/bundle.py) where
-    # the scene allows it; false: one tree per wavelength sample
+    # dispersive stones: one path tree per bundle of up to bundle_lanes (<= 16) of a pixel sample's
+    # wavelengths at one pixel position (stages/bundle.py) where the scene allows it; false: one
+    # tree per wavelength sample at its own position
     bundle: bool = True
+    bundle_lanes: int = 8
     source: str | None = field(default=None, compare=False)  # scene file, for messages
 
     def __post_init__(self) -> None:
@@ -98,6 +100,7 @@ class RenderConfig:
             ("diffuse_depth", 1, 8),
             ("caustic_paths", 0, 1 << 34),
             ("pilot_spp", 0, 1 << 20),
+            ("bundle_lanes", 1, 16),
         ):
             val.integer(getattr(self, k), file=file, field=f(k), lo=lo, hi=hi)
         for k, flo, fhi in (

@@ -31,11 +31,12 @@ the lanes that left it, weighting the rest by the balance heuristic of hero-wave
 
 Scope.  Isotropic, uncoated solids in an environment light (no surfaces, lamps or films; not
 rgb3): :func:`bundle_applies` is the Renderer's test; everything else is traced per wavelength by
-``stages.trace.trace_radiance``.  Lane rows: depth-first, a node's stack position never exceeds
-its depth (children go to the parent's position and the next one), so :data:`BUNDLE_ROWS`
-positions hold ``max_depth <= BUNDLE_ROWS - 1``; a lane's pending nodes always sit below the one
-being traced, so groups can share positions.  The node stack holds :data:`NODE_ROWS` groups; when
-it is full a group continues stochastically instead of splitting (``max_splits`` is not used).
+``stages.trace.trace_radiance``.  Lane rows: a split puts a node's reflected children at its own
+stack position and the refracted ones at the next, a single child stays at the node's position,
+so positions grow only with splits; each lane's pending nodes sit below the one being traced,
+so groups can share positions.  When the :data:`BUNDLE_ROWS` positions or the :data:`NODE_ROWS`
+pending groups are used up, a group continues stochastically instead of splitting (as
+``max_splits`` does in ``trace_radiance``).
 
 References:
     Wilkie, A., Nawaz, S., Droske, M., Weidlich, A., Hanika, J. 2014. Hero wavelength spectral
@@ -90,11 +91,12 @@ __all__ = [
 #: wavelengths per bundle (16 lanes with a low-discrepancy jitter: at one pixel position the
 #: spectral noise is below the pixel-position noise, scripts/bench/fire_convergence.py)
 LANES = 16
-#: lane-row positions of the depth-first stack (max_depth <= BUNDLE_ROWS - 1)
+#: lane-row positions of the depth-first stack (a position is added only by a split)
 BUNDLE_ROWS = 17
 #: pending groups (nodes) of the stack
 NODE_ROWS = 64
 _L = wp.constant(LANES)
+_ROWS = wp.constant(BUNDLE_ROWS)
 _NODES = wp.constant(NODE_ROWS)
 # lane row layout: origin, direction, polarization basis x, Jones (re 4, im 4), weight
 _O = wp.constant(0)
@@ -121,14 +123,6 @@ LaneWeights = wp.types.matrix(shape=(LANES, 3), dtype=wp.float32)  # XYZ sample 
 @wp.func
 def _bit(mask: int, j: int):
     return (mask >> j) & 1
-
-
-@wp.func
-def _lane_jones(ls: LaneStack, r: int):
-    m = Jones()
-    m.re = wp.mat22(ls[r, _MR], ls[r, _MR + 1], ls[r, _MR + 2], ls[r, _MR + 3])
-    m.im = wp.mat22(ls[r, _MI], ls[r, _MI + 1], ls[r, _MI + 2], ls[r, _MI + 3])
-    return m
 
 
 @wp.func(inline=False)  # out of line, like trace_radiance (compile time)
@@ -265,8 +259,11 @@ def trace_bundle(
                             xyz = wp.vec3f(weights[j, 0], weights[j, 1], weights[j, 2]) * rad
                             if polarized != 0:
                                 b_j = wp.vec3f(ls[r, _B], ls[r, _B + 1], ls[r, _B + 2])
+                                m_j = Jones()  # read inline: a wp.func would copy the whole stack
+                                m_j.re = wp.mat22(ls[r, _MR], ls[r, _MR + 1], ls[r, _MR + 2], ls[r, _MR + 3])
+                                m_j.im = wp.mat22(ls[r, _MI], ls[r, _MI + 1], ls[r, _MI + 2], ls[r, _MI + 3])
                                 k_unit = coherency_transform(
-                                    _lane_jones(ls, r), sheet_polarizer_coherency(env.polarizer, -d_j, b_j, ls[r, _W])
+                                    m_j, sheet_polarizer_coherency(env.polarizer, -d_j, b_j, ls[r, _W])
                                 )
                                 acc_x = jones_add(acc_x, jones_scale(k_unit, xyz[0]))
                                 acc_y = jones_add(acc_y, jones_scale(k_unit, xyz[1]))
@@ -312,6 +309,9 @@ def trace_bundle(
                     o_j = wp.vec3f(ls[r, _O], ls[r, _O + 1], ls[r, _O + 2])
                     d_j = wp.vec3f(ls[r, _D], ls[r, _D + 1], ls[r, _D + 2])
                     b_j = wp.vec3f(ls[r, _B], ls[r, _B + 1], ls[r, _B + 2])
+                    m_j = Jones()  # read inline: a wp.func would copy the whole stack
+                    m_j.re = wp.mat22(ls[r, _MR], ls[r, _MR + 1], ls[r, _MR + 2], ls[r, _MR + 3])
+                    m_j.im = wp.mat22(ls[r, _MI], ls[r, _MI + 1], ls[r, _MI + 2], ls[r, _MI + 3])
                     w_j = ls[r, _W]
                     n_a = wp.vec2f(p.ambient[0], 0.0)
                     n_b = wp.vec2f(lane_n[j], 0.0)
@@ -333,7 +333,7 @@ def trace_bundle(
                         n_b = wp.vec2f(p.ambient[0], 0.0)
                     cand, energies, k = backward_isotropic(
                         cand,
-                        _lane_jones(ls, r),
+                        m_j,
                         w_j,
                         b_j,
                         d_j,
@@ -380,7 +380,7 @@ def trace_bundle(
             keep_t = mask_t != 0
             keep_r = mask_r != 0
             scale = float(1.0)
-            if e_parent < p.split_threshold or n + 2 > _NODES:
+            if e_parent < p.split_threshold or n + 2 > _NODES or pos + 1 >= _ROWS:
                 # stochastic continuation: one child by energy, weighted by 1/probability
                 if keep_t and keep_r:
                     if wp.randf(rng) * e_parent < e_t:
@@ -403,6 +403,12 @@ def trace_bundle(
                 left_t = obj  # refracted out of the solid: leaves it
             if inside < 0:
                 left_r = obj  # reflected off the outside: leaves it
+            if keep_t and not keep_r:
+                # the refracted child alone: down to this position (positions grow only at splits)
+                for j in range(first, count):
+                    if _bit(mask_t, j) == 1:
+                        for c in range(_LANE_COLS):
+                            ls[base + j, c] = ls[base + _L + j, c]
             # push the reflected child below the refracted one (the refracted is traced first)
             if keep_r:
                 for j in range(first, count):
@@ -415,10 +421,13 @@ def trace_bundle(
                 ns[n, _LEFT] = left_r
                 n += 1
             if keep_t:
+                pos_t = pos
+                if keep_r:
+                    pos_t = pos + 1
                 for j in range(first, count):
                     if _bit(mask_t, j) == 1:
-                        ls[base + _L + j, _W] = ls[base + _L + j, _W] * scale
-                ns[n, _POS] = pos + 1
+                        ls[pos_t * _L + j, _W] = ls[pos_t * _L + j, _W] * scale
+                ns[n, _POS] = pos_t
                 ns[n, _IN] = in_t
                 ns[n, _DEPTH] = depth + 1
                 ns[n, _MASK] = mask_t
@@ -431,14 +440,13 @@ def trace_bundle(
     return acc_x, acc_y, acc_z, hit_any, rays, rng
 
 
-def bundle_applies(scene, built, *, max_depth: int) -> bool:
-    """Whether a camera scene can be traced in spectral bundles: isotropic uncoated solids, an
-    environment light, no surfaces or lamps, not rgb3, a depth the bundle stack holds."""
+def bundle_applies(scene, built) -> bool:
+    """Whether a camera scene can be traced in spectral bundles (``render.bundle`` and isotropic,
+    uncoated solids in an environment light: no surfaces, lamps, films or caustics; not rgb3)."""
     r = scene.render
     return (
         bool(getattr(r, "bundle", True))
         and r.spectral != "rgb3"
-        and max_depth <= BUNDLE_ROWS - 1
         and not scene.surfaces
         and not scene.lamps
         and not r.caustics
