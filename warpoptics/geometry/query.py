@@ -461,7 +461,12 @@ def convex_plane_excess(
 
 @wp.func
 def convex_exit_through(
-    geom: SceneGeometry, k: wp.int32, facet: wp.int32, origin: wp.vec3f, direction: wp.vec3f, t_max: wp.float32
+    geom: SceneGeometry,
+    k: wp.int32,
+    facet: wp.int32,
+    origin: wp.vec3f,
+    direction: wp.vec3f,
+    t_max: wp.float32,
 ):
     """For a world-space ray INSIDE convex object ``k``: ``(t, 1)`` if it leaves the object
     through facet ``facet`` (at ray parameter t), else ``(t_max, 0)`` -- the same answer as

@@ -406,9 +406,7 @@ class Renderer:
         # (stages/bundle.py); `spectral_bundle=False` or `render.bundle = false` traces a tree
         # per wavelength
         self.spectral_bundle = (
-            not self.shared_spectrum
-            and spectral_bundle is not False
-            and bundle_applies(scene, built)
+            not self.shared_spectrum and spectral_bundle is not False and bundle_applies(scene, built)
         )
         film.bundle = 1 if self.spectral_bundle else 0
         film.groups = -(-film.count // r.bundle_lanes) if self.spectral_bundle else 1

@@ -454,4 +454,3 @@ def bundle_applies(scene, built) -> bool:
         and all(isinstance(m, Isotropic) and not m.is_uniaxial for m in built.materials)
         and len(built.materials) > 0
     )
-
