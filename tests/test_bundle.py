@@ -194,3 +194,21 @@ def test_bundle_applies_only_where_it_is_exact(device):
 def test_bundle_lanes_validated(value):
     with pytest.raises(InputError, match="bundle_lanes"):
         _scene(STONE, bundle_lanes=value)
+
+
+def test_fire_convergence_benchmark_quick():
+    """The benchmark script runs (16x16, a short ladder) and prints its table."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    out = subprocess.run(
+        [sys.executable, str(root / "scripts" / "bench" / "fire_convergence.py"), "--quick"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=root,
+    )
+    assert out.returncode == 0, out.stderr
+    assert "| bundle |" in out.stdout and "| separate |" in out.stdout and "| clear |" in out.stdout
