@@ -27,8 +27,16 @@ from ..materials import material_from_spec
 from ..materials.dispersion import MaterialTable, build_material_table
 from ..optics.jones import stokes_from_coherency
 from ..scene import Scene
-from ..spectra import COARSE_STEP_NM, SpectralTables, sample_wavelength, spectral_tables, strategy_id
+from ..spectra import (
+    COARSE_STEP_NM,
+    STRATEGY_STRATIFIED,
+    SpectralTables,
+    sample_wavelength,
+    spectral_tables,
+    strategy_id,
+)
 from ..spectra import grid as spectral_grid
+from ..stages.bundle import LaneWavelengths, LaneWeights, bundle_applies, trace_bundle
 from ..stages.camera import Camera, CameraParams, camera_ray
 from ..stages.coated import build_film_surfaces
 from ..stages.environment import Environment, EnvironmentLight, spectral_response
@@ -64,6 +72,8 @@ class FilmParams:
     round: int  # sampling round within the pass (its own stream of trace decisions)
     shared: int  # 1: non-dispersive scene, every trace carries the whole spectrum (``response``)
     response: wp.mat33f  # the exact spectral integral (EnvironmentLight.exact_response) when shared
+    bundle: int  # 1: dispersive scene traced in spectral bundles (stages/bundle.py)
+    groups: int  # bundles per spp (each takes every groups-th stratum of the count)
 
 
 # Values drawn from the camera stream per trace (wavelength, lens u, lens v): a round that starts
@@ -125,6 +135,68 @@ def _render_pixels(
     # samples of a pixel cover it evenly, which is where a gem's noise comes from (facet edges)
     rot_x = wp.randf(rng)
     rot_y = wp.randf(rng)
+    if film.bundle != 0:
+        # spectral bundles (stages/bundle.py): each of the `groups` bundles of an spp takes every
+        # groups-th stratum of the spectrum (all of it, at one pixel position).  The strata of a
+        # bundle share one jitter that follows the golden-ratio sequence over the bundles (a
+        # rotated lattice in the sampling variable, low-discrepancy from bundle to bundle):
+        # every wavelength is still uniform within its stratum, so the estimate is unbiased.
+        rot_u = wp.randf(rng)
+        for _skip in range(film.spp_begin * film.groups * _DRAWS_PER_TRACE):
+            wp.randf(rng)
+        for kb in range(film.spp_begin * film.groups, end * film.groups):
+            grp = kb % film.groups
+            jx = rot_x + float(kb) * 0.7548776662466927
+            jy = rot_y + float(kb) * 0.5698402909980532
+            jx = jx - wp.floor(jx)
+            jy = jy - wp.floor(jy)
+            lu = wp.randf(rng)
+            lv = wp.randf(rng)
+            o, d, bx = camera_ray(cam, float(px) + jx, float(py) + jy, lu, lv)
+            ju = rot_u + float(kb) * 0.6180339887498949
+            ju = ju - wp.floor(ju)
+            lanes = LaneWavelengths()
+            lane_w = LaneWeights()
+            nl = int(0)
+            for stratum in range(grp, film.count, film.groups):
+                # uniform and importance draws: a rotated lattice in u (stratified as well)
+                uu = ju
+                if film.strategy != STRATEGY_STRATIFIED:
+                    uu = ju + float(stratum) / float(film.count)
+                    uu = uu - wp.floor(uu)
+                wl, w = sample_wavelength(tables, film.strategy, uu, stratum, film.count)
+                lanes[nl] = wl
+                lane_w[nl, 0] = w[0]
+                lane_w[nl, 1] = w[1]
+                lane_w[nl, 2] = w[2]
+                nl += 1
+            wp.randf(rng)  # (reserved: keeps _DRAWS_PER_TRACE draws per bundle)
+            coh_x, coh, coh_z, hit, nr, rng_trace = trace_bundle(
+                tp, geom, mats, env, tables, polarized, o, d, bx, lanes, lane_w, nl, rng_trace
+            )
+            s = stokes_from_coherency(coh)
+            sx = stokes_from_coherency(coh_x)
+            sz = stokes_from_coherency(coh_z)
+            gv = wp.vec3d(wp.float64(sx[0]), wp.float64(s[0]), wp.float64(sz[0]))
+            group += gv
+            if grp == film.groups - 1:
+                xyz += group
+                sq += wp.cw_mul(group, group)
+                group = wp.vec3d(0.0, 0.0, 0.0)
+            stokes += wp.vec4d(wp.float64(s[0]), wp.float64(s[1]), wp.float64(s[2]), wp.float64(s[3]))
+            stokes_x += wp.vec4d(wp.float64(sx[0]), wp.float64(sx[1]), wp.float64(sx[2]), wp.float64(sx[3]))
+            stokes_z += wp.vec4d(wp.float64(sz[0]), wp.float64(sz[1]), wp.float64(sz[2]), wp.float64(sz[3]))
+            hits += float(hit)
+            rays += nr
+        xyz_out[pix] = xyz_out[pix] + xyz
+        sq_out[pix] = sq_out[pix] + sq
+        stokes_out[pix] = stokes_out[pix] + stokes
+        alpha_out[pix] = alpha_out[pix] + wp.float64(hits / float(film.groups))
+        rays_out[pix] = rays_out[pix] + wp.int64(rays)
+        stokes_xyz_out[pix, 0] = stokes_xyz_out[pix, 0] + stokes_x
+        stokes_xyz_out[pix, 1] = stokes_xyz_out[pix, 1] + stokes
+        stokes_xyz_out[pix, 2] = stokes_xyz_out[pix, 2] + stokes_z
+        return
     for _skip in range(film.spp_begin * film.count * _DRAWS_PER_TRACE):
         wp.randf(rng)
     for k in range(film.spp_begin * film.count, end * film.count):
@@ -238,7 +310,14 @@ def _non_dispersive(mats, step_nm: float = COARSE_STEP_NM) -> bool:
 class Renderer:
     """The standard pipeline for a scene; owns every stage's device data.  ``run()`` renders."""
 
-    def __init__(self, scene: Scene, *, device=None, shared_spectrum: bool | None = None):
+    def __init__(
+        self,
+        scene: Scene,
+        *,
+        device=None,
+        shared_spectrum: bool | None = None,
+        spectral_bundle: bool | None = None,
+    ):
         self.scene = scene
         self.device = get_device(device)
         r = scene.render
@@ -330,6 +409,15 @@ class Renderer:
             and not scene.lamps
         )
         film.shared = 1 if self.shared_spectrum else 0
+        # a dispersive (or absorbing) scene of isotropic, uncoated stones in an environment light
+        # traces one path tree per bundle of up to render.bundle_lanes wavelengths at one pixel position
+        # (stages/bundle.py); `spectral_bundle=False` or `render.bundle = false` traces a tree
+        # per wavelength
+        self.spectral_bundle = (
+            not self.shared_spectrum and spectral_bundle is not False and bundle_applies(scene, built)
+        )
+        film.bundle = 1 if self.spectral_bundle else 0
+        film.groups = -(-film.count // r.bundle_lanes) if self.spectral_bundle else 1
         # the whole spectrum at every leaf, integrated exactly (no spectral noise); a shared
         # scene's `wavelengths` then only multiplies the pixel samples per spp
         film.response = wp.mat33f(

@@ -78,6 +78,11 @@ class RenderConfig:
     # every pixel decides where the rest go; the pass costs about what spp everywhere would
     adaptive: bool = False
     pilot_spp: int = 0
+    # dispersive stones: one path tree per bundle of up to bundle_lanes (<= 16) of a pixel sample's
+    # wavelengths at one pixel position (stages/bundle.py) where the scene allows it; false: one
+    # tree per wavelength sample at its own position
+    bundle: bool = True
+    bundle_lanes: int = 8
     source: str | None = field(default=None, compare=False)  # scene file, for messages
 
     def __post_init__(self) -> None:
@@ -86,7 +91,7 @@ class RenderConfig:
         val.choice(self.birefringence, BIREFRINGENCE_MODES, file=file, field=f("birefringence"))
         val.choice(self.tone, TONE_CURVES, file=file, field=f("tone"))
         val.choice(self.mis, MIS_CHOICES, file=file, field=f("mis"))
-        for k in ("polarization", "stone_shadows", "caustics", "adaptive"):
+        for k in ("polarization", "stone_shadows", "caustics", "adaptive", "bundle"):
             val.boolean(getattr(self, k), file=file, field=f(k))
         for k, lo, hi in (
             ("wavelengths", 1, 4096),
@@ -97,6 +102,7 @@ class RenderConfig:
             ("diffuse_depth", 1, 8),
             ("caustic_paths", 0, 1 << 34),
             ("pilot_spp", 0, 1 << 20),
+            ("bundle_lanes", 1, 16),
         ):
             val.integer(getattr(self, k), file=file, field=f(k), lo=lo, hi=hi)
         for k, flo, fhi in (
