@@ -263,6 +263,8 @@ def test_zero_thickness_coated_render_equals_bare(device):
     random streams; the float64 stack equals the float32 Fresnel coefficients to ~1e-7)."""
     data = {
         **FURNACE,
+        # one estimator for both: coated stones never take spectral bundles (stages/bundle.py)
+        "render": {**FURNACE["render"], "bundle": False},
         "light": [{"type": "environment", "map": "studio"}],
         "object": [{**FURNACE["object"][0], "coating": [{"n": 2.3, "thickness_nm": 0.0}]}],
     }

@@ -98,6 +98,7 @@ __all__ = [
     "interface_amplitudes",
     "child_of",
     "backward_isotropic",
+    "backward_coated",
     "backward_uniaxial_exact",
     "backward_uniaxial_approx",
     "backward_event",
@@ -159,7 +160,115 @@ def child_of(
 
 
 @wp.func
+def _isotropic_fresnel(d: wp.vec3f, nrm: wp.vec3f, n_a: wp.vec2f, n_b: wp.vec2f):
+    """The geometry and bare amplitudes of a backward isotropic event: (cos_a, Fresnel A -> B,
+    refracted direction into B — zero under total internal reflection —, cos_b, Fresnel B -> A).
+    The direction comes from the A -> B solution (``refract_from_fresnel``); the amplitudes of
+    light from B are those of B -> A (``fresnel_amplitudes(cos_b, n_b, n_a)``)."""
+    cos_a = wp.clamp(-wp.dot(d, nrm), 0.0, 1.0)
+    f_r = fresnel_amplitudes(cos_a, n_a, n_b)
+    d_t = refract_from_fresnel(d, nrm, f_r, n_a, n_b)
+    cos_b = float(0.0)
+    f_t = FresnelAmplitudes()
+    if wp.dot(d_t, d_t) > 0.0:
+        cos_b = refracted_cos(f_r, n_b)
+        f_t = fresnel_amplitudes(cos_b, n_b, n_a)
+    return cos_a, f_r, d_t, cos_b, f_t
+
+
+@wp.func
+def _isotropic_children(
+    cand: Cand,
+    m: Jones,
+    w: float,
+    bx: wp.vec3f,
+    d: wp.vec3f,
+    n_out: wp.vec3f,
+    nrm: wp.vec3f,
+    x: wp.vec3f,
+    eps: float,
+    in_a: int,
+    in_b: int,
+    depth: int,
+    polarized: int,
+    cos_a: float,
+    d_t: wp.vec3f,
+    t_flux: float,
+    ts: wp.vec2f,
+    tp: wp.vec2f,
+    rs: wp.vec2f,
+    rp: wp.vec2f,
+):
+    """The refracted (from B, unless ``d_t`` is zero) and reflected (in A) children of a backward
+    isotropic event with the given amplitudes and transmitted flux ratio: (cand, energies, count)."""
+    s = s_vector(d, n_out)
+    k_out = -d  # light leaves the interface toward the camera along -d
+    energies = wp.vec4f(0.0, 0.0, 0.0, 0.0)
+    count = int(0)
+    if wp.dot(d_t, d_t) > 0.0:
+        m_t, w_t = child_of(m, w, k_out, bx, s, ts, tp, t_flux, polarized)
+        cand, energies, count = add_child(
+            cand, energies, count, x + d_t * eps, d_t, s, m_t, w_t, in_b, depth + 1, -1, -d_t
+        )
+    d_r = wp.normalize(d + nrm * (2.0 * cos_a))
+    m_r, w_r = child_of(m, w, k_out, bx, s, rs, rp, 1.0, polarized)
+    cand, energies, count = add_child(
+        cand, energies, count, x + d_r * eps, d_r, s, m_r, w_r, in_a, depth + 1, -1, -d_r
+    )
+    return cand, energies, count
+
+
+@wp.func
 def backward_isotropic(
+    cand: Cand,
+    m: Jones,
+    w: float,
+    bx: wp.vec3f,
+    d: wp.vec3f,
+    n_out: wp.vec3f,
+    nrm: wp.vec3f,
+    n_a: wp.vec2f,
+    n_b: wp.vec2f,
+    x: wp.vec3f,
+    eps: float,
+    in_a: int,
+    in_b: int,
+    depth: int,
+    polarized: int,
+):
+    """Backward event at a bare interface between isotropic media: (cand, energies, count).
+
+    The backward ray ``d`` arrives from A.  Light reaching the camera along -d came reflected in A
+    (Fresnel ``fresnel_amplitudes(cos_a, n_a, n_b)``) or refracted from B (unless total internal
+    reflection: ``refract_from_fresnel`` of the same solution gives its direction, and its
+    amplitudes are those of B -> A, power-normalised by ``transmitted_flux_ratio``)."""
+    cos_a, f_r, d_t, cos_b, f_t = _isotropic_fresnel(d, nrm, n_a, n_b)
+    return _isotropic_children(
+        cand,
+        m,
+        w,
+        bx,
+        d,
+        n_out,
+        nrm,
+        x,
+        eps,
+        in_a,
+        in_b,
+        depth,
+        polarized,
+        cos_a,
+        d_t,
+        transmitted_flux_ratio(f_t),
+        f_t.ts,
+        f_t.tp,
+        f_r.rs,
+        f_r.rp,
+    )
+
+
+@wp.func
+def backward_coated(
     cand: Cand,
     m: Jones,
     w: float,
@@ -181,47 +290,45 @@ def backward_isotropic(
     scale: float,
     a_is_front: int,
 ):
-    """Backward event between isotropic media, bare or coated: (cand, energies, count).
-
-    The backward ray ``d`` arrives from A.  Light reaching the camera along -d came reflected in A
-    (Fresnel ``fresnel_amplitudes(cos_a, n_a, n_b)``) or refracted from B (unless total internal
-    reflection: ``refract_from_fresnel`` of the same solution gives its direction, and its
-    amplitudes are those of B -> A, ``fresnel_amplitudes(cos_b, n_b, n_a)``, power-normalised by
-    ``transmitted_flux_ratio``).  With a coating (``coat`` >= 0) its stack replaces the bare
-    amplitudes; ``a_is_front`` says whether A faces the stack's front (the ambient side)."""
-    cos_a = wp.clamp(-wp.dot(d, nrm), 0.0, 1.0)
-    s = s_vector(d, n_out)
-    k_out = -d  # light leaves the interface toward the camera along -d
-    energies = wp.vec4f(0.0, 0.0, 0.0, 0.0)
-    count = int(0)
+    """:func:`backward_isotropic` at a coated interface: the stack ``coat`` of ``stack`` (layers
+    scaled by ``scale``) replaces the bare amplitudes (``interface_amplitudes``); ``a_is_front``
+    says whether A faces the stack's front (the ambient side).  A film conserves the tangential
+    wave vector, so directions and flux ratios are the bare interface's.  A separate function so
+    that the bare event, the hot path, does not carry the stack."""
     n_front = n_a
     n_back = n_b
     if a_is_front == 0:
         n_front = n_b
         n_back = n_a
-    f_r = fresnel_amplitudes(cos_a, n_a, n_b)
-    # refraction: light arriving from medium B, transmitted into A (unless TIR)
-    d_t = refract_from_fresnel(d, nrm, f_r, n_a, n_b)
-    if wp.dot(d_t, d_t) > 0.0:
-        cos_b = refracted_cos(f_r, n_b)
-        f_t = fresnel_amplitudes(cos_b, n_b, n_a)
-        rs, rp, ts, tp = interface_amplitudes(
-            f_t, stack, coat, wavelength, cos_b, n_front, n_back, a_is_front, scale
-        )
-        m_t, w_t = child_of(m, w, k_out, bx, s, ts, tp, transmitted_flux_ratio(f_t), polarized)
-        cand, energies, count = add_child(
-            cand, energies, count, x + d_t * eps, d_t, s, m_t, w_t, in_b, depth + 1, -1, -d_t
-        )
-    # reflection: light arriving from medium A, reflected back into A
-    d_r = wp.normalize(d + nrm * (2.0 * cos_a))
-    rs, rp, ts, tp = interface_amplitudes(
+    cos_a, f_r, d_t, cos_b, f_t = _isotropic_fresnel(d, nrm, n_a, n_b)
+    rs, rp, u_s, u_p = interface_amplitudes(
         f_r, stack, coat, wavelength, cos_a, n_front, n_back, 1 - a_is_front, scale
     )
-    m_r, w_r = child_of(m, w, k_out, bx, s, rs, rp, 1.0, polarized)
-    cand, energies, count = add_child(
-        cand, energies, count, x + d_r * eps, d_r, s, m_r, w_r, in_a, depth + 1, -1, -d_r
+    t_r, t_p2, ts, tp = interface_amplitudes(
+        f_t, stack, coat, wavelength, cos_b, n_front, n_back, a_is_front, scale
     )
-    return cand, energies, count
+    return _isotropic_children(
+        cand,
+        m,
+        w,
+        bx,
+        d,
+        n_out,
+        nrm,
+        x,
+        eps,
+        in_a,
+        in_b,
+        depth,
+        polarized,
+        cos_a,
+        d_t,
+        transmitted_flux_ratio(f_t),
+        ts,
+        tp,
+        rs,
+        rp,
+    )
 
 
 @wp.func
@@ -485,11 +592,6 @@ def backward_event(
     depth: int,
     polarized: int,
     approx: int,
-    stack: CoatingStack,
-    coat: int,
-    wavelength: float,
-    scale: float,
-    a_is_front: int,
 ):
     """The backward interface event for any pair of media: a crystal on either side (exact eq. 5
     or, with ``approx`` and no biaxial side, eq. 10), else isotropic, bare or coated.
@@ -519,26 +621,7 @@ def backward_event(
                 cand = write_jones(cand, k, unit)
     else:
         cand, energies, count = backward_isotropic(
-            cand,
-            m,
-            w,
-            bx,
-            d,
-            n_out,
-            nrm,
-            n_a,
-            n_b,
-            x,
-            eps,
-            in_a,
-            in_b,
-            depth,
-            polarized,
-            stack,
-            coat,
-            wavelength,
-            scale,
-            a_is_front,
+            cand, m, w, bx, d, n_out, nrm, n_a, n_b, x, eps, in_a, in_b, depth, polarized
         )
     return cand, energies, count
 

@@ -291,11 +291,9 @@ def trace_bundle(
             entering = wp.dot(d_first, n_out) < 0.0
             nrm = n_out  # unit normal on the side the backward ray arrives from (medium A)
             in_b = obj
-            a_is_front = int(1)
             if not entering:
                 nrm = -n_out
                 in_b = -1
-                a_is_front = 0
             # each lane's children: reflected (back into A) in rows base + j, refracted (into B) in
             # rows base + L + j, the next position; a lane's parent row is read before they are
             # written, and its pending nodes all sit below this position
@@ -347,11 +345,6 @@ def trace_bundle(
                         in_b,
                         depth,
                         polarized,
-                        p.films.stack,
-                        -1,
-                        wavelengths[j],
-                        1.0,
-                        a_is_front,
                     )
                     for i in range(k):
                         row = base + j  # reflected child

@@ -54,7 +54,7 @@ from ..errors import InputError
 from ..fields import oil_slick_thickness_f, soap_film_thickness_f, turbulence, turbulence_3d
 from ..materials.dispersion import MaterialTable, material_eval
 from ..optics.branches import Cand, add_child
-from ..optics.interface import backward_isotropic, child_of
+from ..optics.interface import backward_coated, child_of
 from ..optics.jones import (
     Jones,
     jones_identity,
@@ -363,7 +363,7 @@ def _film_event_kernel(
         if not entering:
             nrm = -n_out
             a_is_front = 0
-        cand, e, count = backward_isotropic(
+        cand, e, count = backward_coated(
             cand,
             jones_identity(),
             1.0,

@@ -60,7 +60,7 @@ from ..optics.branches import (
     roulette,
     write_row,
 )
-from ..optics.interface import backward_event, is_uniaxial
+from ..optics.interface import backward_coated, backward_event, backward_isotropic, is_uniaxial
 from ..optics.jones import (
     Jones,
     coherency_transform,
@@ -338,40 +338,61 @@ def trace_radiance(
             )
         else:
             # the interface event (optics/interface.py), bare or with the object's coating
-            coat = int(-1)
-            scale = float(1.0)
-            if film_kind == KIND_COATED:
+            if film_kind == KIND_COATED and not crystal:
                 coat, scale = coating_at(p.films, hit.object, x, geom.world_to_object[hit.object])
-            a_is_front = int(0)
-            if entering:
-                a_is_front = 1
-            cand, energies, count = backward_event(
-                cand,
-                m,
-                w,
-                bx,
-                d,
-                wn,
-                mode,
-                n_out,
-                nrm,
-                med_a,
-                med_b,
-                n_a,
-                n_b,
-                x,
-                p.epsilon,
-                inside,
-                obj_b,
-                depth,
-                polarized,
-                p.birefringence,
-                p.films.stack,
-                coat,
-                wavelength,
-                scale,
-                a_is_front,
-            )
+                a_is_front = int(0)
+                if entering:
+                    a_is_front = 1
+                cand, energies, count = backward_coated(
+                    cand,
+                    m,
+                    w,
+                    bx,
+                    d,
+                    n_out,
+                    nrm,
+                    n_a,
+                    n_b,
+                    x,
+                    p.epsilon,
+                    inside,
+                    obj_b,
+                    depth,
+                    polarized,
+                    p.films.stack,
+                    coat,
+                    wavelength,
+                    scale,
+                    a_is_front,
+                )
+            elif not crystal:
+                # the hot path, called directly (one level less of by-value candidate copies)
+                cand, energies, count = backward_isotropic(
+                    cand, m, w, bx, d, n_out, nrm, n_a, n_b, x, p.epsilon, inside, obj_b, depth, polarized
+                )
+            else:
+                cand, energies, count = backward_event(
+                    cand,
+                    m,
+                    w,
+                    bx,
+                    d,
+                    wn,
+                    mode,
+                    n_out,
+                    nrm,
+                    med_a,
+                    med_b,
+                    n_a,
+                    n_b,
+                    x,
+                    p.epsilon,
+                    inside,
+                    obj_b,
+                    depth,
+                    polarized,
+                    p.birefringence,
+                )
         if p.films.kind[hit.object] == 0:
             # the children in the ambient medium leave the solid's surface (reflected off it from
             # outside, or transmitted out): remember which, so their query can skip it if convex
