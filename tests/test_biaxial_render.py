@@ -38,18 +38,22 @@ def test_white_furnace_biaxial(device, material, polarization):
 
 def test_uniaxial_limit_renders_like_the_uniaxial_stone(device):
     """Quartz as a Biaxial with n_alpha = n_beta = n_o, n_gamma = n_e renders the image of the
-    uniaxial quartz (same optic axis): the two solvers agree to float32 rounding, so the images
-    differ by far less than their seed-to-seed noise."""
+    uniaxial quartz (same optic axis): the two solvers agree to float32 rounding.  The path tree
+    is made deterministic (every branch kept down to 1e-7 of the pixel's energy, no Russian
+    roulette): with random continuation one pick that flips on a 1e-6 difference of two
+    candidate energies changes a highlight pixel by tens of per cent, a test of luck rather than
+    of the solvers (measured: one such flip in 256 pixels gave an rms of 2.9e-2)."""
     quartz = wo.materials.get("quartz")
     ax = np.array([0.3, 0.5, 0.8]) / np.linalg.norm([0.3, 0.5, 0.8])
     x = np.cross([0.0, 1.0, 0.0], ax)
     x /= np.linalg.norm(x)
     frame = np.array([x, np.cross(ax, x), ax])
     bi = Biaxial(quartz.ordinary, quartz.ordinary, quartz.extraordinary, crystal_axes=frame, name="quartz-bi")
+    render = {**FURNACE["render"], "spp": 2, "max_depth": 12, "split_threshold": 1e-7, "rr_threshold": 0.0}
     data = {
         **FURNACE,
         "light": [{"type": "environment", "map": "studio", "intensity": 1.0}],
-        "render": {**FURNACE["render"], "spp": 2, "max_depth": 12},
+        "render": render,
         "object": [{**FURNACE["object"][0], "material": "quartz", "optic_axis": list(ax)}],
     }
     sc_u = scene(data)
@@ -57,11 +61,12 @@ def test_uniaxial_limit_renders_like_the_uniaxial_stone(device):
     sc_b = dataclasses.replace(sc_u, objects=(ob,))
     y_u = wo.render(sc_u, device=device).xyz[..., 1]
     y_b = wo.render(sc_b, device=device).xyz[..., 1]
-    y_u2 = wo.render(sc_u.with_overrides({"render.seed": 7}), device=device).xyz[..., 1]
     diff = np.sqrt(np.mean((y_b - y_u) ** 2))
-    noise = np.sqrt(np.mean((y_u2 - y_u) ** 2))
-    print(f"uniaxial limit: rms diff {diff:.3e}, seed noise {noise:.3e}")
-    assert diff < 0.1 * noise + 1e-6
+    worst = np.max(np.abs(y_b - y_u))
+    print(f"uniaxial limit: rms diff {diff:.3e}, max {worst:.3e}, mean Y {y_u.mean():.3f}")
+    # measured rms 5e-7, max 6e-6 at mean Y ~0.1: float32 rounding of two solvers (quartic in
+    # float64 vs closed forms in float32) through ~12 events; 1e-5 / 1e-4 leave a factor ~15
+    assert diff < 1e-5 and worst < 1e-4
 
 
 def test_rays_along_the_optic_axes_stay_finite(device):
