@@ -38,18 +38,22 @@ def test_white_furnace_biaxial(device, material, polarization):
 
 def test_uniaxial_limit_renders_like_the_uniaxial_stone(device):
     """Quartz as a Biaxial with n_alpha = n_beta = n_o, n_gamma = n_e renders the image of the
-    uniaxial quartz (same optic axis): the two solvers agree to float32 rounding, so the images
-    differ by far less than their seed-to-seed noise."""
+    uniaxial quartz (same optic axis): the two solvers agree to float32 rounding.  The path tree
+    is made deterministic (every branch kept down to 1e-7 of the pixel's energy, no Russian
+    roulette): with random continuation one pick that flips on a 1e-6 difference of two
+    candidate energies changes a highlight pixel by tens of per cent, a test of luck rather than
+    of the solvers (measured: one such flip in 256 pixels gave an rms of 2.9e-2)."""
     quartz = wo.materials.get("quartz")
     ax = np.array([0.3, 0.5, 0.8]) / np.linalg.norm([0.3, 0.5, 0.8])
     x = np.cross([0.0, 1.0, 0.0], ax)
     x /= np.linalg.norm(x)
     frame = np.array([x, np.cross(ax, x), ax])
     bi = Biaxial(quartz.ordinary, quartz.ordinary, quartz.extraordinary, crystal_axes=frame, name="quartz-bi")
+    render = {**FURNACE["render"], "spp": 2, "max_depth": 12, "split_threshold": 1e-7, "rr_threshold": 0.0}
     data = {
         **FURNACE,
         "light": [{"type": "environment", "map": "studio", "intensity": 1.0}],
-        "render": {**FURNACE["render"], "spp": 2, "max_depth": 12},
+        "render": render,
         "object": [{**FURNACE["object"][0], "material": "quartz", "optic_axis": list(ax)}],
     }
     sc_u = scene(data)
@@ -57,11 +61,12 @@ def test_uniaxial_limit_renders_like_the_uniaxial_stone(device):
     sc_b = dataclasses.replace(sc_u, objects=(ob,))
     y_u = wo.render(sc_u, device=device).xyz[..., 1]
     y_b = wo.render(sc_b, device=device).xyz[..., 1]
-    y_u2 = wo.render(sc_u.with_overrides({"render.seed": 7}), device=device).xyz[..., 1]
     diff = np.sqrt(np.mean((y_b - y_u) ** 2))
-    noise = np.sqrt(np.mean((y_u2 - y_u) ** 2))
-    print(f"uniaxial limit: rms diff {diff:.3e}, seed noise {noise:.3e}")
-    assert diff < 0.1 * noise + 1e-6
+    worst = np.max(np.abs(y_b - y_u))
+    print(f"uniaxial limit: rms diff {diff:.3e}, max {worst:.3e}, mean Y {y_u.mean():.3f}")
+    # measured rms 5e-7, max 6e-6 at mean Y ~0.1: float32 rounding of two solvers (quartic in
+    # float64 vs closed forms in float32) through ~12 events; 1e-5 / 1e-4 leave a factor ~15
+    assert diff < 1e-5 and worst < 1e-4
 
 
 def test_rays_along_the_optic_axes_stay_finite(device):
@@ -167,3 +172,101 @@ def test_bench_biaxial_quick():
     )
     assert r.returncode == 0, r.stderr[-2000:]
     assert "ratio_cpu" in r.stdout and "rays_biaxial" in r.stdout
+
+
+# viewing direction (object z, the plate normal) along the principal axis named: rows X, Y, Z of
+# crystal_axes in the object frame, right-handed
+_PLATE_AXES = {
+    "X": [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+    "Y": [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]],
+    "Z": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+}
+
+
+def _slab_reference(n, alpha, t):
+    """Reflected + transmitted fraction of a plane-parallel slab at normal incidence for one
+    eigenwave of index n and intensity absorption alpha (1/mm) over thickness t (mm), lit from
+    both sides by the same radiance: Fresnel R = ((n - 1)/(n + 1))^2 at each face (Born & Wolf
+    §1.5.3, eq. 21 at normal incidence), Bouguer-Lambert a = exp(-alpha t) per pass, and the
+    incoherent sum of the inter-reflections (a geometric series):
+    R_slab = R + T^2 R a^2 / (1 - R^2 a^2), T_slab = T^2 a / (1 - R^2 a^2)."""
+    r = ((n - 1.0) / (n + 1.0)) ** 2
+    tt = 1.0 - r
+    a = np.exp(-alpha * t)
+    den = 1.0 - r * r * a * a
+    return r + tt * tt * r * a * a / den + tt * tt * a / den
+
+
+def test_tanzanite_plate_three_axes_three_colours(device):
+    """A tanzanite plate viewed at normal incidence along its principal axes X, Y and Z shows
+    three distinct colours, each matching an independent reference: along axis i the two
+    eigenwaves have D along the other two axes j, k (index n_j, absorption alpha_j; at normal
+    incidence along a principal axis they do not mix on reflection), each carrying half of the
+    unpolarized light through the slab closed form above, and colour-science integrates the
+    spectrum under D65 (CIE 1931 2°) to CIELAB; ΔE00 < 1 against the render."""
+    import colour
+
+    tz = wo.materials.get("tanzanite")
+    thickness = 2.0
+    base = {
+        "camera": {
+            "type": "orthographic",
+            "position": [0.0, 0.0, 20.0],
+            "look_at": [0.0, 0.0, 0.0],
+            "up": [0.0, 1.0, 0.0],
+            "view_height": 2.0,  # mm: the central 2 mm of the 6 mm plate
+            "width": 4,
+            "height": 4,
+        },
+        # deterministic path tree (no roulette); 45 jittered wavelengths x 32 spp: measured, the
+        # white's X/Y and Z/Y within 0.2 % of colour-science's and dE00 <= 0.22 (with 4 spp the
+        # jitter's quadrature error alone left the white 1 % off and dE00 up to 0.86)
+        "render": {
+            "spectral": "stratified",
+            "wavelengths": 45,
+            "spp": 32,
+            "max_depth": 16,
+            "split_threshold": 1e-7,
+            "rr_threshold": 0.0,
+            "birefringence": "exact",
+        },
+        "light": [{"type": "constant", "intensity": 1.0, "spectrum": "D65"}],
+    }
+    plate = {"shape": "plate", "width": 6.0, "length": 6.0, "thickness": thickness, "material": "tanzanite"}
+    # the white: the same light and camera with the plate moved out of view
+    far = {**base, "object": [{**plate, "position": [1e4, 1e4, 1e4]}]}
+    empty = wo.render(scene(far), device=device).xyz.reshape(-1, 3).mean(axis=0)
+    lam = np.arange(360.0, 831.0, 1.0)
+    n3 = tz.n(lam)
+    a3 = tz.alpha(lam)
+    d65 = colour.SDS_ILLUMINANTS["D65"].copy().align(colour.SpectralShape(360, 830, 1))
+    cmfs = (
+        colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
+        .copy()
+        .align(colour.SpectralShape(360, 830, 1))
+    )
+    ones = colour.SpectralDistribution(dict(zip(lam, np.ones_like(lam), strict=True)))
+    white = colour.sd_to_XYZ(ones, cmfs, d65, method="Integration") / 100.0
+    print(f"white: render {np.round(empty / empty[1], 4)} colour-science {np.round(white, 4)}")
+    np.testing.assert_allclose(empty / empty[1], white, rtol=5e-3)
+    labs = {}
+    for name, view in enumerate("XYZ"):
+        others = [j for j in range(3) if j != name]
+        f = 0.5 * sum(_slab_reference(n3[:, j], a3[:, j], thickness) for j in others)
+        # the slab's spectral factor under D65 (colour-science normalises D65 to Y = 100)
+        sd = colour.SpectralDistribution(dict(zip(lam, f, strict=True)))
+        xyz_ref = colour.sd_to_XYZ(sd, cmfs, d65, method="Integration") / 100.0
+        data = {**base, "object": [{**plate, "crystal_axes": _PLATE_AXES[view]}]}
+        xyz = wo.render(scene(data), device=device).xyz.reshape(-1, 3).mean(axis=0) / empty[1]
+        wxy = colour.XYZ_to_xy(white)
+        lab = colour.XYZ_to_Lab(xyz, wxy)
+        lab_ref = colour.XYZ_to_Lab(xyz_ref, wxy)
+        de = float(colour.delta_E(lab, lab_ref, method="CIE 2000"))
+        print(
+            f"tanzanite along {view}: Lab {np.round(lab, 2)} reference {np.round(lab_ref, 2)} dE00 {de:.3f}"
+        )
+        assert de < 1.0
+        labs[view] = lab
+    # three distinct colours: every pair far beyond the 1-unit match (measured in the print)
+    for u, v in (("X", "Y"), ("X", "Z"), ("Y", "Z")):
+        assert float(colour.delta_E(labs[u], labs[v], method="CIE 2000")) > 5.0

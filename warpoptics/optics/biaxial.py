@@ -85,6 +85,11 @@ __all__ = [
     "medium_incident_wave",
     "wave_index",
     "crystal_fresnel",
+    "crystal_fresnel_both",
+    "fresnel_from_waves",
+    "EventWaves",
+    "event_waves",
+    "event_fresnel",
     "biaxial_kappa",
     # NumPy
     "optic_axial_angle",
@@ -487,10 +492,77 @@ def biaxial_wave_pair(kt: wp.vec3, m: wp.vec3, med: UniaxialMedium):
 
 
 @wp.func
-def _wave_pair64(kt_world: wp.vec3d, m: wp.vec3, med: UniaxialMedium, known: int, k_known: wp.vec3d):
-    # biaxial_wave_pair with a float64 tangential wave vector (world); with ``known`` = 1 the
-    # tangential wave vector is that of ``k_known`` (principal coordinates), a wave of this medium
-    # travelling against m (the incident wave of a reflection), whose root is then exact
+def _pair_labels(la: int, lb: int):
+    # sheet labels of a pair of roots: a propagating wave keeps its sheet; an evanescent one
+    # (label -1) takes the other label; two waves on one sheet (a double root on an optic axis)
+    # are split as documented in the module docstring
+    if la < 0 and lb < 0:
+        return 0, 1
+    if la < 0:
+        return 1 - lb, lb
+    if lb < 0:
+        return la, 1 - la
+    if la == lb:
+        return la, 1 - la
+    return la, lb
+
+
+@wp.func
+def _root_wave(
+    med: UniaxialMedium,
+    ktp: wp.vec3d,
+    mp: wp.vec3d,
+    qr: wp.float64,
+    qi: wp.float64,
+    root_label: int,
+    lab: int,
+    e: wp.vec3d,
+    m_flux: wp.vec3,
+):
+    # the PlaneWave of root q = qr + i qi on sheet ``lab`` (its flux taken along ``m_flux``);
+    # ``root_label`` < 0 marks an evanescent root, a label other than the root's own the second
+    # copy of a double root (the other eigenpolarization)
+    eps = _eps(med)
+    ie = _inv_eps(med)
+    w = PlaneWave()
+    if root_label >= 0:
+        k = ktp + mp * qr
+        if root_label != lab:
+            n_f, d_f, n_s, d_s = _eigen_pair(wp.normalize(k), ie)
+            d = d_f
+            if lab == 1:
+                d = d_s
+            e = _e_of_d(d, ie)
+        w = _propagating(med, k, e, m_flux)
+    else:
+        kr = ktp + mp * qr
+        ki = mp * qi
+        er, ei = _evanescent_e(kr, ki, eps)
+        w.k_re = _world(med.frame, kr)
+        w.k_im = _world(med.frame, ki)
+        w.wave_normal = wp.normalize(w.k_re)
+        w.ray = wp.vec3(0.0)
+        w.n = 0.0
+        w.e_re = _world(med.frame, er)
+        w.e_im = _world(med.frame, ei)
+        w.flux = 0.0
+        w.propagating = 0
+    return w
+
+
+@wp.func
+def _side_waves64(kt_world: wp.vec3d, m: wp.vec3, med: UniaxialMedium, known: int, k_known: wp.vec3d):
+    """All four waves of the biaxial ``med`` with one tangential wave vector, from one quartic:
+    (out0, out1, in0, in1).  ``out`` leave the interface into the medium on the side of unit
+    normal ``m`` (energy along +m, or decaying along +m; flux taken along +m), ``in`` arrive at it
+    (energy along -m, or decaying along -m; flux taken along -m, as an incident wave's);
+    0 fast, 1 slow.  ``kt_world`` is the tangential wave vector (world, float64); with ``known``
+    = 1 it is that of ``k_known`` (principal coordinates), a propagating wave of this medium,
+    whose root is then exact and deflated (``_quartic_roots_known``): near an optic axis its
+    root is double, and deflating keeps its twin a real root instead of a complex pair that
+    could pass for an evanescent wave.  Phase matching makes these four waves every crystal wave
+    of an interface event: the incident and reflected waves on this side, the transmitted ones
+    of a solve from the other side (the backward event solves its quartics once)."""
     eps = _eps(med)
     ie = _inv_eps(med)
     f64 = _frame64(med.frame)
@@ -510,7 +582,7 @@ def _wave_pair64(kt_world: wp.vec3d, m: wp.vec3, med: UniaxialMedium, known: int
         qr, qi = _quartic_roots(c4, c3, c2, c1, c0)
     score = wp.vec4d()
     label = wp.vec4i()
-    efield = wp.mat33d()  # rows: E of the first three candidates (kept below for the best two)
+    efield = wp.mat33d()  # rows: E of the first three roots (the fourth in e3)
     e3 = wp.vec3d()
     tol = wp.float64(1.0e-7)
     for j in range(4):
@@ -537,7 +609,7 @@ def _wave_pair64(kt_world: wp.vec3d, m: wp.vec3, med: UniaxialMedium, known: int
             if qi[j] < wp.float64(0.0):
                 score[j] = wp.float64(-2.0)
             label[j] = -1
-    # the two highest scores leave into the medium
+    # the two highest scores leave into the medium, the other two arrive
     i0 = int(0)
     for j in range(1, 4):
         if score[j] > score[i0]:
@@ -549,59 +621,56 @@ def _wave_pair64(kt_world: wp.vec3d, m: wp.vec3, med: UniaxialMedium, known: int
                 i1 = j
             elif score[j] > score[i1]:
                 i1 = j
-    l0 = label[i0]
-    l1 = label[i1]
-    # labels: a propagating wave keeps its sheet; an evanescent one takes the other label; two
-    # waves on one sheet (a double root on an optic axis) are split as documented
-    if l0 < 0 and l1 < 0:
-        l0 = 0
-        l1 = 1
-    elif l0 < 0:
-        l0 = 1 - l1
-    elif l1 < 0:
-        l1 = 1 - l0
-    elif l0 == l1:
-        l1 = 1 - l0
-    waves0 = PlaneWave()
-    waves1 = PlaneWave()
-    for pick in range(2):
+    j0 = int(-1)
+    j1 = int(-1)
+    for j in range(4):
+        if j != i0 and j != i1:
+            if j0 < 0:
+                j0 = j
+            else:
+                j1 = j
+    l0, l1 = _pair_labels(label[i0], label[i1])
+    a0, a1 = _pair_labels(label[j0], label[j1])
+    out0 = PlaneWave()
+    out1 = PlaneWave()
+    in0 = PlaneWave()
+    in1 = PlaneWave()
+    m_in = -m
+    for pick in range(4):
         j = i0
         lab = l0
         if pick == 1:
             j = i1
             lab = l1
-        w = PlaneWave()
-        if label[j] >= 0:
-            k = ktp + mp * qr[j]
-            e = e3
-            if j < 3:
-                e = efield[j]
-            if label[j] != lab:
-                # the second copy of a double root: the other eigenpolarization
-                n_f, d_f, n_s, d_s = _eigen_pair(wp.normalize(k), ie)
-                d = d_f
-                if lab == 1:
-                    d = d_s
-                e = _e_of_d(d, ie)
-            w = _propagating(med, k, e, m)
+        elif pick == 2:
+            j = j0
+            lab = a0
+        elif pick == 3:
+            j = j1
+            lab = a1
+        e = e3
+        if j < 3:
+            e = efield[j]
+        if pick < 2:
+            w = _root_wave(med, ktp, mp, qr[j], qi[j], label[j], lab, e, m)
+            if lab == 0:
+                out0 = w
+            else:
+                out1 = w
         else:
-            kr = ktp + mp * qr[j]
-            ki = mp * qi[j]
-            er, ei = _evanescent_e(kr, ki, eps)
-            w.k_re = _world(med.frame, kr)
-            w.k_im = _world(med.frame, ki)
-            w.wave_normal = wp.normalize(w.k_re)
-            w.ray = wp.vec3(0.0)
-            w.n = 0.0
-            w.e_re = _world(med.frame, er)
-            w.e_im = _world(med.frame, ei)
-            w.flux = 0.0
-            w.propagating = 0
-        if lab == 0:
-            waves0 = w
-        else:
-            waves1 = w
-    return waves0, waves1
+            w = _root_wave(med, ktp, mp, qr[j], qi[j], label[j], lab, e, m_in)
+            if lab == 0:
+                in0 = w
+            else:
+                in1 = w
+    return out0, out1, in0, in1
+
+
+@wp.func
+def _wave_pair64(kt_world: wp.vec3d, m: wp.vec3, med: UniaxialMedium, known: int, k_known: wp.vec3d):
+    # the two waves leaving into ``med`` along m (``_side_waves64``)
+    out0, out1, in0, in1 = _side_waves64(kt_world, m, med, known, k_known)
+    return out0, out1
 
 
 @wp.func
@@ -675,6 +744,152 @@ def wave_index(med: UniaxialMedium, mode: int, s: wp.vec3):
 
 
 @wp.func
+def fresnel_from_waves(
+    inc: PlaneWave, ro: PlaneWave, re: PlaneWave, to: PlaneWave, te: PlaneWave, normal: wp.vec3, d: wp.vec3
+):
+    """The generalized Fresnel solution (eq. 5, ``birefringence.boundary_amplitudes``) of given
+    waves: the incident ``inc`` (wave normal ``d``), reflected ``ro``/``re`` and transmitted
+    ``to``/``te``, ``normal`` towards the incident side; refused (``solved`` = 0, zero
+    amplitudes) where an outgoing wave would carry energy into the interface."""
+    sol = InterfaceSolution()
+    xr, xi, ok = boundary_amplitudes(inc, ro, re, to, te, normal, d)
+    # a propagating outgoing wave must carry its energy away from the interface; where the root
+    # classification cannot tell (a wave normal on an optic axis at grazing incidence, where the
+    # sheets touch and every normal flux is ~0) the solve is refused rather than let an
+    # interface return more power than arrives
+    # (float32 rounding leaves grazing waves' fluxes at ~ -1e-7: the bound is 1e-4)
+    if (ro.propagating == 1 and ro.flux < -1.0e-4) or (re.propagating == 1 and re.flux < -1.0e-4):
+        ok = 0
+    if (to.propagating == 1 and to.flux < -1.0e-4) or (te.propagating == 1 and te.flux < -1.0e-4):
+        ok = 0
+    if ok == 0:
+        xr = wp.vec4(0.0)
+        xi = wp.vec4(0.0)
+    sol.r_o = wp.vec2f(xr[0], xi[0])
+    sol.r_e = wp.vec2f(xr[1], xi[1])
+    sol.t_o = wp.vec2f(xr[2], xi[2])
+    sol.t_e = wp.vec2f(xr[3], xi[3])
+    sol.incident = inc
+    sol.ro = ro
+    sol.re = re
+    sol.to = to
+    sol.te = te
+    sol.solved = ok
+    return sol
+
+
+@wp.struct
+class EventWaves:
+    """The crystal waves of one interface event with a biaxial side, solved once (phase matching:
+    every wave of the event shares the tangential wave vector ``kt``).  A side's ``*_out`` leave
+    the interface into it, ``*_in`` arrive from it (index 0 fast, 1 slow); unset for a side that
+    is not biaxial (its closed-form waves are cheap and built per solve)."""
+
+    kt: wp.vec3  # tangential wave vector / k0 (world)
+    a_out0: PlaneWave
+    a_out1: PlaneWave
+    a_in0: PlaneWave
+    a_in1: PlaneWave
+    b_out0: PlaneWave
+    b_out1: PlaneWave
+    b_in0: PlaneWave
+    b_in1: PlaneWave
+
+
+@wp.func
+def event_waves(w_a: wp.vec3, mode_a: int, nrm: wp.vec3, med_a: UniaxialMedium, med_b: UniaxialMedium):
+    """The waves of a backward event whose parent leaves the interface into A (unit wave normal
+    ``w_a``, mode ``mode_a``; ``nrm`` the unit normal on A's side): one quartic per biaxial side
+    (``_side_waves64``; A's deflated by the parent's own exact root)."""
+    ev = EventWaves()
+    kp = wp.vec3d()
+    k64 = wp.vec3d()
+    known = int(0)
+    if is_biaxial(med_a):
+        fa = _frame64(med_a.frame)
+        sp = wp.normalize(fa * _d3(w_a))
+        n_f, d_f, n_s, d_s = _eigen_pair(sp, _inv_eps(med_a))
+        n_p = n_f
+        if mode_a == 1:
+            n_p = n_s
+        kp = sp * n_p
+        k64 = wp.transpose(fa) * kp
+        known = 1
+    else:
+        n_eff = med_a.no
+        if mode_a == 1:
+            n_eff = n_e_theta(wp.dot(w_a, med_a.axis), med_a.no, med_a.ne)
+        k64 = _d3(w_a) * wp.float64(n_eff)
+    nv = _d3(nrm)
+    kt64 = k64 - nv * wp.dot(k64, nv)
+    ev.kt = wp.vec3(wp.float32(kt64[0]), wp.float32(kt64[1]), wp.float32(kt64[2]))
+    if is_biaxial(med_a):
+        o0, o1, i0, i1 = _side_waves64(kt64, nrm, med_a, known, kp)
+        ev.a_out0 = o0
+        ev.a_out1 = o1
+        ev.a_in0 = i0
+        ev.a_in1 = i1
+    if is_biaxial(med_b):
+        o0, o1, i0, i1 = _side_waves64(kt64, -nrm, med_b, 0, wp.vec3d())
+        ev.b_out0 = o0
+        ev.b_out1 = o1
+        ev.b_in0 = i0
+        ev.b_in1 = i1
+    return ev
+
+
+@wp.func
+def event_fresnel(
+    ev: EventWaves, side: int, mode_in: int, nrm: wp.vec3, med_a: UniaxialMedium, med_b: UniaxialMedium
+):
+    """The generalized Fresnel solution (:func:`fresnel_from_waves`) of the incident wave of mode
+    ``mode_in`` arriving from A (``side`` 0) or B (1) with the event's tangential wave vector,
+    from the waves of :func:`event_waves` (closed forms for a side that is not biaxial).
+    ``solved`` = 0 when that incident wave does not propagate."""
+    n_into = nrm
+    med_x = med_a
+    med_y = med_b
+    x_in0 = ev.a_in0
+    x_in1 = ev.a_in1
+    x_out0 = ev.a_out0
+    x_out1 = ev.a_out1
+    y_out0 = ev.b_out0
+    y_out1 = ev.b_out1
+    if side == 1:
+        n_into = -nrm
+        med_x = med_b
+        med_y = med_a
+        x_in0 = ev.b_in0
+        x_in1 = ev.b_in1
+        x_out0 = ev.b_out0
+        x_out1 = ev.b_out1
+        y_out0 = ev.a_out0
+        y_out1 = ev.a_out1
+    kt = ev.kt
+    inc = PlaneWave()
+    if is_biaxial(med_x):
+        inc = x_in0
+        if mode_in == 1:
+            inc = x_in1
+    else:
+        # the time reverse of the wave leaving into X with tangential -kt
+        wv = ordinary_wave(-kt, n_into, med_x, n_into)
+        if mode_in == 1 and wp.dot(med_x.axis, med_x.axis) > 0.0:
+            wv = extraordinary_wave(-kt, n_into, med_x, n_into)
+        if wv.propagating == 1:
+            inc = incident_wave(-wv.wave_normal, mode_in, med_x, n_into)
+    if inc.propagating == 0:
+        sol = InterfaceSolution()
+        sol.solved = 0
+        return sol
+    if not is_biaxial(med_x):
+        x_out0, x_out1 = medium_waves(kt, n_into, med_x, n_into)
+    if not is_biaxial(med_y):
+        y_out0, y_out1 = medium_waves(kt, -n_into, med_y, n_into)
+    return fresnel_from_waves(inc, x_out0, x_out1, y_out0, y_out1, n_into, inc.wave_normal)
+
+
+@wp.func
 def crystal_fresnel(d: wp.vec3, mode: int, normal: wp.vec3, m1: UniaxialMedium, m2: UniaxialMedium):
     """Generalized Fresnel amplitudes (eq. 5) for any pair of media; the waves of each side from
     its own solver.  Without a biaxial side this is ``birefringence.generalized_fresnel``
@@ -682,7 +897,6 @@ def crystal_fresnel(d: wp.vec3, mode: int, normal: wp.vec3, m1: UniaxialMedium, 
     or fast/slow)."""
     if not is_biaxial(m1) and not is_biaxial(m2):
         return generalized_fresnel(d, mode, normal, m1, m2)
-    sol = InterfaceSolution()
     inc = medium_incident_wave(d, mode, m1, normal)
     kt = inc.k_re - normal * wp.dot(inc.k_re, normal)
     # the tangential wave vector in float64 (from the incident wave normal itself when it is in
@@ -716,30 +930,27 @@ def crystal_fresnel(d: wp.vec3, mode: int, normal: wp.vec3, m1: UniaxialMedium, 
         to, te = _wave_pair64(kt64, -normal, m2, 0, wp.vec3d())
     else:
         to, te = medium_waves(kt, -normal, m2, normal)
-    xr, xi, ok = boundary_amplitudes(inc, ro, re, to, te, normal, d)
-    # a propagating outgoing wave must carry its energy away from the interface; where the root
-    # classification cannot tell (a wave normal on an optic axis at grazing incidence, where the
-    # sheets touch and every normal flux is ~0) the solve is refused rather than let an
-    # interface return more power than arrives
-    # (float32 rounding leaves grazing waves' fluxes at ~ -1e-7: the bound is 1e-4)
-    if (ro.propagating == 1 and ro.flux < -1.0e-4) or (re.propagating == 1 and re.flux < -1.0e-4):
-        ok = 0
-    if (to.propagating == 1 and to.flux < -1.0e-4) or (te.propagating == 1 and te.flux < -1.0e-4):
-        ok = 0
-    if ok == 0:
-        xr = wp.vec4(0.0)
-        xi = wp.vec4(0.0)
-    sol.r_o = wp.vec2f(xr[0], xi[0])
-    sol.r_e = wp.vec2f(xr[1], xi[1])
-    sol.t_o = wp.vec2f(xr[2], xi[2])
-    sol.t_e = wp.vec2f(xr[3], xi[3])
-    sol.incident = inc
-    sol.ro = ro
-    sol.re = re
-    sol.to = to
-    sol.te = te
-    sol.solved = ok
-    return sol
+    return fresnel_from_waves(inc, ro, re, to, te, normal, d)
+
+
+@wp.func
+def crystal_fresnel_both(d: wp.vec3, normal: wp.vec3, m1: UniaxialMedium, m2: UniaxialMedium):
+    """:func:`crystal_fresnel` for both polarizations (modes 0 and 1) of an incident wave of unit
+    wave normal ``d`` in the non-biaxial ``m1``: (sol_0, sol_1), the outgoing waves solved once
+    (one quartic for a biaxial ``m2`` instead of two)."""
+    if not is_biaxial(m2):
+        return generalized_fresnel(d, 0, normal, m1, m2), generalized_fresnel(d, 1, normal, m1, m2)
+    inc0 = medium_incident_wave(d, 0, m1, normal)
+    inc1 = medium_incident_wave(d, 1, m1, normal)
+    kt = inc0.k_re - normal * wp.dot(inc0.k_re, normal)
+    ro, re = medium_waves(kt, normal, m1, normal)
+    k64 = _d3(inc0.k_re)
+    nv = _d3(normal)
+    kt64 = k64 - nv * wp.dot(k64, nv)
+    to, te = _wave_pair64(kt64, -normal, m2, 0, wp.vec3d())
+    return fresnel_from_waves(inc0, ro, re, to, te, normal, d), fresnel_from_waves(
+        inc1, ro, re, to, te, normal, d
+    )
 
 
 # ----------------------------------------------------------------------------------------------

@@ -55,8 +55,17 @@ from __future__ import annotations
 
 import warp as wp
 
-from .biaxial import crystal_fresnel, is_biaxial, medium_waves, wave_index
+from .biaxial import (
+    EventWaves,
+    crystal_fresnel,
+    crystal_fresnel_both,
+    event_fresnel,
+    event_waves,
+    is_biaxial,
+    wave_index,
+)
 from .birefringence import (
+    InterfaceSolution,
     PlaneWave,
     UniaxialMedium,
     extraordinary_wave,
@@ -383,6 +392,12 @@ def backward_uniaxial_exact(
     y_par = wp.cross(w_a, bx)
     energies = wp.vec4f(0.0, 0.0, 0.0, 0.0)
     count = int(0)
+    # a biaxial side: its four waves of this tangential wave vector from one quartic, shared by
+    # the four solves below (incident and reflected on one side are transmitted of the other)
+    bi_any = is_biaxial(med_a) or is_biaxial(med_b)
+    ev = EventWaves()
+    if bi_any:
+        ev = event_waves(w_a, mode_a, nrm, med_a, med_b)
     for side in range(2):
         n_into = nrm
         med_x = med_a
@@ -401,28 +416,21 @@ def backward_uniaxial_exact(
         iso_basis = wp.vec3f(0.0, 0.0, 0.0)
         iso_dir = wp.vec3f(0.0, 0.0, 0.0)
         iso_any = int(0)
-        bi_x = is_biaxial(med_x)
-        bw0 = PlaneWave()
-        bw1 = PlaneWave()
-        if bi_x:
-            bw0, bw1 = medium_waves(-kt, n_into, med_x, n_into)  # fast and slow, one quartic
         for mode_in in range(2):
             # the incident wave is the time reverse of the outgoing wave into X with tangential -kt
-            wv = PlaneWave()
-            if bi_x:
-                wv = bw0
-                if mode_in == 1:
-                    wv = bw1
+            sol = InterfaceSolution()
+            if bi_any:
+                sol = event_fresnel(ev, side, mode_in, nrm, med_a, med_b)
             else:
                 wv = ordinary_wave(-kt, n_into, med_x, n_into)
                 if mode_in == 1 and not iso_x:
                     wv = extraordinary_wave(-kt, n_into, med_x, n_into)
-            if wv.propagating == 0:
-                continue
-            d_in = -wv.wave_normal
-            sol = crystal_fresnel(d_in, mode_in, n_into, med_x, med_y)
+                if wv.propagating == 0:
+                    continue
+                sol = crystal_fresnel(-wv.wave_normal, mode_in, n_into, med_x, med_y)
             if sol.solved == 0 or sol.incident.flux <= 0.0:
                 continue
+            d_in = sol.incident.wave_normal
             wo = sol.ro
             co = sol.r_o
             we = sol.re
@@ -786,8 +794,7 @@ def forward_event(
         zero = wp.vec2f(0.0, 0.0)
         if mode < 0:
             # isotropic incident ray: its s/p (= o/e) components both excite every wave
-            so = crystal_fresnel(s_in, 0, nrm, med_a, med_b)
-            se = crystal_fresnel(s_in, 1, nrm, med_a, med_b)
+            so, se = crystal_fresnel_both(s_in, nrm, med_a, med_b)
             m_in = jones_mul(jones_real(frame_change(s_in, bx, so.incident.e_re)), m)
             ctx = _wave_ctx(x, eps, w, csrc, depth + 1, so.incident.flux)
             cand, ea, e_sum, c = _push_wave(

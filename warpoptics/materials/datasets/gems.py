@@ -46,7 +46,9 @@ BIAXIAL_SOURCES = (
     "J. W. Anthony et al., Handbook of Mineralogy, Mineralogical Society of America (2V(meas.) "
     "ranges); M. O'Donoghue, Gems, 6th ed. (2006) (tanzanite n_alpha/n_beta/n_gamma, band "
     "positions 595/528/455 nm); refractiveindex.info main/BeAl2O4/Walling-alpha/-beta/-gamma "
-    "(Walling et al. 1980, IEEE JQE 16, 1302; formula of Loiko & Major 2016, OME 6, 2177)"
+    "(Walling et al. 1980, IEEE JQE 16, 1302; formula of Loiko & Major 2016, OME 6, 2177) for "
+    "alexandrite; chrysoberyl: Deutsche Gemmologische Gesellschaft indices, Handbook of Mineralogy "
+    "2V(meas.) 70°"
 )
 
 #: the source string of every Cr³⁺ band spectrum
@@ -142,20 +144,31 @@ GEMS: dict[str, dict] = {
         ),
     ),
     "chrysoberyl": dict(
-        index=("biaxial_pages", "main/BeAl2O4/Walling-γ", "main/BeAl2O4/Walling-α", "main/BeAl2O4/Walling-β"),
+        index=("biaxial", 1.746, 1.749, 1.755, 0.015),
         source=(
-            "refractiveindex.info main/BeAl2O4/Walling-γ, -α, -β as n_alpha, n_beta, n_gamma (the "
-            "pages are labelled by crystal direction; sorted by index at 589 nm; alexandrite laser "
-            "crystal): 2V from these indices is 60° (+), below the handbook's 70° for gem chrysoberyl"
+            "chrysoberyl: n_alpha 1.746, n_beta 1.749, n_gamma 1.755 (nD; Deutsche Gemmologische "
+            "Gesellschaft table, as quoted by diamantlabor.com/chysoberyll.html), biaxial (+), "
+            "dispersion 0.015 (GIA, gemstones-guide.com chrysoberyl properties); Cauchy fits"
         ),
-        two_v=None,
+        # Handbook of Mineralogy, chrysoberyl (Mineral Data Publishing 2001): alpha 1.746,
+        # beta 1.748, gamma 1.756, 2V(meas.) = 70°, biaxial (+), r > v; it states no
+        # uncertainty: ±5° is assumed here (its own 3-decimal indices give 53°, so the measured
+        # angle, not those indices, is the reference)
+        two_v=(65.0, 75.0, "+", "Handbook of Mineralogy, chrysoberyl: 2V(meas.) = 70° (+)"),
     ),
     "alexandrite": dict(
         index=("biaxial_pages", "main/BeAl2O4/Walling-γ", "main/BeAl2O4/Walling-α", "main/BeAl2O4/Walling-β"),
         source=(
             "refractiveindex.info main/BeAl2O4/Walling-γ, -α, -β as n_alpha, n_beta, n_gamma "
-            "(Cr-doped chrysoberyl, the alexandrite laser crystal; 2V 60° (+) from these indices)"
+            "(Cr-doped chrysoberyl, the alexandrite laser crystal; 2V 61° (+) from these indices)"
         ),
+        # no 2V check: the pages (Walling et al. 1980 via Loiko & Major 2016; a synthetic
+        # Czochralski laser crystal) give n_beta - n_alpha = 0.0019 of n_gamma - n_alpha = 0.0076
+        # at 589.3 nm, hence 2V = 61.1° with r < v (62.7° at 450 nm, 61.0° at 700 nm), where the
+        # Handbook of Mineralogy gives 70° and r > v for natural chrysoberyl.  Sorting the pages
+        # by index is the only order they allow (the page labelled gamma is the lowest), so the
+        # gap is in the data, not the axis assignment; the pages are kept for their measured
+        # dispersion, chrysoberyl above carries the gem constants
         two_v=None,
         absorption=dict(
             x=((575.0, 60.0, 0.35), (420.0, 40.0, 0.40)),
