@@ -166,7 +166,10 @@ def main(argv=None) -> int:
             "summary": summary,
             "references": {k: {kk: vv for kk, vv in v.items() if kk != "image"} for k, v in refs.items()},
         }
-        args.json.write_text(json.dumps(out, indent=2))
+        from warpoptics.atomic import atomic_path
+
+        with atomic_path(args.json) as tmp:
+            Path(tmp).write_text(json.dumps(out, indent=2))
     return 0
 
 
