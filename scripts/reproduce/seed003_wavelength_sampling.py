@@ -60,7 +60,14 @@ def main(argv: list[str] | None = None) -> int:
         for s in STRATEGIES:
             for k in range(args.seeds):
                 runs[s].append(
-                    wo.render(base, device=args.device, spectral=s, wavelengths=args.samples, seed=1000 + k)
+                    wo.render(
+                        base,
+                        device=args.device,
+                        spectral=s,
+                        wavelengths=args.samples,
+                        seed=1000 + k,
+                        bundle=False,  # seed 003 compares per-wavelength estimators (no spectral bundles)
+                    )
                 )
 
     alpha = np.mean([im.alpha for s in STRATEGIES for im in runs[s]], axis=0)
