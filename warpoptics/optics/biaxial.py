@@ -61,6 +61,7 @@ from ..device import elementwise
 from ..errors import InputError
 from .absorption import trichroic_kappa
 from .birefringence import (
+    SOLUTION_OUTPUTS,
     InterfaceSolution,
     PlaneWave,
     UniaxialMedium,
@@ -70,6 +71,8 @@ from .birefringence import (
     incident_wave,
     n_e_theta,
     ordinary_wave,
+    solution_result,
+    store_solution,
     uniaxial_medium,
 )
 
@@ -1013,17 +1016,6 @@ def _waves_kernel(
     out_n[i] = nn
 
 
-@wp.func
-def _pack(w: PlaneWave, j: int, kv: _vec15, kiv: _vec15, erv: _vec15, eiv: _vec15, rayv: _vec15):
-    for c in range(3):
-        kv[3 * j + c] = w.k_re[c]
-        kiv[3 * j + c] = w.k_im[c]
-        erv[3 * j + c] = w.e_re[c]
-        eiv[3 * j + c] = w.e_im[c]
-        rayv[3 * j + c] = w.ray[c]
-    return kv, kiv, erv, eiv, rayv
-
-
 @wp.kernel
 def _fresnel_kernel(
     offset: int,
@@ -1052,24 +1044,7 @@ def _fresnel_kernel(
     m1 = _medium_of(n31[i], ax1[i], x1[i], y1[i], z1[i])
     m2 = _medium_of(n32[i], ax2[i], x2[i], y2[i], z2[i])
     sol = crystal_fresnel(d[i], mode[i], normal[i], m1, m2)
-    c = _vec8(sol.r_o[0], sol.r_o[1], sol.r_e[0], sol.r_e[1], sol.t_o[0], sol.t_o[1], sol.t_e[0], sol.t_e[1])
-    out_coef[i] = c
-    kv = _vec15()
-    kiv = _vec15()
-    erv = _vec15()
-    eiv = _vec15()
-    rayv = _vec15()
-    kv, kiv, erv, eiv, rayv = _pack(sol.incident, 0, kv, kiv, erv, eiv, rayv)
-    kv, kiv, erv, eiv, rayv = _pack(sol.ro, 1, kv, kiv, erv, eiv, rayv)
-    kv, kiv, erv, eiv, rayv = _pack(sol.re, 2, kv, kiv, erv, eiv, rayv)
-    kv, kiv, erv, eiv, rayv = _pack(sol.to, 3, kv, kiv, erv, eiv, rayv)
-    kv, kiv, erv, eiv, rayv = _pack(sol.te, 4, kv, kiv, erv, eiv, rayv)
-    out_k_re[i] = kv
-    out_k_im[i] = kiv
-    out_e_re[i] = erv
-    out_e_im[i] = eiv
-    out_ray[i] = rayv
-    out_flux[i] = _vec5(sol.incident.flux, sol.ro.flux, sol.re.flux, sol.to.flux, sol.te.flux)
+    store_solution(sol, i, out_coef, out_k_re, out_k_im, out_e_re, out_e_im, out_ray, out_flux)
 
 
 @wp.kernel
@@ -1204,8 +1179,6 @@ def biaxial_fresnel_coefficients(direction, normal, medium1, medium2, *, mode=0,
     ``(n_alpha, n_beta, n_gamma, crystal_axes)``; ``mode`` the incident wave's (0/1: s/p, o/e or
     fast/slow).  Returns a ``birefringence.GeneralizedFresnelResult`` (waves: incident, r0, r1,
     t0, t1)."""
-    from .birefringence import GeneralizedFresnelResult
-
     a1 = _medium_arrays(medium1, "medium1")
     a2 = _medium_arrays(medium2, "medium2")
     mode_arr = np.asarray(mode, dtype=np.int32)
@@ -1214,18 +1187,7 @@ def biaxial_fresnel_coefficients(direction, normal, medium1, medium2, *, mode=0,
     ins = [(_unit(direction, "direction"), wp.vec3), (_unit(normal, "normal"), wp.vec3), (mode_arr, wp.int32)]
     for a in (a1, a2):
         ins += [(v, wp.vec3) for v in a]
-    coef, kr, ki, er, ei, ray, flux = elementwise(
-        _fresnel_kernel, ins, [_vec8, _vec15, _vec15, _vec15, _vec15, _vec15, _vec5], device=device
-    )
-    shape = coef.shape[:-1]
-    c = coef.astype(np.float64)
-    k = (kr.astype(np.float64) + 1j * ki.astype(np.float64)).reshape(*shape, 5, 3)
-    e = (er.astype(np.float64) + 1j * ei.astype(np.float64)).reshape(*shape, 5, 3)
-    ray3 = ray.astype(np.float64).reshape(*shape, 5, 3)
-    propagating = np.linalg.norm(ray3[..., 1:, :], axis=-1) > 0
-    return GeneralizedFresnelResult(
-        c[..., 0::2] + 1j * c[..., 1::2], k, e, ray3, flux.astype(np.float64), propagating
-    )
+    return solution_result(*elementwise(_fresnel_kernel, ins, SOLUTION_OUTPUTS, device=device))
 
 
 def biaxial_absorption(wave_normal, mode, crystal_axes, n_alpha, n_beta, n_gamma, alphas, *, device=None):

@@ -102,6 +102,9 @@ __all__ = [
     "reflect_extraordinary",
     "oe_polarizations",
     "GeneralizedFresnelResult",
+    "store_solution",
+    "solution_result",
+    "SOLUTION_OUTPUTS",
     "generalized_fresnel_coefficients",
     "fresnel_matrices",
     "kappa_e",
@@ -729,6 +732,45 @@ def _pack_wave(w: PlaneWave, j: int, kv: _vec15, kiv: _vec15, erv: _vec15, eiv: 
     return kv, kiv, erv, eiv, rayv
 
 
+@wp.func
+def store_solution(
+    sol: InterfaceSolution,
+    i: int,
+    out_coef: wp.array(dtype=_vec8),
+    out_k_re: wp.array(dtype=_vec15),
+    out_k_im: wp.array(dtype=_vec15),
+    out_e_re: wp.array(dtype=_vec15),
+    out_e_im: wp.array(dtype=_vec15),
+    out_ray: wp.array(dtype=_vec15),
+    out_flux: wp.array(dtype=_vec5),
+):
+    """Row ``i`` of the NumPy wrappers' outputs of one interface solution (amplitudes r_o, r_e,
+    t_o, t_e; the five waves' k, E, ray and flux): the uniaxial and the biaxial wrapper share it."""
+    out_coef[i] = _vec8(
+        sol.r_o[0], sol.r_o[1], sol.r_e[0], sol.r_e[1], sol.t_o[0], sol.t_o[1], sol.t_e[0], sol.t_e[1]
+    )
+    kv = _vec15()
+    kiv = _vec15()
+    erv = _vec15()
+    eiv = _vec15()
+    rayv = _vec15()
+    kv, kiv, erv, eiv, rayv = _pack_wave(sol.incident, 0, kv, kiv, erv, eiv, rayv)
+    kv, kiv, erv, eiv, rayv = _pack_wave(sol.ro, 1, kv, kiv, erv, eiv, rayv)
+    kv, kiv, erv, eiv, rayv = _pack_wave(sol.re, 2, kv, kiv, erv, eiv, rayv)
+    kv, kiv, erv, eiv, rayv = _pack_wave(sol.to, 3, kv, kiv, erv, eiv, rayv)
+    kv, kiv, erv, eiv, rayv = _pack_wave(sol.te, 4, kv, kiv, erv, eiv, rayv)
+    out_k_re[i] = kv
+    out_k_im[i] = kiv
+    out_e_re[i] = erv
+    out_e_im[i] = eiv
+    out_ray[i] = rayv
+    out_flux[i] = _vec5(sol.incident.flux, sol.ro.flux, sol.re.flux, sol.to.flux, sol.te.flux)
+
+
+#: the output dtypes of :func:`store_solution`, for ``device.elementwise``
+SOLUTION_OUTPUTS = [_vec8, _vec15, _vec15, _vec15, _vec15, _vec15, _vec5]
+
+
 @wp.kernel
 def _generalized_fresnel_kernel(
     offset: int,
@@ -753,32 +795,7 @@ def _generalized_fresnel_kernel(
     m1 = uniaxial_medium(no1[i], ne1[i], axis1[i])
     m2 = uniaxial_medium(no2[i], ne2[i], axis2[i])
     sol = generalized_fresnel(d[i], mode[i], normal[i], m1, m2)
-    c = _vec8()
-    c[0] = sol.r_o[0]
-    c[1] = sol.r_o[1]
-    c[2] = sol.r_e[0]
-    c[3] = sol.r_e[1]
-    c[4] = sol.t_o[0]
-    c[5] = sol.t_o[1]
-    c[6] = sol.t_e[0]
-    c[7] = sol.t_e[1]
-    out_coef[i] = c
-    kv = _vec15()
-    kiv = _vec15()
-    erv = _vec15()
-    eiv = _vec15()
-    rayv = _vec15()
-    kv, kiv, erv, eiv, rayv = _pack_wave(sol.incident, 0, kv, kiv, erv, eiv, rayv)
-    kv, kiv, erv, eiv, rayv = _pack_wave(sol.ro, 1, kv, kiv, erv, eiv, rayv)
-    kv, kiv, erv, eiv, rayv = _pack_wave(sol.re, 2, kv, kiv, erv, eiv, rayv)
-    kv, kiv, erv, eiv, rayv = _pack_wave(sol.to, 3, kv, kiv, erv, eiv, rayv)
-    kv, kiv, erv, eiv, rayv = _pack_wave(sol.te, 4, kv, kiv, erv, eiv, rayv)
-    out_k_re[i] = kv
-    out_k_im[i] = kiv
-    out_e_re[i] = erv
-    out_e_im[i] = eiv
-    out_ray[i] = rayv
-    out_flux[i] = _vec5(sol.incident.flux, sol.ro.flux, sol.re.flux, sol.to.flux, sol.te.flux)
+    store_solution(sol, i, out_coef, out_k_re, out_k_im, out_e_re, out_e_im, out_ray, out_flux)
 
 
 @wp.kernel
@@ -1041,9 +1058,14 @@ def generalized_fresnel_coefficients(
             (ne2, wp.float32),
             (ax2, wp.vec3),
         ],
-        [_vec8, _vec15, _vec15, _vec15, _vec15, _vec15, _vec5],
+        SOLUTION_OUTPUTS,
         device=device,
     )
+    return solution_result(coef, kr, ki, er, ei, ray, flux)
+
+
+def solution_result(coef, kr, ki, er, ei, ray, flux) -> GeneralizedFresnelResult:
+    """The :class:`GeneralizedFresnelResult` of the arrays :func:`store_solution` wrote."""
     shape = coef.shape[:-1]
     c = coef.astype(np.float64)
     coefficients = c[..., 0::2] + 1j * c[..., 1::2]
