@@ -69,6 +69,7 @@ from .birefringence import (
     extraordinary_wave,
     generalized_fresnel,
     incident_wave,
+    interface_solution,
     n_e_theta,
     ordinary_wave,
     solution_result,
@@ -754,7 +755,6 @@ def fresnel_from_waves(
     waves: the incident ``inc`` (wave normal ``d``), reflected ``ro``/``re`` and transmitted
     ``to``/``te``, ``normal`` towards the incident side; refused (``solved`` = 0, zero
     amplitudes) where an outgoing wave would carry energy into the interface."""
-    sol = InterfaceSolution()
     xr, xi, ok = boundary_amplitudes(inc, ro, re, to, te, normal, d)
     # a propagating outgoing wave must carry its energy away from the interface; where the root
     # classification cannot tell (a wave normal on an optic axis at grazing incidence, where the
@@ -768,17 +768,7 @@ def fresnel_from_waves(
     if ok == 0:
         xr = wp.vec4(0.0)
         xi = wp.vec4(0.0)
-    sol.r_o = wp.vec2f(xr[0], xi[0])
-    sol.r_e = wp.vec2f(xr[1], xi[1])
-    sol.t_o = wp.vec2f(xr[2], xi[2])
-    sol.t_e = wp.vec2f(xr[3], xi[3])
-    sol.incident = inc
-    sol.ro = ro
-    sol.re = re
-    sol.to = to
-    sol.te = te
-    sol.solved = ok
-    return sol
+    return interface_solution(inc, ro, re, to, te, xr, xi, ok)
 
 
 @wp.struct

@@ -92,6 +92,7 @@ __all__ = [
     "ordinary_wave",
     "extraordinary_wave",
     "generalized_fresnel",
+    "interface_solution",
     "incident_wave",
     "boundary_amplitudes",
     "interface_jones",
@@ -535,6 +536,33 @@ def boundary_amplitudes(
 
 
 @wp.func
+def interface_solution(
+    inc: PlaneWave,
+    ro: PlaneWave,
+    re: PlaneWave,
+    to: PlaneWave,
+    te: PlaneWave,
+    xr: wp.vec4,
+    xi: wp.vec4,
+    ok: int,
+):
+    """The :class:`InterfaceSolution` of the five waves and the amplitudes (r_o, r_e, t_o, t_e) =
+    xr + i xi of :func:`boundary_amplitudes` (``ok`` = 0: not solved)."""
+    sol = InterfaceSolution()
+    sol.r_o = wp.vec2f(xr[0], xi[0])
+    sol.r_e = wp.vec2f(xr[1], xi[1])
+    sol.t_o = wp.vec2f(xr[2], xi[2])
+    sol.t_e = wp.vec2f(xr[3], xi[3])
+    sol.incident = inc
+    sol.ro = ro
+    sol.re = re
+    sol.to = to
+    sol.te = te
+    sol.solved = ok
+    return sol
+
+
+@wp.func
 def generalized_fresnel(
     d: wp.vec3, extraordinary: int, normal: wp.vec3, m1: UniaxialMedium, m2: UniaxialMedium
 ):
@@ -544,7 +572,6 @@ def generalized_fresnel(
     Covers isotropic->uniaxial, uniaxial->isotropic, uniaxial->uniaxial and isotropic->isotropic
     (``axis = 0``: o/e = s/p).  Amplitudes relate unit-|E| fields: outgoing field =
     coefficient * incident amplitude * e_out."""
-    sol = InterfaceSolution()
     inc = _incident_wave(d, extraordinary, m1, normal)
     kt = inc.k_re - normal * wp.dot(inc.k_re, normal)
     ro = PlaneWave()
@@ -558,17 +585,7 @@ def generalized_fresnel(
     to = ordinary_wave(kt, -normal, m2, normal)
     te = extraordinary_wave(kt, -normal, m2, normal)
     xr, xi, ok = boundary_amplitudes(inc, ro, re, to, te, normal, d)
-    sol.r_o = wp.vec2f(xr[0], xi[0])
-    sol.r_e = wp.vec2f(xr[1], xi[1])
-    sol.t_o = wp.vec2f(xr[2], xi[2])
-    sol.t_e = wp.vec2f(xr[3], xi[3])
-    sol.incident = inc
-    sol.ro = ro
-    sol.re = re
-    sol.to = to
-    sol.te = te
-    sol.solved = ok
-    return sol
+    return interface_solution(inc, ro, re, to, te, xr, xi, ok)
 
 
 @wp.func
