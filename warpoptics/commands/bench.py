@@ -15,18 +15,13 @@ def run(args) -> int:
     from ..errors import InputError
     from ..pipelines.bench import Bench
     from ..scene.bench import BenchScene
-    from ..scene.load import parse_value
+    from ..scene.load import parse_set_options
 
     out = Path(args.output)
     if out.suffix.lower() not in _FORMATS:
         raise InputError("unsupported output format", field="-o", value=str(out), allowed=", ".join(_FORMATS))
     scene = BenchScene.load(args.scene)
-    overrides = {}
-    for item in args.set or []:
-        if "=" not in item:
-            raise InputError("expected KEY=VALUE", field="--set", value=item)
-        key, value = item.split("=", 1)
-        overrides[key.strip()] = parse_value(value.strip())
+    overrides = parse_set_options(args.set)
     if getattr(args, "rays", None) is not None:
         overrides["source.rays"] = args.rays
     if getattr(args, "wavelengths", None) is not None:

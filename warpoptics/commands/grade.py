@@ -53,7 +53,7 @@ def stone_from_args(args) -> tuple[dict, float | None]:
     import tomllib
 
     from ..geometry import cuts
-    from ..scene.load import parse_value
+    from ..scene.load import parse_set_options
     from ..scene.schema import SHAPES
 
     src = args.stone
@@ -93,11 +93,7 @@ def stone_from_args(args) -> tuple[dict, float | None]:
         stone = {"shape": src, "diameter": args.diameter}
     if args.material:
         stone["material"] = args.material
-    for item in args.set or []:
-        if "=" not in item:
-            raise InputError("expected KEY=VALUE", field="--set", value=item)
-        k, v = item.split("=", 1)
-        stone[k.strip()] = parse_value(v.strip())
+    stone.update(parse_set_options(args.set))
     return stone, frame
 
 

@@ -28,7 +28,7 @@ def run(args) -> int:
     from ..errors import InputError
     from ..pipelines.render import Renderer
     from ..scene.bench import is_bench_scene
-    from ..scene.load import Scene, parse_value
+    from ..scene.load import Scene, parse_set_options
 
     if is_bench_scene(args.scene):
         # an optical-bench scene ([source] type = "beam"): trace it forward onto its screens
@@ -47,12 +47,7 @@ def run(args) -> int:
 
         return bench_command.run(args)
     scene = Scene.load(args.scene)
-    overrides = {}
-    for item in args.set or []:
-        if "=" not in item:
-            raise InputError("expected KEY=VALUE", field="--set", value=item)
-        key, value = item.split("=", 1)
-        overrides[key.strip()] = parse_value(value.strip())
+    overrides = parse_set_options(args.set)
     kw = {k: getattr(args, k) for k in ("width", "height", "spp") if getattr(args, k) is not None}
     out = args.output
     if not out.lower().endswith((".exr", ".png", ".jpg", ".jpeg", ".tif", ".tiff")):

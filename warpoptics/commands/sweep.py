@@ -6,16 +6,10 @@ import sys
 
 
 def run(args) -> int:
-    from ..errors import InputError
-    from ..scene.load import parse_value
+    from ..scene.load import parse_set_options
     from ..sweep import Sweep, SweepRunner
 
-    extra = {}
-    for item in args.set or []:
-        if "=" not in item:
-            raise InputError("expected KEY=VALUE", field="--set", value=item)
-        key, value = item.split("=", 1)
-        extra[key.strip()] = parse_value(value.strip())
+    extra = parse_set_options(args.set)
     sweep = Sweep.load(args.sweep, extra_set=extra)
     jobs = sweep.jobs()
     if args.list:

@@ -199,7 +199,7 @@ class ViewServer:
 def run(args) -> int:
     from ..pipelines.preview import Preview
     from ..scene.bench import is_bench_scene
-    from ..scene.load import Scene, parse_value
+    from ..scene.load import Scene, parse_set_options
 
     if is_bench_scene(args.scene):
         raise InputError("the viewer shows camera scenes; this is an optical-bench scene", file=args.scene)
@@ -209,12 +209,7 @@ def run(args) -> int:
             "not a TCP port", field="--port", value=val_port, allowed="0 (any free port) to 65535"
         )
     scene = Scene.load(args.scene)
-    overrides = {}
-    for item in args.set or []:
-        if "=" not in item:
-            raise InputError("expected KEY=VALUE", field="--set", value=item)
-        key, value = item.split("=", 1)
-        overrides[key.strip()] = parse_value(value.strip())
+    overrides = parse_set_options(args.set)
     if overrides:
         scene = scene.with_overrides(overrides)
     preview = Preview(

@@ -26,7 +26,7 @@ from .schema import (
     view_config,
 )
 
-__all__ = ["Scene", "set_dotted", "parse_value"]
+__all__ = ["Scene", "set_dotted", "parse_value", "parse_set_options"]
 
 _CAMERA_KEYS = set(CameraConfig.__dataclass_fields__) - {"source"}
 _TOP_KEYS = {"camera", "render", "light", "object", "surface", "view"}
@@ -172,6 +172,18 @@ def set_dotted(data: dict, dotted: str, value, *, file: str = "<scene>") -> None
             value=node,
         )
     node[last] = value
+
+
+def parse_set_options(items) -> dict:
+    """The ``--set KEY=VALUE`` options of a command as {dotted path: value} (:func:`parse_value`);
+    one-line error for an item without ``=``."""
+    out = {}
+    for item in items or []:
+        if "=" not in item:
+            raise InputError("expected KEY=VALUE", field="--set", value=item)
+        key, value = item.split("=", 1)
+        out[key.strip()] = parse_value(value.strip())
+    return out
 
 
 def parse_value(text: str):
