@@ -16,7 +16,7 @@ from _helpers import ROOT
 
 # moments after the start: during the package's imports (trimesh, scipy, Warp's builtins), Warp's
 # start-up, scene loading and kernel loading, the render (a 64x64 render takes ~3-20 s here)
-DELAYS = (0.2, 0.7, 1.3, 2.0)  # 3.0 and 4.5 s raced the end of a 64x64 render in CI (file replaced): see the note
+DELAYS = (0.2, 0.7, 1.3, 2.0, 3.0, 4.5)
 
 
 @pytest.mark.parametrize("delay", DELAYS)
@@ -43,17 +43,21 @@ def test_sigint_in_the_first_seconds(tmp_path, delay):
         p.communicate()
         pytest.fail("did not stop within 90 s of Ctrl-C")
     waited = time.monotonic() - t0
-    if p.returncode == 0 and "keep.png:" in stdout:
-        # the render finished before the signal arrived (a fast machine): then it must have
-        # written the file, which is a right answer
-        assert out.read_bytes() != b"the user's file"
+    if out.read_bytes() != b"the user's file":
+        # the render had finished and renamed its file over the old one before the signal was
+        # handled (a fast machine, or a signal between the rename and the exit; in CI at 3 s):
+        # a right answer only if what replaced it is the whole, finished image
+        from warpoptics.film.image import read_image
+
+        assert p.returncode in (0, 130), (p.returncode, stderr)
+        assert read_image(out)[0].shape[:2] == (64, 64)
         return
     if p.returncode == -signal.SIGINT:
-        # seen once in CI (empty kernel cache, signal at 3.0 s): the process ended by the signal
-        # itself, silently, the user's file intact; the handler was not in place at that moment
-        # (cause not found yet, see the session note).  Still: no traceback, no lost file.
+        # seen once in CI with an empty kernel cache: the process ended by the signal itself,
+        # silently.  Likely LLVM's own interrupt handler, active while Warp compiles kernels
+        # in-process, which removes its temporary files and re-raises the signal.  The user's
+        # file is intact and nothing is printed: accepted, not the 130 exit of the command.
         assert "Traceback" not in stderr, stderr
-        assert out.read_bytes() == b"the user's file"
         return
     assert p.returncode == 130, (p.returncode, stderr)
     assert "Traceback" not in stderr and stderr.strip().endswith("interrupted"), stderr
