@@ -49,14 +49,15 @@ def test_sigint_in_the_first_seconds(tmp_path, delay):
         # a right answer only if what replaced it is the whole, finished image
         from warpoptics.film.image import read_image
 
-        assert p.returncode in (0, 130), (p.returncode, stderr)
+        # (-SIGINT: the signal landed after the command had finished, as Python shut down)
+        assert p.returncode in (0, 130, -signal.SIGINT), (p.returncode, stderr)
         assert read_image(out)[0].shape[:2] == (64, 64)
         return
     if p.returncode == -signal.SIGINT:
         # seen once in CI with an empty kernel cache: the process ended by the signal itself,
-        # silently.  Likely LLVM's own interrupt handler, active while Warp compiles kernels
-        # in-process, which removes its temporary files and re-raises the signal.  The user's
-        # file is intact and nothing is printed: accepted, not the 130 exit of the command.
+        # silently, the user's file intact.  The cause is not established (a handler of a native
+        # library, e.g. LLVM's while Warp compiles in-process, would do this); accepted because
+        # nothing is lost or printed, though it is not the command's 130 exit.
         assert "Traceback" not in stderr, stderr
         return
     assert p.returncode == 130, (p.returncode, stderr)
