@@ -36,12 +36,14 @@ Adding a medium: give it its plane-wave solver (wave normals, ray directions,
 eigenpolarizations, fluxes) beside ``birefringence.py`` and a generalized-Fresnel solve with that
 medium on either side; the exact crystal events choose the solver by the media's kind.  Biaxial
 crystals were added so (``optics/biaxial.py``): the medium struct carries n_beta and the principal
-frame, :func:`backward_uniaxial_exact` (the exact event of every crystal: its name is historical)
+frame, :func:`backward_crystal_exact` (the exact event of every crystal)
 takes the two waves of a biaxial side from ``biaxial.medium_waves`` (one quartic for both) and
 solves with ``biaxial.crystal_fresnel``; :func:`forward_event`'s crystal branch solves with
 ``crystal_fresnel``; in a biaxial medium a child's mode is its sheet, 0 fast and 1 slow.  With no
 biaxial side every call is the uniaxial one, unchanged.  The tracers do not change: they resolve
-media (``stages/media.py``), call the dispatcher and keep or pick the children.
+media (``stages/media.py``), call the event for their media (camera: ``backward_isotropic``,
+``backward_coated`` or ``backward_crystal``; light: ``forward_event``) and keep or pick the
+children.
 
 References:
     Born, M., Wolf, E. 1999. Principles of Optics, 7th ed., §1.5 (Fresnel), §1.6 (stacks).
@@ -108,9 +110,9 @@ __all__ = [
     "child_of",
     "backward_isotropic",
     "backward_coated",
-    "backward_uniaxial_exact",
+    "backward_crystal_exact",
     "backward_uniaxial_approx",
-    "backward_event",
+    "backward_crystal",
     "ray_power",
     "forward_event",
 ]
@@ -354,7 +356,7 @@ def _scaled(c: wp.vec2f, s: float):
 
 
 @wp.func(inline=False)  # out of line: compile time (see stages/trace.py trace_radiance)
-def backward_uniaxial_exact(
+def backward_crystal_exact(
     cand: Cand,
     m: Jones,
     w: float,
@@ -579,7 +581,7 @@ def backward_uniaxial_approx(
 
 
 @wp.func
-def backward_event(
+def backward_crystal(
     cand: Cand,
     m: Jones,
     w: float,
@@ -601,36 +603,32 @@ def backward_event(
     polarized: int,
     approx: int,
 ):
-    """The backward interface event for any pair of media: a crystal on either side (exact eq. 5
-    or, with ``approx`` and no biaxial side, eq. 10), else isotropic, bare or coated.
-    (cand, energies, count).
+    """The backward interface event with a crystal on either side: exact (eq. 5 with the media's
+    own wave solvers, uniaxial or biaxial) or, with ``approx`` and no biaxial side, eq. 10.
+    (cand, energies, count).  Isotropic interfaces are :func:`backward_isotropic` (bare) and
+    :func:`backward_coated`; the camera trace chooses among the three by the media.
 
     In scalar mode (``polarized`` = 0) a crystal's children keep only their power (a unit Jones
     matrix per child: no polarization memory), as the isotropic event does."""
     count = int(0)
     energies = wp.vec4f(0.0, 0.0, 0.0, 0.0)
-    if is_uniaxial(med_a) or is_uniaxial(med_b):
-        if approx != 0 and not is_biaxial(med_a) and not is_biaxial(med_b):
-            cand, energies, count = backward_uniaxial_approx(
-                cand, m, w, bx, wn, mode, nrm, med_a, med_b, x, eps, in_a, in_b, depth
-            )
-        else:
-            cand, energies, count = backward_uniaxial_exact(
-                cand, m, w, bx, wn, mode, nrm, med_a, med_b, x, eps, in_a, in_b, depth
-            )
-        if polarized == 0:
-            for k in range(count):
-                cand[k, ROW_W] = energies[k]
-                unit = Jones()
-                if int(cand[k, ROW_MODE]) < 0:
-                    unit = jones_identity()
-                else:
-                    unit = jones_real(wp.mat22(wp.sqrt(2.0), 0.0, 0.0, 0.0))
-                cand = write_jones(cand, k, unit)
-    else:
-        cand, energies, count = backward_isotropic(
-            cand, m, w, bx, d, n_out, nrm, n_a, n_b, x, eps, in_a, in_b, depth, polarized
+    if approx != 0 and not is_biaxial(med_a) and not is_biaxial(med_b):
+        cand, energies, count = backward_uniaxial_approx(
+            cand, m, w, bx, wn, mode, nrm, med_a, med_b, x, eps, in_a, in_b, depth
         )
+    else:
+        cand, energies, count = backward_crystal_exact(
+            cand, m, w, bx, wn, mode, nrm, med_a, med_b, x, eps, in_a, in_b, depth
+        )
+    if polarized == 0:
+        for k in range(count):
+            cand[k, ROW_W] = energies[k]
+            unit = Jones()
+            if int(cand[k, ROW_MODE]) < 0:
+                unit = jones_identity()
+            else:
+                unit = jones_real(wp.mat22(wp.sqrt(2.0), 0.0, 0.0, 0.0))
+            cand = write_jones(cand, k, unit)
     return cand, energies, count
 
 

@@ -60,7 +60,7 @@ from ..optics.branches import (
     roulette,
     write_row,
 )
-from ..optics.interface import backward_coated, backward_event, backward_isotropic, is_uniaxial
+from ..optics.interface import backward_coated, backward_crystal, backward_isotropic, is_uniaxial
 from ..optics.jones import (
     Jones,
     coherency_transform,
@@ -366,12 +366,12 @@ def trace_radiance(
                     a_is_front,
                 )
             elif not crystal:
-                # the hot path, called directly (one level less of by-value candidate copies)
+                # a bare interface between isotropic media: the hot path
                 cand, energies, count = backward_isotropic(
                     cand, m, w, bx, d, n_out, nrm, n_a, n_b, x, p.epsilon, inside, obj_b, depth, polarized
                 )
             else:
-                cand, energies, count = backward_event(
+                cand, energies, count = backward_crystal(
                     cand,
                     m,
                     w,
