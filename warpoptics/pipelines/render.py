@@ -81,6 +81,40 @@ class FilmParams:
 _DRAWS_PER_TRACE = wp.constant(3)
 
 
+@wp.func
+def _stokes_d(s: wp.vec4f):
+    """A Stokes vector in the film's float64."""
+    return wp.vec4d(wp.float64(s[0]), wp.float64(s[1]), wp.float64(s[2]), wp.float64(s[3]))
+
+
+@wp.func
+def _add_to_film(
+    pix: int,
+    xyz: wp.vec3d,
+    sq: wp.vec3d,
+    stokes: wp.vec4d,
+    stokes_x: wp.vec4d,
+    stokes_z: wp.vec4d,
+    hit_fraction: float,
+    rays: int,
+    xyz_out: wp.array(dtype=wp.vec3d),
+    sq_out: wp.array(dtype=wp.vec3d),
+    stokes_out: wp.array(dtype=wp.vec4d),
+    alpha_out: wp.array(dtype=wp.float64),
+    rays_out: wp.array(dtype=wp.int64),
+    stokes_xyz_out: wp.array2d(dtype=wp.vec4d),
+):
+    """Add one pixel's sums to the film (both estimators of the pixel kernel write through here)."""
+    xyz_out[pix] = xyz_out[pix] + xyz
+    sq_out[pix] = sq_out[pix] + sq
+    stokes_out[pix] = stokes_out[pix] + stokes
+    alpha_out[pix] = alpha_out[pix] + wp.float64(hit_fraction)
+    rays_out[pix] = rays_out[pix] + wp.int64(rays)
+    stokes_xyz_out[pix, 0] = stokes_xyz_out[pix, 0] + stokes_x
+    stokes_xyz_out[pix, 1] = stokes_xyz_out[pix, 1] + stokes
+    stokes_xyz_out[pix, 2] = stokes_xyz_out[pix, 2] + stokes_z
+
+
 @wp.kernel
 def _render_pixels(
     offset: int,
@@ -183,19 +217,27 @@ def _render_pixels(
                 xyz += group
                 sq += wp.cw_mul(group, group)
                 group = wp.vec3d(0.0, 0.0, 0.0)
-            stokes += wp.vec4d(wp.float64(s[0]), wp.float64(s[1]), wp.float64(s[2]), wp.float64(s[3]))
-            stokes_x += wp.vec4d(wp.float64(sx[0]), wp.float64(sx[1]), wp.float64(sx[2]), wp.float64(sx[3]))
-            stokes_z += wp.vec4d(wp.float64(sz[0]), wp.float64(sz[1]), wp.float64(sz[2]), wp.float64(sz[3]))
+            stokes += _stokes_d(s)
+            stokes_x += _stokes_d(sx)
+            stokes_z += _stokes_d(sz)
             hits += float(hit)
             rays += nr
-        xyz_out[pix] = xyz_out[pix] + xyz
-        sq_out[pix] = sq_out[pix] + sq
-        stokes_out[pix] = stokes_out[pix] + stokes
-        alpha_out[pix] = alpha_out[pix] + wp.float64(hits / float(film.groups))
-        rays_out[pix] = rays_out[pix] + wp.int64(rays)
-        stokes_xyz_out[pix, 0] = stokes_xyz_out[pix, 0] + stokes_x
-        stokes_xyz_out[pix, 1] = stokes_xyz_out[pix, 1] + stokes
-        stokes_xyz_out[pix, 2] = stokes_xyz_out[pix, 2] + stokes_z
+        _add_to_film(
+            pix,
+            xyz,
+            sq,
+            stokes,
+            stokes_x,
+            stokes_z,
+            hits / float(film.groups),
+            rays,
+            xyz_out,
+            sq_out,
+            stokes_out,
+            alpha_out,
+            rays_out,
+            stokes_xyz_out,
+        )
         return
     for _skip in range(film.spp_begin * film.count * _DRAWS_PER_TRACE):
         wp.randf(rng)
@@ -225,23 +267,27 @@ def _render_pixels(
             xyz += group
             sq += wp.cw_mul(group, group)
             group = wp.vec3d(0.0, 0.0, 0.0)
-        stokes += wp.vec4d(wp.float64(s[0]), wp.float64(s[1]), wp.float64(s[2]), wp.float64(s[3])) * scale
-        stokes_x += (
-            wp.vec4d(wp.float64(sx[0]), wp.float64(sx[1]), wp.float64(sx[2]), wp.float64(sx[3])) * scale
-        )
-        stokes_z += (
-            wp.vec4d(wp.float64(sz[0]), wp.float64(sz[1]), wp.float64(sz[2]), wp.float64(sz[3])) * scale
-        )
+        stokes += _stokes_d(s) * scale
+        stokes_x += _stokes_d(sx) * scale
+        stokes_z += _stokes_d(sz) * scale
         hits += float(hit)
         rays += nr
-    xyz_out[pix] = xyz_out[pix] + xyz
-    sq_out[pix] = sq_out[pix] + sq
-    stokes_out[pix] = stokes_out[pix] + stokes
-    alpha_out[pix] = alpha_out[pix] + wp.float64(hits / float(film.count))
-    rays_out[pix] = rays_out[pix] + wp.int64(rays)
-    stokes_xyz_out[pix, 0] = stokes_xyz_out[pix, 0] + stokes_x
-    stokes_xyz_out[pix, 1] = stokes_xyz_out[pix, 1] + stokes
-    stokes_xyz_out[pix, 2] = stokes_xyz_out[pix, 2] + stokes_z
+    _add_to_film(
+        pix,
+        xyz,
+        sq,
+        stokes,
+        stokes_x,
+        stokes_z,
+        hits / float(film.count),
+        rays,
+        xyz_out,
+        sq_out,
+        stokes_out,
+        alpha_out,
+        rays_out,
+        stokes_xyz_out,
+    )
 
 
 # bytes per pixel: the float64 film (xyz 24 + stokes 32 + alpha 8 + ray count 8 + per-channel stokes
