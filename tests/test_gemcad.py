@@ -187,9 +187,31 @@ def test_round_trip_other_shapes(tmp_path, name):
 DATA = Path(__file__).parent / "data" / "gemcad"
 CORPUS = sorted(p.name for p in DATA.glob("*.asc"))
 
+# Facets of each design: the indices its ``a`` lines list (a repeated plane counted once), checked
+# by hand against the files; every listed facet of these designs reaches the finished stone
+FACETS = {
+    "Compear125.asc": 67,
+    "CubeIllusionTri.asc": 51,
+    "SRB.asc": 73,  # 16 girdle + 16 + 8 pavilion + 16 + 8 + 8 crown + table
+    "Turkey.asc": 74,
+    "astryx_star.asc": 57,  # also OpenGemCutting's count (src/domain/gemcadAsc.test.js)
+    "briolette_of_india.asc": 304,
+    "crackotto_step.asc": 205,
+    "forfun.asc": 56,
+    "mini_square_barion4.asc": 37,
+    "octahedron.asc": 8,
+    "rbc445.asc": 67,
+    "shah.asc": 13,  # 14 records, one repeated (test_duplicate_facet_merged_with_a_warning)
+    "six_main_hilite_lb.asc": 79,
+    "smallest_square.asc": 16,  # 4 girdle + 4 pavilion + 4 + 4 crown, no table
+    "texasstar.asc": 51,
+    "trichecker12.asc": 48,
+}
+
 
 def reference_solid(path):
-    """Volume, L/W, T/W and facet count of a design from its own tier lines, read here without the
+    """Volume, L/W, T/W, facet count of the solid and number of distinct facet planes listed, of a
+    design from its own tier lines, read here without the
     package: the GemCad 4.51 manual's gear (``offset`` = the index at the bottom of the top view,
     positive gears counter-clockwise: azimuth -90 deg + 360 deg (i - offset) / gear), facet normal
     (sin|a| cos phi, sin|a| sin phi, sign(a) cos a), table/culet at angle 0, intersected by scipy."""
@@ -238,7 +260,7 @@ def reference_solid(path):
     # a facet: a plane that ~all of a hull triangle lies on
     eq = hull.equations
     facets = {int(np.argmin(np.linalg.norm(p - np.append(e[:3], -e[3]), axis=1))) for e in eq}
-    return hull.volume / width**3, max(ext[:2]) / width, ext[2] / width, len(facets)
+    return hull.volume / width**3, max(ext[:2]) / width, ext[2] / width, len(facets), len(p)
 
 
 @pytest.mark.parametrize("name", CORPUS)
@@ -246,8 +268,11 @@ def test_corpus_design_builds_with_reference_proportions(name):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # shah.asc repeats a facet (tested below)
         mesh = gemcad.read(DATA / name, diameter=6.5)
-    vol, lw, tw, facets = reference_solid(DATA / name)
-    assert mesh.is_watertight and mesh.is_convex  # every design of the corpus is convex
+    vol, lw, tw, facets, listed = reference_solid(DATA / name)
+    # every design of the corpus is convex; astryx_star.asc was not (an ill-conditioned meet, see
+    # cuts._collapse_ill_conditioned_edges), which silently cost it the convex fast path
+    assert mesh.is_watertight and mesh.is_convex
+    assert FACETS[name] == listed == facets
     prop = mesh.metadata["proportions"]
     # the reference clusters nothing: 1e-6 relative is the package's vertex merge tolerance
     assert prop.length / prop.width == pytest.approx(lw, rel=1e-6)
@@ -265,6 +290,7 @@ def test_corpus_design_builds_with_reference_proportions(name):
         ("Turkey.asc", 1.333, None),  # "Turkey", g -96 48.0; the issue's 1.014 was the 48 deg rotation
         ("Compear125.asc", 1.25, None),  # "Compear 1:1.25"
         ("octahedron.asc", 1.0, math.sqrt(2)),  # g 96 48.0: a regular octahedron, depth/edge = sqrt 2
+        ("smallest_square.asc", 1.0, None),  # "SMALLEST SQUARE"
     ],
 )
 def test_titles_state_the_proportions(name, lw, tw):
@@ -273,6 +299,22 @@ def test_titles_state_the_proportions(name, lw, tw):
     assert prop.length / prop.width == pytest.approx(lw, abs=5e-4)  # titles give 3-4 digits
     if tw is not None:
         assert prop.total_depth == pytest.approx(tw, abs=5e-4)  # 54.74 deg rounds 54.7356 deg
+
+
+def test_corpus_lists_every_design():
+    assert sorted(FACETS) == CORPUS
+
+
+def test_astryx_star_as_another_reader_measures_it():
+    """OpenGemCutting's reader (yuyou-dev/OpenGemCutting, src/domain/gemcadAsc.test.js, MIT) on the
+    same file: 57 facets, L/W 1 within 1e-10, height/width 0.71696825 within 1e-7.  The file's gear
+    line is the bare ``96 0.0`` (issue 21 item 4)."""
+    assert (DATA / "astryx_star.asc").read_text().splitlines()[1] == "96 0.0"
+    mesh = gemcad.read(DATA / "astryx_star.asc", diameter=6.5)
+    prop = mesh.metadata["proportions"]
+    assert len(mesh.metadata["planes"]) == 57
+    assert prop.length / prop.width == pytest.approx(1.0, abs=1e-10)
+    assert prop.total_depth == pytest.approx(0.71696825, abs=1e-7)
 
 
 def test_turkey_volume_at_6_5_mm():

@@ -174,7 +174,10 @@ def convex_from_planes(
     are merged: 1e-6 (6.5 nm on a 6.5 mm stone) joins the clusters that rounded input (a .asc
     file's six decimals) makes of a vertex where four or more planes meet; at 1e-7 two such
     points of a real design ("For Fun", PC 46.019) stay apart and the triangle between them tilts
-    40 deg off its facet, at 1e-5 merging starts to move vertices visibly (Compear 1:1.25).
+    40 deg off its facet, at 1e-5 merging starts to move vertices visibly (Compear 1:1.25).  An
+    edge whose direction the input does not fix (facet planes that nearly share a line, "Astryx
+    Star") is collapsed as well, by its ends' planes rather than their distance
+    (:func:`_collapse_ill_conditioned_edges`).
 
     The intersection is Qhull's (``scipy.spatial.HalfspaceIntersection``, Barber, Dobkin &
     Huhdanpaa 1996) from the Chebyshev centre (a linear programme): O(K log K) in the number of
@@ -257,6 +260,67 @@ def _merge_labels(pts: np.ndarray, tol: float) -> tuple[int, np.ndarray]:
     return connected_components(graph, directed=False)
 
 
+def _root(parent: list[int], x: int) -> int:
+    """The representative of ``x`` in a union-find forest (with path halving)."""
+    while parent[x] != x:
+        parent[x] = parent[parent[x]]
+        x = parent[x]
+    return x
+
+
+def _collapse_ill_conditioned_edges(verts, planes_of, na, da, tol, reach=100.0, max_tilt=1e-4):
+    """Merge the two ends of an edge whose direction the input does not determine.
+
+    Where facet planes nearly share a line (a design's meetpoint at which the next tier meets the
+    girdle: "Astryx Star", its P1-P3-G1-G2 meet), the distance merge can leave an edge whose ends
+    are ``|ab|`` apart (2.2e-5 mm on a 6.5 mm stone, six merge distances) while one end, a merged
+    cluster, lies off its planes by its residual ``r`` (here 5e-8 mm, the input's rounding).  A
+    triangle on that edge tilts by about ``r / |ab|`` (3e-3 rad): a normal that is noise, and
+    ``trimesh``'s ``is_convex`` turns false.  Such an edge (``r / |ab| > max_tilt``; 1e-4 rad,
+    where the edges of exact triple points are at 1e-9) is collapsed when the least-squares point
+    of the union of its ends' planes lies within ``tol`` of every one of them (the distance merge's
+    own criterion) and its ends are closer than ``reach * tol``, so that no vertex moves further
+    than a few merge distances.  Returns the new vertices and their plane sets.
+    """
+    from scipy.spatial import cKDTree
+
+    verts = np.asarray(verts, dtype=np.float64)
+    planes_of = [set(p) for p in planes_of]
+
+    def residual(x: np.ndarray, ps: list[int]) -> float:
+        return float(np.max(np.abs(na[ps] @ x - da[ps]))) if ps else 0.0
+
+    for _ in range(8):  # a merge can bring a third end within reach only rarely
+        pairs = cKDTree(verts).query_pairs(reach * tol, output_type="ndarray").reshape(-1, 2)
+        if not len(pairs):
+            break
+        own = {int(x): residual(verts[x], sorted(planes_of[x])) for x in np.unique(pairs)}
+        length = np.linalg.norm(verts[pairs[:, 0]] - verts[pairs[:, 1]], axis=1)
+        worst = np.array([max(own[int(a)], own[int(b)]) for a, b in pairs])
+        risky = worst > max_tilt * length
+        pairs, length = pairs[risky], length[risky]
+        parent = list(range(len(verts)))
+        merged = False
+        for a, b in pairs[np.argsort(length)]:
+            ra, rb = _root(parent, int(a)), _root(parent, int(b))
+            if ra == rb or len(planes_of[ra] & planes_of[rb]) < 2:
+                continue  # the same vertex already, or not the two ends of an edge
+            ps = sorted(planes_of[ra] | planes_of[rb])
+            sol, _, rank, _ = np.linalg.lstsq(na[ps], da[ps], rcond=None)
+            if rank < 3 or residual(sol, ps) > tol:
+                continue
+            parent[rb] = ra
+            planes_of[ra] = set(ps)
+            verts[ra] = sol
+            merged = True
+        if not merged:
+            break
+        roots = sorted({_root(parent, x) for x in range(len(verts))})
+        verts = verts[roots]
+        planes_of = [planes_of[r] for r in roots]
+    return verts, planes_of
+
+
 def _intersect(n, d, active, tol, source):
     """Vertices, CCW facet rings (vertex ids), plane index of each ring and the sliver planes of
     the intersection of the ``active`` half-spaces (see :func:`convex_from_planes`).
@@ -289,14 +353,16 @@ def _intersect(n, d, active, tol, source):
     verts = np.zeros((nv, 3))
     np.add.at(verts, label, pts)
     verts /= np.bincount(label, minlength=nv)[:, None]
-    members: list[list[int]] = [[] for _ in range(len(idx))]
     for x, ps in enumerate(planes_of):
         ps_list = sorted(ps)
         if len(ps_list) >= 3:
             sol, _, rank, _ = np.linalg.lstsq(na[ps_list], da[ps_list], rcond=None)
             if rank == 3 and np.linalg.norm(sol - verts[x]) < 10 * tol:
                 verts[x] = sol
-        for j in ps_list:
+    verts, planes_of = _collapse_ill_conditioned_edges(verts, planes_of, na, da, tol)
+    members: list[list[int]] = [[] for _ in range(len(idx))]
+    for x, ps in enumerate(planes_of):
+        for j in ps:
             members[j].append(x)
 
     rings, keep, slivers = [], [], []
