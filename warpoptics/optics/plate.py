@@ -283,7 +283,9 @@ def _crystal_frame(crystal_axes) -> np.ndarray:
         x /= np.linalg.norm(x)
         return np.stack([x, np.cross(z, x), z])
     if f.shape != (3, 3):
-        raise InputError("crystal axes must be a 3-vector or a 3x3 matrix", field="crystal_axes", value=f.shape)
+        raise InputError(
+            "crystal axes must be a 3-vector or a 3x3 matrix", field="crystal_axes", value=f.shape
+        )
     return f
 
 
