@@ -174,3 +174,78 @@ def test_chart_command_writes_the_figure(tmp_path, capsys):
     assert main(["chart", "colour", "--material", "quartz", "--thickness", "0.03"]) == 0
     text = capsys.readouterr().out
     assert "retardation    274.8 nm" in text and "not modelled" in text
+
+
+def test_thick_plate_in_white_light_is_the_incoherent_colour(device):
+    # a 2 mm quartz plate (Delta ~ 18 um, higher-order white): the fringes of the coherent sum
+    # are ~14 nm apart in wavelength, far finer than the CMFs, so its colour is that of the o and
+    # e powers added (the incoherent model); a 30 um plate is not. XYZ and CIEDE2000 from
+    # colour-science on the two transmission spectra the stage returns.
+    colour = pytest.importorskip("colour")
+    white = colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D65"]
+    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
+    d65 = colour.SDS_ILLUMINANTS["D65"]
+
+    def xyz(lam, t):
+        c = np.array([cmfs[w] for w in lam])
+        s = np.array([d65[w] for w in lam])
+        return (t[:, None] * s[:, None] * c).sum(axis=0) / (s * c[:, 1]).sum()
+
+    quartz = wo.materials.get("quartz")
+    thick = ms.interference_colour(quartz, 2.0, step_nm=1.0, device=device)
+    lam = thick.wavelength_nm
+    de_thick = colour.delta_E(
+        colour.XYZ_to_Lab(xyz(lam, thick.transmission), white),
+        colour.XYZ_to_Lab(xyz(lam, thick.incoherent), white),
+        method="CIE 2000",
+    )
+    thin = ms.interference_colour(quartz, 0.03, step_nm=1.0, device=device)
+    de_thin = colour.delta_E(
+        colour.XYZ_to_Lab(xyz(lam, thin.transmission), white),
+        colour.XYZ_to_Lab(xyz(lam, thin.incoherent), white),
+        method="CIE 2000",
+    )
+    assert de_thick < 1.0 and de_thin > 10.0, (de_thick, de_thin)
+
+
+@pytest.mark.parametrize("accessory_deg, sign", [(45.0, +1), (135.0, -1)])
+def test_accessory_plate_adds_or_subtracts_retardation(device, accessory_deg, sign):
+    # quartz (positive: e slow) with its axis at 45 degrees, a first-order red plate (550 nm)
+    # slow along the axis (addition) or across it (subtraction), crossed polarizers:
+    # I = 1/4 |T_e exp(i (delta +- Gamma')) - T_o|^2 (Fresnel of the specimen's two faces only,
+    # the accessory being an ideal retarder), Gamma' = 2 pi 550 / lambda
+    quartz = wo.materials.get("quartz")
+    d = 0.02
+    ic = ms.interference_colour(quartz, d, accessory_nm=550.0, accessory_deg=accessory_deg, device=device)
+    lam = ic.wavelength_nm
+    n = quartz.n(lam)
+    t_o = 4 * n[:, 0] / (1 + n[:, 0]) ** 2
+    t_e = 4 * n[:, 1] / (1 + n[:, 1]) ** 2
+    delta = 2 * np.pi * d * 1e6 * (n[:, 1] - n[:, 0]) / lam + sign * 2 * np.pi * 550.0 / lam
+    ref = 0.25 * np.abs(t_e * np.exp(1j * delta) - t_o) ** 2
+    assert np.max(np.abs(ic.transmission - ref)) < 1e-4
+    # a glass interface pair instead of the specimen: the accessory alone between crossed polarizers,
+    # sin^2(pi Gamma / lambda) times the two faces. Fresnel transmissions (4 n / (1 + n)^2)^2
+    bk7 = wo.materials.get("bk7")
+    bare = ms.interference_colour(bk7, 0.0, accessory_nm=550.0, device=device)  # no absorption
+    t_g = (4 * bk7.n(lam) / (1 + bk7.n(lam)) ** 2) ** 2
+    assert np.max(np.abs(bare.transmission - t_g * np.sin(np.pi * 550.0 / lam) ** 2)) < 1e-4
+
+
+def test_gypsum_plate_tells_the_optic_sign(device):
+    # a uniaxial figure with the first-order red plate (slow NE-SW): the isochromes of a
+    # positive crystal (slow e vibration radial) add in the NE/SW quadrants and subtract in
+    # NW/SE; a negative one the reverse. At 0.2 of the aperture both plates have Delta ~ 185 nm
+    # at 589 nm: addition gives sin^2(pi 735/589) ~ 0.49, subtraction sin^2(pi 365/589) ~ 0.86
+    # (less the Fresnel losses of the plate's faces).
+    calcite = wo.materials.get("calcite")  # negative
+    quartz = wo.materials.get("quartz")  # positive
+    out = {}
+    for name, mat, d in (("calcite", calcite, 0.25), ("quartz", quartz, 5.0)):
+        ne_sw, nw_se = (
+            ms.conoscope_profile(mat, d, [0.2], azimuth_deg=az, accessory_nm=550.0, device=device)[0]
+            for az in (45.0, 135.0)
+        )
+        out[name] = (ne_sw, nw_se)
+    assert out["calcite"][0] > 1.5 * out["calcite"][1]
+    assert out["quartz"][1] > 1.5 * out["quartz"][0]

@@ -4,6 +4,7 @@
     warpoptics chart conoscope -o figure.png --material calcite --thickness 0.25 [--axis 0 0 1]
                                [--na 0.5] [--wavelength 589.3 | --white] [--size 201]
     warpoptics chart colour --material quartz --thickness 0.03 [--axis 1 1 0]
+    (conoscope, colour: [--accessory-nm 550 --accessory-deg 45] adds a first-order red plate)
 
 ``michel-levy``: interference colour against retardation (x) with thickness (y) and lines of
 constant birefringence (Delta = d * birefringence); the colours are those of a plate between
@@ -62,8 +63,11 @@ def draw_michel_levy(chart, path, *, max_thickness_um: float = 50.0):
             ax.text(r_end, max_thickness_um * 1.01, f"{dn:g}", fontsize=7, ha="center", va="bottom")
         else:
             ax.text(rmax * 1.005, t_end, f"{dn:g}", fontsize=7, ha="left", va="center")
-    for name, dn in _mineral_birefringence():
-        t = min(max_thickness_um * 0.93, rmax / (1000.0 * dn) * 0.93)
+    for j, (name, dn) in enumerate(sorted(_mineral_birefringence(), key=lambda m: m[1])):
+        f = 0.93 if j % 2 == 0 else 0.85  # neighbouring lines: labels at two heights
+        t = min(max_thickness_um * f, rmax / (1000.0 * dn) * f)
+        t_top = min(max_thickness_um, rmax / (1000.0 * dn))
+        ax.plot([0.0, t_top * 1000.0 * dn], [0.0, t_top], color="k", lw=0.5, ls=":", alpha=0.8)
         ax.text(t * 1000.0 * dn, t, name, fontsize=6, rotation=0, ha="left", va="bottom", alpha=0.8)
     ax.axhline(30.0, color="w", lw=0.6, ls="--")
     ax.text(4.0, 30.5, "30 µm thin section", fontsize=7, color="w", va="bottom")
@@ -136,7 +140,13 @@ def run(args) -> int:
         raise InputError("plate thickness (mm) is required", field="--thickness", value=args.thickness)
     if args.chart == "colour":
         ic = microscope.interference_colour(
-            mat, args.thickness, optic_axis=axis, illuminant=args.illuminant, device=args.device
+            mat,
+            args.thickness,
+            optic_axis=axis,
+            illuminant=args.illuminant,
+            accessory_nm=args.accessory_nm,
+            accessory_deg=args.accessory_deg,
+            device=args.device,
         )
         s = np.round(np.asarray(ic.srgb) * 255).astype(int)
         print(f"material       {mat.name}")
@@ -158,6 +168,8 @@ def run(args) -> int:
         wavelength_nm=wl,
         illuminant=args.illuminant,
         optic_axis=optic_axis,
+        accessory_nm=args.accessory_nm,
+        accessory_deg=args.accessory_deg,
         device=args.device,
     )
     light = "white light" if wl is None else f"{wl:g} nm"
@@ -191,4 +203,11 @@ def register(sub) -> None:
     p.add_argument("--wavelength", type=float, default=589.3, help="conoscope: wavelength (nm)")
     p.add_argument("--white", action="store_true", help="conoscope: white light instead of --wavelength")
     p.add_argument("--size", type=int, default=201, help="conoscope: image size (pixels)")
+    p.add_argument(
+        "--accessory-nm",
+        type=float,
+        default=0.0,
+        help="accessory plate before the analyzer: retardation in nm (550 first-order red, 147 quarter-wave)",
+    )
+    p.add_argument("--accessory-deg", type=float, default=45.0, help="its slow direction (default 45: NE-SW)")
     p.set_defaults(func=run)

@@ -61,17 +61,19 @@ from .biaxial import biaxial_kappa, biaxial_medium, crystal_fresnel, crystal_fre
 from .birefringence import PlaneWave, UniaxialMedium, uniaxial_medium
 from .complex import c_mul
 from .fresnel import flux_ratio
-from .jones import jones, jones_mul, jones_real, jones_zero, s_vector
+from .jones import Jones, jones, jones_mul, jones_real, jones_zero, s_vector
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
 __all__ = [
     "slab_phase",
+    "wave_plate_jones",
     "plate_medium",
     "plate_mode_jones",
     # NumPy wrappers
     "plate_jones",
     "slab_phases",
+    "wave_plates",
 ]
 
 _TWO_PI = wp.constant(wp.float64(2.0 * math.pi))
@@ -92,6 +94,23 @@ def slab_phase(q: float, q_ref: float, thickness: float, wavelength: float):
     )
     ph = ph - _TWO_PI * wp.floor(ph / _TWO_PI)
     return wp.vec2f(float(wp.cos(ph)), float(wp.sin(ph)))
+
+
+@wp.func
+def wave_plate_jones(slow_angle: float, retardation_nm: float, wavelength: float):
+    """Jones matrix, in the frame (x, y) of a collimated beam, of an ideal retarder (an accessory
+    plate: no Fresnel loss, no dispersion of its retardation ``retardation_nm``) whose slow
+    vibration direction is at ``slow_angle`` (radians, from x toward y): R(-t) diag(1,
+    exp(i 2 pi Gamma / lambda)) R(t) with the fast direction first (Yariv & Yeh §5.1; the slow
+    wave gains the larger phase, as in :func:`slab_phase`).  Gamma = 0 is the identity."""
+    c = wp.cos(slow_angle)
+    s = wp.sin(slow_angle)
+    e = slab_phase(1.0, 0.0, retardation_nm * 1.0e-6, wavelength)
+    # fast along (-s, c), slow along (c, s): J = f f^T + e * u u^T
+    j = Jones()
+    j.re = wp.mat22(s * s + e[0] * c * c, -s * c + e[0] * c * s, -s * c + e[0] * c * s, c * c + e[0] * s * s)
+    j.im = wp.mat22(e[1] * c * c, e[1] * c * s, e[1] * c * s, e[1] * s * s)
+    return j
 
 
 @wp.func
@@ -237,6 +256,21 @@ def _slab_phase_kernel(
     out[i] = slab_phase(q[i], q_ref[i], thickness[i], wavelength[i])
 
 
+@wp.kernel
+def _wave_plate_kernel(
+    offset: int,
+    angle: wp.array(dtype=float),
+    retardation: wp.array(dtype=float),
+    wavelength: wp.array(dtype=float),
+    out_re: wp.array(dtype=wp.vec4f),
+    out_im: wp.array(dtype=wp.vec4f),
+):
+    i = wp.tid() + offset
+    j = wave_plate_jones(angle[i], retardation[i], wavelength[i])
+    out_re[i] = wp.vec4f(j.re[0, 0], j.re[0, 1], j.re[1, 0], j.re[1, 1])
+    out_im[i] = wp.vec4f(j.im[0, 0], j.im[0, 1], j.im[1, 0], j.im[1, 1])
+
+
 # ----------------------------------------------------------------------------------------------
 # NumPy wrappers
 
@@ -339,3 +373,20 @@ def plate_jones(
     if coherent:
         return j0 + j1, s
     return np.stack([j0, j1]), s
+
+
+def wave_plates(slow_angle_deg, retardation_nm, wavelength_nm, *, device=None) -> np.ndarray:
+    """Jones matrices (..., 2, 2) complex of ideal retarders (:func:`wave_plate_jones`); the
+    slow direction at ``slow_angle_deg`` degrees from x toward y."""
+    re, im = elementwise(
+        _wave_plate_kernel,
+        [
+            (np.radians(_finite(slow_angle_deg, "slow_angle_deg")), wp.float32),
+            (_finite(retardation_nm, "retardation_nm"), wp.float32),
+            (_positive(wavelength_nm, "wavelength_nm"), wp.float32),
+        ],
+        [wp.vec4f, wp.vec4f],
+        device=device,
+    )
+    j = re.astype(np.float64) + 1j * im.astype(np.float64)
+    return j.reshape(*j.shape[:-1], 2, 2)

@@ -16,10 +16,13 @@ conoscopic (Bertrand-lens) figure, all from the coherent plate of ``stages/polar
 
 Conventions: the microscope axis is world +z, image right = world x, image up = world y (an
 observer looking down the tube); polarizer and analyzer angles in degrees from image right
-toward image up (E-W polarizer, N-S analyzer by default).  Colours: the colour range 360-830 nm,
-CIE 1931 2 degree observer, illuminants scaled to Y = 1 (``spectra.py``); the light falling on
-the plate is the illuminant behind the polarizer, normalised so that parallel polarizers without
-a plate give Y = 1.  Optical activity is not modelled (``optics/plate.py``).
+toward image up (E-W polarizer, N-S analyzer by default).  ``accessory_nm`` inserts an ideal
+accessory plate of that retardation (550: first-order red; 147: quarter-wave) with its slow
+direction at ``accessory_deg`` (default 45: NE-SW) in front of the analyzer, the optic-sign test.
+Colours: the colour range 360-830 nm, CIE 1931 2 degree observer, illuminants scaled to Y = 1
+(``spectra.py``); the light falling on the plate is the illuminant behind the polarizer,
+normalised so that parallel polarizers without a plate give Y = 1.  Optical activity is not
+modelled (``optics/plate.py``).
 """
 
 from __future__ import annotations
@@ -198,6 +201,8 @@ def interference_colour(
     crystal_axes=None,
     polarizer_deg: float = 0.0,
     analyzer_deg: float = 90.0,
+    accessory_nm: float = 0.0,
+    accessory_deg: float = 45.0,
     n_ambient: float = 1.0,
     illuminant: str = "D65",
     step_nm: float = 5.0,
@@ -213,7 +218,13 @@ def interference_colour(
         {"optic_axis": optic_axis} if not isinstance(material, Biaxial) else {"crystal_axes": crystal_axes}
     )
     n3, a3, frame = plate_optics(material, lam, **orient)
-    cfg = PolariscopeConfig(polarizer_deg=polarizer_deg, analyzer_deg=analyzer_deg, n_ambient=n_ambient)
+    cfg = PolariscopeConfig(
+        polarizer_deg=polarizer_deg,
+        analyzer_deg=analyzer_deg,
+        n_ambient=n_ambient,
+        accessory_nm=accessory_nm,
+        accessory_deg=accessory_deg,
+    )
     coh, inc = plate_between_polarizers(
         [[0.0, 0.0, 1.0]], thickness_mm, lam, n3, crystal_frame=frame, alpha=a3, config=cfg, device=device
     )
@@ -308,6 +319,8 @@ def conoscope_profile(
     crystal_axes=None,
     polarizer_deg: float = 0.0,
     analyzer_deg: float = 90.0,
+    accessory_nm: float = 0.0,
+    accessory_deg: float = 45.0,
     n_ambient: float = 1.0,
     device=None,
 ) -> np.ndarray:
@@ -322,7 +335,13 @@ def conoscope_profile(
         {"optic_axis": optic_axis} if not isinstance(material, Biaxial) else {"crystal_axes": crystal_axes}
     )
     n3, a3, frame = plate_optics(material, wavelength_nm, **orient)
-    cfg = PolariscopeConfig(polarizer_deg=polarizer_deg, analyzer_deg=analyzer_deg, n_ambient=n_ambient)
+    cfg = PolariscopeConfig(
+        polarizer_deg=polarizer_deg,
+        analyzer_deg=analyzer_deg,
+        n_ambient=n_ambient,
+        accessory_nm=accessory_nm,
+        accessory_deg=accessory_deg,
+    )
     coh, _ = plate_between_polarizers(
         k, thickness_mm, [wavelength_nm], n3, crystal_frame=frame, alpha=a3, config=cfg, device=device
     )
@@ -340,6 +359,8 @@ def conoscopic_figure(
     crystal_axes=None,
     polarizer_deg: float = 0.0,
     analyzer_deg: float = 90.0,
+    accessory_nm: float = 0.0,
+    accessory_deg: float = 45.0,
     n_ambient: float = 1.0,
     illuminant: str = "D65",
     step_nm: float = 10.0,
@@ -361,7 +382,13 @@ def conoscopic_figure(
         {"optic_axis": optic_axis} if not isinstance(material, Biaxial) else {"crystal_axes": crystal_axes}
     )
     n3, a3, frame = plate_optics(material, lam, **orient)
-    cfg = PolariscopeConfig(polarizer_deg=polarizer_deg, analyzer_deg=analyzer_deg, n_ambient=n_ambient)
+    cfg = PolariscopeConfig(
+        polarizer_deg=polarizer_deg,
+        analyzer_deg=analyzer_deg,
+        n_ambient=n_ambient,
+        accessory_nm=accessory_nm,
+        accessory_deg=accessory_deg,
+    )
     coh, _ = plate_between_polarizers(
         k, thickness_mm, lam, n3, crystal_frame=frame, alpha=a3, config=cfg, device=device
     )

@@ -7,7 +7,8 @@ faces are normal to it (``optics.plate``: normal (0, 0, -1) on the incident side
 polarizer and the analyzer are ideal linear polarizers in the collimated beam before the
 condenser and after the objective, their transmission axes at ``polarizer_deg`` and
 ``analyzer_deg`` from world x toward world y (image right toward image up for an observer
-looking down the tube).  Each direction of the cone sees them through the aplanatic lenses
+looking down the tube).  An optional accessory plate (first-order red, quarter-wave) sits in the
+collimated beam in front of the analyzer.  Each direction of the cone sees them through the aplanatic lenses
 (``optics.polarizer.lens_polarizer_field``).
 
 Per (direction, wavelength) the stage writes the transmitted intensity (unit incident power
@@ -36,9 +37,9 @@ from .. import validate as val
 from ..device import get_device, to_warp
 from ..errors import InputError
 from ..optics.birefringence import uniaxial_medium
-from ..optics.complex import c_abs2
+from ..optics.complex import c_abs2, c_mul
 from ..optics.jones import Jones, jones_entry, s_vector
-from ..optics.plate import plate_medium, plate_mode_jones
+from ..optics.plate import plate_medium, plate_mode_jones, wave_plate_jones
 from ..optics.polarizer import lens_polarizer_field
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -57,11 +58,18 @@ class PolariscopeConfig:
     polarizer_deg: float = 0.0
     analyzer_deg: float = 90.0
     n_ambient: float = 1.0
+    #: an accessory plate in the collimated beam before the analyzer (ideal retarder,
+    #: ``optics.plate.wave_plate_jones``): retardation in nm (0: none; 550 the first-order red
+    #: "gypsum" plate, 147 a quarter-wave "mica" plate at 589 nm) and its slow direction
+    accessory_nm: float = 0.0
+    accessory_deg: float = 45.0
 
     def __post_init__(self) -> None:
         val.number(self.polarizer_deg, field="polarizer_deg")
         val.number(self.analyzer_deg, field="analyzer_deg")
         val.number(self.n_ambient, field="n_ambient", lo=1.0, hi=3.0)
+        val.number(self.accessory_nm, field="accessory_nm", lo=0.0, hi=1.0e5)
+        val.number(self.accessory_deg, field="accessory_deg")
 
     def axes(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
         p = math.radians(self.polarizer_deg)
@@ -70,13 +78,29 @@ class PolariscopeConfig:
 
 
 @wp.func
-def _analyzed(jm: Jones, p: wp.vec2f, a: wp.vec2f):
-    # a^T J p (complex) for real polarizer / analyzer components p, a
+def _analyzed(jm: Jones, p: wp.vec2f, a_re: wp.vec2f, a_im: wp.vec2f):
+    # a^T J p (complex) for real polarizer components p and complex analyzer components a
     out = wp.vec2f(0.0, 0.0)
     for r in range(2):
+        a = wp.vec2f(a_re[r], a_im[r])
         for c in range(2):
-            out = out + jones_entry(jm, r, c) * (a[r] * p[c])
+            out = out + c_mul(a, jones_entry(jm, r, c)) * p[c]
     return out
+
+
+@wp.func
+def _analyzer_through(acc: Jones, ana: wp.vec3f, x: wp.vec3f):
+    """(Re, Im) of the analyzer's components in the frame (x, k x x) of a cone direction, seen
+    through the accessory plate ``acc`` (world x, y frame of the collimated beam): the analyzer
+    passes a^T A E of a field E, i.e. the complex axis A^T a, which the objective maps into the
+    cone as ``lens_polarizer_field`` (a linear map: real and imaginary parts apart)."""
+    v_re = wp.vec3f(
+        acc.re[0, 0] * ana[0] + acc.re[1, 0] * ana[1], acc.re[0, 1] * ana[0] + acc.re[1, 1] * ana[1], 0.0
+    )
+    v_im = wp.vec3f(
+        acc.im[0, 0] * ana[0] + acc.im[1, 0] * ana[1], acc.im[0, 1] * ana[0] + acc.im[1, 1] * ana[1], 0.0
+    )
+    return lens_polarizer_field(v_re, _BEAM, x), lens_polarizer_field(v_im, _BEAM, x)
 
 
 @wp.kernel
@@ -90,6 +114,8 @@ def _polariscope_kernel(
     n_ambient: float,
     pol: wp.vec3f,
     ana: wp.vec3f,
+    acc_angle: float,
+    acc_nm: float,
     out_coherent: wp.array2d(dtype=float),
     out_incoherent: wp.array2d(dtype=float),
 ):
@@ -100,9 +126,9 @@ def _polariscope_kernel(
     j0, j1 = plate_mode_jones(k, _NORMAL, amb, med, thickness[i], wavelength[j], alpha[j])
     x = s_vector(k, _NORMAL)
     p = lens_polarizer_field(pol, _BEAM, x)
-    a = lens_polarizer_field(ana, _BEAM, x)
-    e0 = _analyzed(j0, p, a)
-    e1 = _analyzed(j1, p, a)
+    a_re, a_im = _analyzer_through(wave_plate_jones(acc_angle, acc_nm, wavelength[j]), ana, x)
+    e0 = _analyzed(j0, p, a_re, a_im)
+    e1 = _analyzed(j1, p, a_re, a_im)
     out_coherent[i, j] = c_abs2(e0 + e1)
     out_incoherent[i, j] = c_abs2(e0) + c_abs2(e1)
 
@@ -152,6 +178,8 @@ class StagePolariscope:
                 float(self.config.n_ambient),
                 self._pol,
                 self._ana,
+                math.radians(self.config.accessory_deg),
+                float(self.config.accessory_nm),
             ],
             outputs=[out_coherent, out_incoherent],
             device=self.device,
