@@ -171,6 +171,25 @@ def test_chart_command_writes_the_figure(tmp_path, capsys):
     out = tmp_path / "ml.png"
     assert main(["chart", "michel-levy", "-o", str(out), "--max-retardation", "600"]) == 0
     assert out.stat().st_size > 1000
+    fig = tmp_path / "cono.png"
+    assert (
+        main(
+            [
+                "chart",
+                "conoscope",
+                "--thickness",
+                "0.25",
+                "--size",
+                "16",
+                "--accessory-nm",
+                "550",
+                "-o",
+                str(fig),
+            ]
+        )
+        == 0
+    )
+    assert fig.stat().st_size > 1000
     assert main(["chart", "colour", "--material", "quartz", "--thickness", "0.03"]) == 0
     text = capsys.readouterr().out
     assert "retardation    274.8 nm" in text and "not modelled" in text

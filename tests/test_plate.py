@@ -247,3 +247,25 @@ def test_bad_inputs_name_the_field(device):
         plate_jones([0, 0, 1.0], 500.0, (np.nan, 0, 1.6), 0.01, device=device)
     with pytest.raises(InputError, match="crystal_axes"):
         plate_jones([0, 0, 1.0], 500.0, (1.5, 0, 1.6), 0.01, crystal_axes=(1.0, 2.0), device=device)
+
+
+def test_pleochroic_plate_absorbs_each_wave_by_its_own_kappa(device):
+    # axis along x at normal incidence: light polarized along x is the e wave (Guy & Soler eq. 7
+    # with the wave normal across the axis: kappa^e = K^e (n_o / n_e)^2), along y the o wave
+    # (K^o): |J_xx|^2 = T_e^2 exp(-kappa^e d), |J_yy|^2 = T_o^2 exp(-K^o d), T = 4n/(1+n)^2
+    lam = np.array([450.0, 550.0, 650.0])
+    no, ne = 1.64, 1.62
+    idx = np.stack([np.full(3, no), np.zeros(3), np.full(3, ne)], -1)
+    k_o, k_e, d = np.array([2.0, 0.5, 1.0]), np.array([0.1, 1.5, 0.3]), 0.8
+    alpha = np.stack([k_o, np.zeros(3), k_e], -1)
+    j, s = plate_jones([0, 0, 1.0], lam, idx, d, crystal_axes=(1.0, 0.0, 0.0), alpha=alpha, device=device)
+    y = np.cross([0, 0, 1.0], s)
+    x_hat, y_hat = np.array([1.0, 0, 0]), np.array([0.0, 1, 0])
+    p_x = np.stack([s @ x_hat, y @ x_hat], -1)
+    p_y = np.stack([s @ y_hat, y @ y_hat], -1)
+    t_x = np.abs(np.einsum("...i,...ij,...j->...", p_x, j, p_x)) ** 2
+    t_y = np.abs(np.einsum("...i,...ij,...j->...", p_y, j, p_y)) ** 2
+    np.testing.assert_allclose(
+        t_x, (4 * ne / (1 + ne) ** 2) ** 2 * np.exp(-k_e * (no / ne) ** 2 * d), rtol=2e-5
+    )
+    np.testing.assert_allclose(t_y, (4 * no / (1 + no) ** 2) ** 2 * np.exp(-k_o * d), rtol=2e-5)

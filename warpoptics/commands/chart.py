@@ -16,6 +16,8 @@ activity (quartz along its axis) is not modelled.
 
 from __future__ import annotations
 
+import argparse
+
 import numpy as np
 
 from ..errors import InputError
@@ -186,6 +188,7 @@ def register(sub) -> None:
         "chart",
         help="polarizing microscope: Michel-Lévy chart, conoscopic figure, interference colour of a plate",
         description=__doc__.split("\n\n", 1)[1] if __doc__ else None,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("chart", choices=["michel-levy", "conoscope", "colour"])
     p.add_argument("-o", "--output", default=None, help="output figure (.png, .pdf, .svg)")
