@@ -269,3 +269,40 @@ def test_pleochroic_plate_absorbs_each_wave_by_its_own_kappa(device):
         t_x, (4 * ne / (1 + ne) ** 2) ** 2 * np.exp(-k_e * (no / ne) ** 2 * d), rtol=2e-5
     )
     np.testing.assert_allclose(t_y, (4 * no / (1 + no) ** 2) ** 2 * np.exp(-k_o * d), rtol=2e-5)
+
+
+def test_biaxial_vibration_directions_follow_biot_fresnel(device):
+    # Biot-Fresnel rule (Born & Wolf §15.3.3): the two waves of wave normal s in a biaxial
+    # crystal vibrate along the bisectors of the planes (s, A1) and (s, A2), A1, A2 the optic
+    # axes, i.e. along n1 +- n2 with n_i = s x A_i.  The input polarization that excites one
+    # wave alone (the row of its rank-one Jones matrix) must have that azimuth in the frame
+    # (x, s x x); the entrance face's s/p transmission ratio turns it by < 1 degree for
+    # n sin(theta) <= 0.5.  Optic axes from the indices: A = (+-sin V, 0, cos V),
+    # tan V = (n_g / n_a) sqrt((n_b^2 - n_a^2) / (n_g^2 - n_b^2)) (optic sign +).
+    tz = wo.materials.get("tanzanite")
+    lam = 589.3
+    na, nb, ng = tz.n([lam])[0]
+    v = np.arctan(ng / na * np.sqrt((nb**2 - na**2) / (ng**2 - nb**2)))
+    c = np.sqrt(0.5)
+    axes = np.array([[c, c, 0.0], [-c, c, 0.0], [0.0, 0.0, 1.0]])  # X, Y, Z rows (world)
+    optic = [np.array([s * np.sin(v), 0.0, np.cos(v)]) @ axes for s in (1.0, -1.0)]
+    rng = np.random.default_rng(7)
+    for _ in range(12):
+        p = rng.uniform(-0.5, 0.5, 2)
+        if p @ p > 0.25 or p @ p < 1e-3:
+            continue
+        k = np.array([p[0], p[1], np.sqrt(1 - p @ p)])
+        pair, s = plate_jones(k, lam, [na, nb, ng], 0.001, crystal_axes=axes, coherent=False, device=device)
+        got = []
+        for jm in pair:
+            r = jm[0] if np.abs(jm[0]).sum() > np.abs(jm[1]).sum() else jm[1]
+            r = r / r[np.argmax(np.abs(r))]
+            got.append(np.degrees(np.arctan2(r[1].real, r[0].real)) % 180)
+        s_in = np.array([p[0], p[1], np.sqrt(nb**2 - p @ p)])
+        s_in /= np.linalg.norm(s_in)
+        y = np.cross(s_in, s)
+        n1, n2 = (np.cross(s_in, a) / np.linalg.norm(np.cross(s_in, a)) for a in optic)
+        want = [np.degrees(np.arctan2(d @ y, d @ s)) % 180 for d in (n1 + n2, n1 - n2)]
+        for g in got:
+            err = min(abs((g - w + 90) % 180 - 90) for w in want)
+            assert err < 1.0, (p, got, want)
