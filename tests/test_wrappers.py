@@ -1152,6 +1152,59 @@ WRAPPERS += [
     ),
 ]
 
+
+def _slab_phase_ref(q, q_ref, d, lam):
+    return [np.exp(2j * np.pi * (q - q_ref) * d * 1e6 / lam)]
+
+
+def _wave_plate_ref(angle, gamma, lam):
+    # Yariv & Yeh §5.1: R(-t) diag(exp(i 2 pi Gamma / lambda), 1) R(t), the slow axis first
+    t = np.radians(angle)
+    r = np.array([[np.cos(t), np.sin(t)], [-np.sin(t), np.cos(t)]])
+    return [r.T @ np.diag([np.exp(2j * np.pi * gamma / lam), 1.0]) @ r]
+
+
+WRAPPERS += [
+    W(
+        "optics.plate.slab_phases",
+        lambda q, q_ref, d, lam, **k: wo.optics.plate.slab_phases(q, q_ref, d, lam, **k),
+        [
+            ("q", [1.5, 1.66, 1.0]),
+            ("q_ref", [1.0, 1.0, 1.33]),
+            ("thickness_mm", [0.01, 0.002, 0.05]),
+            ("wavelength_nm", [589.0, 400.0, 700.0]),
+        ],
+        _slab_phase_ref,
+        rtol=0.0,
+        atol=5e-5,  # phases up to 150 rad: the float32 rounding of the inputs (1.33) moves them 1e-5
+    ),
+    W(
+        "optics.plate.wave_plates",
+        lambda a, g, lam, **k: wo.optics.plate.wave_plates(a, g, lam, **k),
+        [
+            ("slow_angle_deg", [45.0, 10.0, 120.0]),
+            ("retardation_nm", [550.0, 147.0, 0.0]),
+            ("wavelength_nm", [589.0, 450.0, 700.0]),
+        ],
+        _wave_plate_ref,
+        atol=2e-6,
+    ),
+    W(
+        "optics.plate_jones",
+        lambda k, lam, n3, d, **kw: wo.optics.plate_jones(k, lam, n3, d, crystal_axes=(1.0, 1.0, 0.2), **kw),
+        [
+            ("direction", [_unit([0.1, 0.2, 1.0]), _unit([0.0, 0.0, 1.0]), _unit([-0.4, 0.1, 0.9])]),
+            ("wavelength_nm", [589.0, 450.0, 700.0]),
+            (
+                "indices",
+                [np.array([1.658, 0.0, 1.486]), np.array([1.544, 0.0, 1.553]), np.array([1.69, 1.694, 1.70])],
+            ),
+            ("thickness_mm", [0.01, 0.03, 0.002]),
+        ],
+        None,  # tests/test_plate.py holds the closed forms and the Berreman reference
+    ),
+]
+
 IDS = [w.name for w in WRAPPERS]
 
 

@@ -25,6 +25,7 @@ SUBCOMMAND_MODULES = [
     "warpoptics.commands.material",
     "warpoptics.commands.cut",
     "warpoptics.commands.thinfilm",
+    "warpoptics.commands.chart",
     "warpoptics.commands.sweep",
     "warpoptics.commands.colorchange",
     "warpoptics.commands.grade",

@@ -6,7 +6,7 @@ called per ray by the renderer's kernels; the NumPy wrappers re-exported here la
 those functions.
 """
 
-from . import biaxial, birefringence, complex, jones, polarizer  # noqa: F401
+from . import biaxial, birefringence, complex, jones, plate, polarizer  # noqa: F401
 from .biaxial import biaxial_absorption, biaxial_fresnel_coefficients, biaxial_waves, optic_axial_angle
 from .birefringence import (
     GeneralizedFresnelResult,
@@ -30,6 +30,7 @@ from .jones import (
     stokes,
     transport_bases,
 )
+from .plate import plate_jones
 from .polarizer import analyze, mueller_polarizer, sheet_polarizer_stokes
 
 __all__ = [
@@ -37,6 +38,7 @@ __all__ = [
     "birefringence",
     "complex",
     "jones",
+    "plate",
     "polarizer",
     # Fresnel (isotropic)
     "fresnel",
@@ -71,4 +73,6 @@ __all__ = [
     "biaxial_fresnel_coefficients",
     "biaxial_absorption",
     "optic_axial_angle",
+    # crystal plates (coherent o/e sum)
+    "plate_jones",
 ]

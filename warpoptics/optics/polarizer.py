@@ -21,7 +21,13 @@ up, i.e. counter-clockwise on the image.
   normal this is a polarizer whose transmission axis is ``a`` turned by -90 deg about ``k``;
   light travelling along ``a`` itself (grazing the sheet) is left unpolarized.
 
+- :func:`lens_polarizer_field`: a polarizer (or analyzer) in the collimated beam of a
+  polarizing microscope seen through its aplanatic condenser (objective) in one direction of
+  the cone (conoscopic light).
+
 References:
+    B. Richards, E. Wolf, *Electromagnetic diffraction in optical systems II*, Proc. R. Soc. A
+    253 (1959) (aplanatic lens: the field turned with the ray in its meridional plane).
     D. Goldstein, *Polarized Light*, 2nd ed. (2003), §5.3, eq. 5-15 (Mueller matrix of a linear
     polarizer).  M. Born, E. Wolf, *Principles of Optics*, 7th ed. (1999), §1.4.2 (Malus), §10.8
     (Stokes parameters).  E. Wolf (1959) (coherency matrices).
@@ -45,6 +51,7 @@ __all__ = [
     "polarizer_stokes",
     "sheet_polarizer_coherency",
     "sheet_absorbing_axis",
+    "lens_polarizer_field",
     # NumPy wrappers
     "mueller_polarizer",
     "analyze",
@@ -87,6 +94,22 @@ def sheet_polarizer_coherency(
     y = wp.cross(k, basis_x)
     psi = wp.atan2(wp.dot(e, y), wp.dot(e, basis_x))
     return coherency_from_stokes_vec(polarizer_stokes(wp.vec4(intensity, 0.0, 0.0, 0.0), psi))
+
+
+@wp.func
+def lens_polarizer_field(t_axis: wp.vec3f, beam: wp.vec3f, x: wp.vec3f):
+    """Field components, in the frame (x, k x x) of a direction k of a lens's cone, of the unit
+    field an ideal linear polarizer (unit transmission axis ``t_axis`` across the collimated
+    ``beam``) gives after an aplanatic lens turns the beam into k; ``x`` is the unit vector
+    across the meridional plane of k (the s-direction of a face normal to ``beam``).
+
+    An aplanatic lens (sine condition) keeps the component across the meridional plane and
+    turns the meridional one with the ray (Richards & Wolf 1959): the components are
+    ``(t . x, t . (beam x x))``.  The same holds backward for the objective in front of an
+    analyzer, so a crossed pair extinguishes every direction of an isotropic specimen (the dark
+    field of a conoscope; Fresnel s/p differences at the specimen lift it off the polarizers'
+    directions, the isogyres of a uniaxial figure)."""
+    return wp.vec2f(wp.dot(t_axis, x), wp.dot(t_axis, wp.cross(beam, x)))
 
 
 # ----------------------------------------------------------------------------------------------

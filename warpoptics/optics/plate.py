@@ -1,0 +1,392 @@
+"""A plane wave through a plane-parallel plate: the two waves of a crystal added as amplitudes.
+
+A plate of thickness ``d`` between two half-spaces of the same isotropic medium (air, or a
+mounting medium) splits an incident plane wave at its entrance face into the two waves of the
+crystal (o and e of a uniaxial crystal, fast and slow of a biaxial one; s and p of an isotropic
+plate), each with the tangential wave vector of the incident wave (phase matching).  Both cross
+the plate and leave through the exit face along the incident direction again, so that in a
+plane wave they overlap everywhere behind the plate and interfere: their complex amplitudes are
+added before any intensity is formed.  This is what makes the interference colours of a thin
+section and the isochromes of a conoscopic figure; adding their powers instead
+(:func:`plate_mode_jones` returns the two waves apart) is the incoherent model of thick stones.
+
+The laws composed, each from its own place:
+
+- entrance and exit faces: the generalized Fresnel amplitudes of ``biaxial.crystal_fresnel`` /
+  ``crystal_fresnel_both`` (Guy & Soler 2004 eq. 5; the biaxial solver when the plate is
+  biaxial), power-normalised by the waves' normal fluxes (``fresnel.flux_ratio``), as in every
+  interface event of ``optics/interface.py``;
+- the optical phase of a wave across the plate, :func:`slab_phase`: a plane wave
+  ``exp(i k0 k.r)`` with ``k = k_t + q m`` (``m`` the plate normal into the exit face) advances
+  by ``k0 q d`` between the faces at a fixed tangential position, whatever its walk-off; along
+  the wave's own ray of length ``L`` this is ``2 pi n L (s.t) / lambda`` (``n`` the wave's index,
+  ``s.t`` the walk-off cosine) less the tangential term common to both waves.  The phase is
+  carried relative to the ambient medium, ``2 pi (q - q_amb) d / lambda``: the Jones matrix is
+  that of inserting the plate into the beam (no plate: the identity);
+- absorption along each wave's ray: ``absorption.bouguer_lambert`` with the wave's own kappa
+  (``absorption.wave_kappa``, Guy & Soler eq. 7; ``biaxial.biaxial_kappa``), the field taking
+  the square root.
+
+Only the directly transmitted light is kept (one pass: light reflected back and forth between
+the faces, 0.2 % of the power for quartz in air, 1e-5 in a mounting medium of index 1.54, is
+dropped; it would add Fabry-Perot fringes of that relative size).  Optical activity (the
+rotation of quartz along its axis) is not modelled: a quartz plate cut across its axis shows
+the uniaxial cross and rings, not the "bull's eye" of its optical activity.
+
+Frames: every Jones matrix here maps field components in the frame ``(x, k x x)`` of the
+incident direction ``k`` with ``x = jones.s_vector(k, normal)`` (the s-direction of the plate
+face; ``perpendicular(normal)`` at normal incidence) to the same components behind the plate
+(the transmitted direction is ``k`` again).  ``normal`` is the unit plate normal on the side the
+light comes from (``k . normal < 0``).  Amplitudes are power-normalised: ``|J e|^2`` is the
+transmitted power fraction of a unit-power incident field ``e``.
+
+References:
+    Born, M., Wolf, E. 1999. Principles of Optics, 7th ed., §15.4 (interference with crystal
+        plates), §15.4.2 (convergent light).
+    Guy, S., Soler, C. 2004. Graphics Gems Revisited. ACM TOG 23(3). eq. 5, 7.
+    Yariv, A., Yeh, P. 1984. Optical Waves in Crystals, §5.1 (Jones calculus of wave plates).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import warp as wp
+
+from ..device import elementwise
+from ..errors import InputError
+from .absorption import bouguer_lambert, wave_kappa
+from .biaxial import biaxial_kappa, biaxial_medium, crystal_fresnel, crystal_fresnel_both, is_biaxial
+from .birefringence import PlaneWave, UniaxialMedium, uniaxial_medium
+from .complex import c_mul
+from .fresnel import flux_ratio
+from .jones import Jones, jones, jones_mul, jones_real, jones_zero, s_vector
+
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
+__all__ = [
+    "slab_phase",
+    "wave_plate_jones",
+    "plate_medium",
+    "plate_mode_jones",
+    # NumPy wrappers
+    "plate_jones",
+    "slab_phases",
+    "wave_plates",
+]
+
+_TWO_PI = wp.constant(wp.float64(2.0 * math.pi))
+
+
+@wp.func
+def slab_phase(q: float, q_ref: float, thickness: float, wavelength: float):
+    """exp(i 2 pi (q - q_ref) d / lambda) as a complex number: the phase a plane wave of normal
+    wave-vector component ``q`` (units of k0) gains across a slab of ``thickness`` mm relative to
+    one of component ``q_ref`` (``wavelength`` in nm, vacuum).  The product is formed and reduced
+    in float64: at d = 1 mm the phase is ~1e4 rad."""
+    ph = (
+        _TWO_PI
+        * (wp.float64(q) - wp.float64(q_ref))
+        * wp.float64(thickness)
+        * wp.float64(1.0e6)
+        / wp.float64(wavelength)
+    )
+    ph = ph - _TWO_PI * wp.floor(ph / _TWO_PI)
+    return wp.vec2f(float(wp.cos(ph)), float(wp.sin(ph)))
+
+
+@wp.func
+def wave_plate_jones(slow_angle: float, retardation_nm: float, wavelength: float):
+    """Jones matrix, in the frame (x, y) of a collimated beam, of an ideal retarder (an accessory
+    plate: no Fresnel loss, no dispersion of its retardation ``retardation_nm``) whose slow
+    vibration direction is at ``slow_angle`` (radians, from x toward y): R(-t) diag(1,
+    exp(i 2 pi Gamma / lambda)) R(t) with the fast direction first (Yariv & Yeh §5.1; the slow
+    wave gains the larger phase, as in :func:`slab_phase`).  Gamma = 0 is the identity."""
+    c = wp.cos(slow_angle)
+    s = wp.sin(slow_angle)
+    e = slab_phase(1.0, 0.0, retardation_nm * 1.0e-6, wavelength)
+    # fast along (-s, c), slow along (c, s): J = f f^T + e * u u^T
+    j = Jones()
+    j.re = wp.mat22(s * s + e[0] * c * c, -s * c + e[0] * c * s, -s * c + e[0] * c * s, c * c + e[0] * s * s)
+    j.im = wp.mat22(e[1] * c * c, e[1] * c * s, e[1] * c * s, e[1] * s * s)
+    return j
+
+
+@wp.func
+def plate_medium(n3: wp.vec3, frame: wp.mat33):
+    """The medium struct of a plate: ``n3`` = (n_alpha, n_beta, n_gamma) of a biaxial crystal
+    (``n3[1] > 0``; ``frame`` rows = principal axes X, Y, Z in the world), else (n_o, 0, n_e) of a
+    uniaxial crystal with its optic axis the row Z of ``frame`` (isotropic when n_o = n_e)."""
+    if n3[1] > 0.0:
+        return biaxial_medium(n3[0], n3[1], n3[2], frame, 0.0)
+    axis = wp.vec3(frame[2, 0], frame[2, 1], frame[2, 2])
+    if n3[0] == n3[2]:
+        axis = wp.vec3(0.0, 0.0, 0.0)
+    return uniaxial_medium(n3[0], n3[2], axis)
+
+
+@wp.func
+def _wave_kappa(wave: PlaneWave, mode: int, med: UniaxialMedium, alpha3: wp.vec3):
+    # intensity absorption coefficient (1/mm) of a plate wave: the uniaxial/isotropic eq. 7 or
+    # the biaxial kappa of its D; alpha3 = (alpha_o, -, alpha_e) or (alpha_X, alpha_Y, alpha_Z)
+    if is_biaxial(med):
+        return biaxial_kappa(mode, wave.wave_normal, med, alpha3[0], alpha3[1], alpha3[2])
+    m = mode
+    if wp.dot(med.axis, med.axis) == 0.0:
+        m = -1
+    return wave_kappa(m, wp.dot(wave.wave_normal, med.axis), alpha3[0], alpha3[2], med.no, med.ne)
+
+
+@wp.func
+def _scale_c(c: wp.vec2f, s: float):
+    return wp.vec2f(c[0] * s, c[1] * s)
+
+
+@wp.func
+def plate_mode_jones(
+    k: wp.vec3,
+    normal: wp.vec3,
+    ambient: UniaxialMedium,
+    plate: UniaxialMedium,
+    thickness: float,
+    wavelength: float,
+    alpha3: wp.vec3,
+):
+    """(J_0, J_1): the Jones matrices, frame (s, k x s) in and out (module docstring), of the
+    light a plane wave of unit direction ``k`` in the isotropic ``ambient`` medium sends through
+    the plate on each of its two waves (0: o / fast / s, 1: e / slow / p).  The coherent plate is
+    J_0 + J_1; an incoherent (thick-plate) model sums the coherency matrices of the two.
+
+    ``thickness`` in mm, ``wavelength`` in nm, ``alpha3`` the plate's intensity absorption
+    coefficients in 1/mm (see :func:`_wave_kappa`).  A wave that cannot propagate in the plate
+    (total reflection at the entrance) gives a zero matrix."""
+    m = -normal  # into the plate, toward the exit face
+    s = s_vector(k, normal)
+    y = wp.cross(k, s)
+    sol0, sol1 = crystal_fresnel_both(k, normal, ambient, plate)
+    # field components along the two incident polarizations of the solutions, from (s, y)
+    x0 = sol0.incident.e_re
+    x1 = sol1.incident.e_re
+    b_in = jones_real(wp.mat22(wp.dot(x0, s), wp.dot(x0, y), wp.dot(x1, s), wp.dot(x1, y)))
+    q_amb = wp.dot(sol0.incident.k_re, m)
+    out0 = jones_zero()
+    out1 = jones_zero()
+    for mode in range(2):
+        wave = sol0.to
+        c0 = sol0.t_o
+        c1 = sol1.t_o
+        if mode == 1:
+            wave = sol0.te
+            c0 = sol0.t_e
+            c1 = sol1.t_e
+        if wave.propagating == 0 or sol0.solved == 0 or sol1.solved == 0:
+            continue
+        # entrance: power amplitudes of this wave from the two incident polarizations
+        a0 = _scale_c(c0, wp.sqrt(flux_ratio(sol0.incident.flux, wave.flux)))
+        a1 = _scale_c(c1, wp.sqrt(flux_ratio(sol1.incident.flux, wave.flux)))
+        # across the plate: phase and absorption along the wave's ray
+        cos_ray = wp.max(wp.dot(wave.ray, m), 1.0e-6)
+        kappa = _wave_kappa(wave, mode, plate, alpha3)
+        att = wp.sqrt(bouguer_lambert(kappa, thickness / cos_ray))
+        ph = slab_phase(wp.dot(wave.k_re, m), q_amb, thickness, wavelength)
+        # exit: the same wave incident on the exit face from inside (its field recomputed there
+        # with the same sign convention; the dot product guards the sign)
+        ex = crystal_fresnel(wave.wave_normal, mode, normal, plate, ambient)
+        sign = wp.dot(ex.incident.e_re, wave.e_re)
+        bo = _scale_c(ex.t_o, wp.sqrt(flux_ratio(ex.incident.flux, ex.to.flux)))
+        be = _scale_c(ex.t_e, wp.sqrt(flux_ratio(ex.incident.flux, ex.te.flux)))
+        ux = _scale_c(bo, wp.dot(ex.to.e_re, s)) + _scale_c(be, wp.dot(ex.te.e_re, s))
+        uy = _scale_c(bo, wp.dot(ex.to.e_re, y)) + _scale_c(be, wp.dot(ex.te.e_re, y))
+        f = _scale_c(ph, att * sign)
+        ux = c_mul(ux, f)
+        uy = c_mul(uy, f)
+        # outer product (ux, uy)^T (a0, a1) in the solutions' incident frame, then from (s, y)
+        jm = jones_mul(jones(c_mul(ux, a0), c_mul(ux, a1), c_mul(uy, a0), c_mul(uy, a1)), b_in)
+        if mode == 0:
+            out0 = jm
+        else:
+            out1 = jm
+    return out0, out1
+
+
+# ----------------------------------------------------------------------------------------------
+# private element-wise kernels (offset first, see warpoptics.device)
+
+
+@wp.kernel
+def _plate_jones_kernel(
+    offset: int,
+    k: wp.array(dtype=wp.vec3),
+    wavelength: wp.array(dtype=float),
+    n3: wp.array(dtype=wp.vec3),
+    alpha3: wp.array(dtype=wp.vec3),
+    thickness: wp.array(dtype=float),
+    n_ambient: wp.array(dtype=float),
+    normal: wp.vec3,
+    frame: wp.mat33,
+    out_s: wp.array(dtype=wp.vec3),
+    out_j0: wp.array(dtype=wp.vec4f),  # re00, re01, re10, re11
+    out_j0i: wp.array(dtype=wp.vec4f),
+    out_j1: wp.array(dtype=wp.vec4f),
+    out_j1i: wp.array(dtype=wp.vec4f),
+):
+    i = wp.tid() + offset
+    amb = uniaxial_medium(n_ambient[i], n_ambient[i], wp.vec3(0.0, 0.0, 0.0))
+    med = plate_medium(n3[i], frame)
+    d = wp.normalize(k[i])
+    j0, j1 = plate_mode_jones(d, normal, amb, med, thickness[i], wavelength[i], alpha3[i])
+    out_s[i] = s_vector(d, normal)
+    out_j0[i] = wp.vec4f(j0.re[0, 0], j0.re[0, 1], j0.re[1, 0], j0.re[1, 1])
+    out_j0i[i] = wp.vec4f(j0.im[0, 0], j0.im[0, 1], j0.im[1, 0], j0.im[1, 1])
+    out_j1[i] = wp.vec4f(j1.re[0, 0], j1.re[0, 1], j1.re[1, 0], j1.re[1, 1])
+    out_j1i[i] = wp.vec4f(j1.im[0, 0], j1.im[0, 1], j1.im[1, 0], j1.im[1, 1])
+
+
+@wp.kernel
+def _slab_phase_kernel(
+    offset: int,
+    q: wp.array(dtype=float),
+    q_ref: wp.array(dtype=float),
+    thickness: wp.array(dtype=float),
+    wavelength: wp.array(dtype=float),
+    out: wp.array(dtype=wp.vec2f),
+):
+    i = wp.tid() + offset
+    out[i] = slab_phase(q[i], q_ref[i], thickness[i], wavelength[i])
+
+
+@wp.kernel
+def _wave_plate_kernel(
+    offset: int,
+    angle: wp.array(dtype=float),
+    retardation: wp.array(dtype=float),
+    wavelength: wp.array(dtype=float),
+    out_re: wp.array(dtype=wp.vec4f),
+    out_im: wp.array(dtype=wp.vec4f),
+):
+    i = wp.tid() + offset
+    j = wave_plate_jones(angle[i], retardation[i], wavelength[i])
+    out_re[i] = wp.vec4f(j.re[0, 0], j.re[0, 1], j.re[1, 0], j.re[1, 1])
+    out_im[i] = wp.vec4f(j.im[0, 0], j.im[0, 1], j.im[1, 0], j.im[1, 1])
+
+
+# ----------------------------------------------------------------------------------------------
+# NumPy wrappers
+
+
+def _finite(value, name: str) -> np.ndarray:
+    a = np.asarray(value, dtype=np.float64)
+    bad = ~np.isfinite(a)
+    if np.any(bad):
+        raise InputError("must be finite", field=name, value=a[bad].flat[0], allowed="finite numbers")
+    return a
+
+
+def _positive(value, name: str) -> np.ndarray:
+    a = _finite(value, name)
+    if np.any(a <= 0):
+        raise InputError("must be > 0", field=name, value=a[a <= 0].flat[0], allowed="> 0")
+    return a
+
+
+def slab_phases(q, q_ref, thickness_mm, wavelength_nm, *, device=None) -> np.ndarray:
+    """exp(i 2 pi (q - q_ref) d / lambda) (complex array) of :func:`slab_phase`."""
+    (out,) = elementwise(
+        _slab_phase_kernel,
+        [
+            (_finite(q, "q"), wp.float32),
+            (_finite(q_ref, "q_ref"), wp.float32),
+            (_finite(thickness_mm, "thickness_mm"), wp.float32),
+            (_positive(wavelength_nm, "wavelength_nm"), wp.float32),
+        ],
+        [wp.vec2f],
+        device=device,
+    )
+    return out[..., 0].astype(np.float64) + 1j * out[..., 1].astype(np.float64)
+
+
+def _crystal_frame(crystal_axes) -> np.ndarray:
+    f = _finite(crystal_axes, "crystal_axes")
+    if f.shape == (3,):  # an optic axis alone: it is the row Z
+        n = np.linalg.norm(f)
+        if n == 0:
+            raise InputError("optic axis must be non-zero", field="optic_axis", value=tuple(f))
+        z = f / n
+        x = np.cross(z, [1.0, 0.0, 0.0] if abs(z[0]) < 0.9 else [0.0, 1.0, 0.0])
+        x /= np.linalg.norm(x)
+        return np.stack([x, np.cross(z, x), z])
+    if f.shape != (3, 3):
+        raise InputError(
+            "crystal axes must be a 3-vector or a 3x3 matrix", field="crystal_axes", value=f.shape
+        )
+    return f
+
+
+def plate_jones(
+    direction,
+    wavelength_nm,
+    indices,
+    thickness_mm,
+    *,
+    crystal_axes=(0.0, 0.0, 1.0),
+    alpha=(0.0, 0.0, 0.0),
+    n_ambient=1.0,
+    normal=(0.0, 0.0, -1.0),
+    coherent: bool = True,
+    device=None,
+):
+    """Jones matrices of a plane-parallel plate (:func:`plate_mode_jones`).
+
+    ``direction`` (..., 3) the incident direction (normalised here), ``wavelength_nm`` (...),
+    ``indices`` (..., 3) = (n_o, 0, n_e) of a uniaxial plate, (n_alpha, n_beta, n_gamma) of a
+    biaxial one, (n, 0, n) of an isotropic one; ``thickness_mm`` (...); ``crystal_axes``: the
+    optic axis (3,) of a uniaxial plate or the principal axes (3, 3) (rows X, Y, Z, world) of a
+    biaxial one; ``alpha`` (..., 3) intensity absorption coefficients (1/mm: alpha_o, -, alpha_e
+    or alpha_X, alpha_Y, alpha_Z); ``n_ambient`` the isotropic medium on both sides; ``normal``
+    the unit plate normal on the incident side.
+
+    Returns ``(J, s)``: ``J`` (..., 2, 2) complex, the coherent sum of the two waves
+    (``coherent=True``) or the pair ``(J_0, J_1)`` stacked on a leading axis of length 2; ``s``
+    (..., 3) the frame's x vector (the field components are along s and k x s)."""
+    nrm = _finite(normal, "normal")
+    nrm = nrm / np.linalg.norm(nrm)
+    k = _finite(direction, "direction")
+    frame = _crystal_frame(crystal_axes)
+    outs = elementwise(
+        _plate_jones_kernel,
+        [
+            (k, wp.vec3),
+            (_positive(wavelength_nm, "wavelength_nm"), wp.float32),
+            (_finite(indices, "indices"), wp.vec3),
+            (_finite(alpha, "alpha"), wp.vec3),
+            (_finite(thickness_mm, "thickness_mm"), wp.float32),
+            (_positive(n_ambient, "n_ambient"), wp.float32),
+        ],
+        [wp.vec3, wp.vec4f, wp.vec4f, wp.vec4f, wp.vec4f],
+        extra=(wp.vec3(*nrm.tolist()), wp.mat33(*frame.ravel().tolist())),
+        device=device,
+    )
+    s, j0r, j0i, j1r, j1i = (np.asarray(o, dtype=np.float64) for o in outs)
+    j0 = (j0r + 1j * j0i).reshape(*j0r.shape[:-1], 2, 2)
+    j1 = (j1r + 1j * j1i).reshape(*j1r.shape[:-1], 2, 2)
+    if coherent:
+        return j0 + j1, s
+    return np.stack([j0, j1]), s
+
+
+def wave_plates(slow_angle_deg, retardation_nm, wavelength_nm, *, device=None) -> np.ndarray:
+    """Jones matrices (..., 2, 2) complex of ideal retarders (:func:`wave_plate_jones`); the
+    slow direction at ``slow_angle_deg`` degrees from x toward y."""
+    re, im = elementwise(
+        _wave_plate_kernel,
+        [
+            (np.radians(_finite(slow_angle_deg, "slow_angle_deg")), wp.float32),
+            (_finite(retardation_nm, "retardation_nm"), wp.float32),
+            (_positive(wavelength_nm, "wavelength_nm"), wp.float32),
+        ],
+        [wp.vec4f, wp.vec4f],
+        device=device,
+    )
+    j = re.astype(np.float64) + 1j * im.astype(np.float64)
+    return j.reshape(*j.shape[:-1], 2, 2)

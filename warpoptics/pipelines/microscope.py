@@ -1,0 +1,408 @@
+"""The polarizing microscope: interference colours of a plate, the Michel-Lévy chart and the
+conoscopic (Bertrand-lens) figure, all from the coherent plate of ``stages/polariscope.py``.
+
+- :func:`interference_colour`: a plate of a library (or user) material, thickness and
+  orientation, orthoscopic (parallel light along the microscope axis) between the polarizer and
+  analyzer -> its spectrum, CIE XYZ under an illuminant, CIELAB, sRGB and its retardation.
+- :func:`michel_levy_chart`: the interference colour against retardation 0-2000 nm (crossed
+  polarizers, the plate's vibration directions at 45 degrees), computed by the same stage for a
+  dispersion-free plate in an index-matched mount, so that the colour depends on the retardation
+  alone, as in Michel-Lévy's chart (thickness and birefringence lines are the chart's geometry,
+  Delta = d * (n_slow - n_fast)).
+- :func:`conoscopic_figure` / :func:`conoscope_profile`: strongly convergent light (numerical
+  aperture NA of the condenser and objective), each direction of the cone a plane wave through
+  the plate; the objective's back focal plane shows direction (theta, psi) at radius
+  NA_pupil = n sin(theta) (Abbe's sine condition), so the image's x, y are n k_x, n k_y / NA.
+
+Conventions: the microscope axis is world +z, image right = world x, image up = world y (an
+observer looking down the tube); polarizer and analyzer angles in degrees from image right
+toward image up (E-W polarizer, N-S analyzer by default).  ``accessory_nm`` inserts an ideal
+accessory plate of that retardation (550: first-order red; 147: quarter-wave) with its slow
+direction at ``accessory_deg`` (default 45: NE-SW) in front of the analyzer, the optic-sign test.
+Colours: the colour range 360-830 nm, CIE 1931 2 degree observer, illuminants scaled to Y = 1
+(``spectra.py``); the light falling on the plate is the illuminant behind the polarizer,
+normalised so that parallel polarizers without a plate give Y = 1.  Optical activity is not
+modelled (``optics/plate.py``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import spectra
+from ..color import encode_srgb, gamut_clip, xyz_to_lab
+from ..errors import InputError
+from ..materials.dispersion import Biaxial, Isotropic, Material, Uniaxial
+from ..optics.biaxial import biaxial_waves
+from ..optics.birefringence import extraordinary_index
+from ..stages.polariscope import PolariscopeConfig, plate_between_polarizers
+
+__all__ = [
+    "InterferenceColour",
+    "MichelLevyChart",
+    "ConoscopicFigure",
+    "plate_optics",
+    "plate_retardation",
+    "interference_colour",
+    "michel_levy_chart",
+    "conoscope_profile",
+    "conoscopic_figure",
+]
+
+#: the plate of the Michel-Lévy chart: n_o of quartz, birefringence 0.01, mounted in n_o
+CHART_N_O = 1.544
+CHART_BIREFRINGENCE = 0.01
+
+
+@dataclass(frozen=True)
+class InterferenceColour:
+    """One plate seen between the polarizers: ``wavelength_nm`` (W,), ``transmission`` (W,)
+    (coherent; ``incoherent`` the o and e powers added instead), ``xyz`` (3,), ``lab`` (3,) (D65
+    white), ``srgb`` (3,) encoded sRGB in [0, 1] (Smits-Meyer gamut clip at ``exposure``),
+    ``retardation_nm`` d |n_1 - n_2| of the two waves along the axis at ``reference_nm``."""
+
+    wavelength_nm: np.ndarray
+    transmission: np.ndarray
+    incoherent: np.ndarray
+    xyz: np.ndarray
+    lab: np.ndarray
+    srgb: np.ndarray
+    retardation_nm: float
+    reference_nm: float
+    exposure: float
+
+
+@dataclass(frozen=True)
+class MichelLevyChart:
+    """Interference colours against retardation: ``retardation_nm`` (C,), ``xyz`` (C, 3) (before
+    exposure), ``rgb`` (C, 3) linear sRGB after the exposure and the Smits-Meyer clip, ``srgb``
+    (C, 3) encoded; the plate model (``n_o``, ``birefringence``, mounting index ``n_o``)."""
+
+    retardation_nm: np.ndarray
+    xyz: np.ndarray
+    rgb: np.ndarray
+    srgb: np.ndarray
+    exposure: float
+    illuminant: str
+    n_o: float
+    birefringence: float
+
+
+@dataclass(frozen=True)
+class ConoscopicFigure:
+    """The back-focal-plane image: ``intensity`` (H, W) at ``wavelength_nm`` (monochromatic) or
+    None; ``xyz`` (H, W, 3) (white light) or None; ``srgb`` (H, W, 3) for display; ``pupil``
+    (H, W) bool, the pixels inside the aperture; ``numerical_aperture``."""
+
+    intensity: np.ndarray | None
+    xyz: np.ndarray | None
+    srgb: np.ndarray
+    pupil: np.ndarray
+    numerical_aperture: float
+    wavelength_nm: float | None
+
+
+# ---------------------------------------------------------------------------------------------
+# materials -> plate arrays
+
+
+def plate_optics(material: Material, wavelength_nm, *, crystal_axes=None, optic_axis=None):
+    """(indices (W, 3), alpha (W, 3), frame (3, 3)) of a plate of ``material`` for the stage:
+    (n_o, 0, n_e) / (n_alpha, n_beta, n_gamma) / (n, 0, n).  Wavelengths outside the material's
+    data range take its value at the nearest end.  ``optic_axis`` (world) orients a uniaxial
+    plate (default: in the plate at 45 degrees, (1, 1, 0)); ``crystal_axes`` (rows X, Y, Z,
+    world) a biaxial one (default the material's own turned by 45 degrees about z, so that a
+    section normal to Z is in its 45-degree position)."""
+    lo, hi = material.wavelength_range_nm
+    lam = np.clip(np.atleast_1d(np.asarray(wavelength_nm, dtype=np.float64)), lo, hi)
+    if isinstance(material, Biaxial):
+        n3 = material.n(lam)
+        a3 = material.alpha(lam)
+        if crystal_axes is None:
+            # the material's own axes turned 45 degrees about the microscope axis: a section
+            # normal to Z in its 45-degree position (brightest), not in extinction
+            c = np.sqrt(0.5)
+            frame = np.asarray(material.crystal_axes, dtype=np.float64) @ np.array(
+                [[c, c, 0.0], [-c, c, 0.0], [0.0, 0.0, 1.0]]
+            )
+        else:
+            frame = np.asarray(crystal_axes, dtype=np.float64)
+        if frame.shape != (3, 3):
+            raise InputError("crystal axes must be a 3x3 matrix (rows X, Y, Z)", field="crystal_axes")
+        return n3, a3, frame
+    if isinstance(material, Uniaxial):
+        n = material.n(lam)
+        a = material.alpha(lam)
+        zero = np.zeros_like(lam)
+        axis = np.asarray((1.0, 1.0, 0.0) if optic_axis is None else optic_axis, dtype=np.float64)
+        if axis.shape != (3,) or not np.all(np.isfinite(axis)) or np.linalg.norm(axis) == 0:
+            raise InputError("optic axis must be a non-zero 3-vector", field="optic_axis", value=optic_axis)
+        z = axis / np.linalg.norm(axis)
+        x = np.cross(z, [1.0, 0.0, 0.0] if abs(z[0]) < 0.9 else [0.0, 1.0, 0.0])
+        x /= np.linalg.norm(x)
+        frame = np.stack([x, np.cross(z, x), z])
+        return (
+            np.stack([n[:, 0], zero, n[:, 1]], axis=-1),
+            np.stack([a[:, 0], zero, a[:, 1]], axis=-1),
+            frame,
+        )
+    if isinstance(material, Isotropic):
+        n = material.n(lam)
+        a = material.alpha(lam)
+        zero = np.zeros_like(lam)
+        return np.stack([n, zero, n], axis=-1), np.stack([a, zero, a], axis=-1), np.eye(3)
+    raise InputError("not a material", field="material", value=type(material).__name__)
+
+
+def plate_retardation(material: Material, thickness_mm: float, *, wavelength_nm: float = 550.0, **orient):
+    """Retardation d |n_1 - n_2| (nm) of the two waves of a plate along the microscope axis."""
+    n3, _, frame = plate_optics(material, wavelength_nm, **orient)
+    if isinstance(material, Biaxial):
+        _, _, idx = biaxial_waves((0.0, 0.0, 1.0), (0.0, 0.0, -1.0), frame, 1.0, n3[0, 0], n3[0, 1], n3[0, 2])
+        dn = abs(float(idx[1] - idx[0]))
+    elif isinstance(material, Uniaxial):
+        ne_t = float(extraordinary_index(frame[2, 2], n3[0, 0], n3[0, 2]))
+        dn = abs(ne_t - float(n3[0, 0]))
+    else:
+        dn = 0.0
+    return float(thickness_mm) * 1e6 * dn
+
+
+# ---------------------------------------------------------------------------------------------
+# colours
+
+
+def _colour_grid(step_nm: float) -> np.ndarray:
+    if not step_nm > 0:
+        raise InputError("wavelength step must be > 0", field="step_nm", value=step_nm, allowed="> 0")
+    return spectra.grid(step=float(step_nm))
+
+
+def _xyz(lam: np.ndarray, transmission: np.ndarray, illuminant: str) -> np.ndarray:
+    if illuminant not in spectra.ILLUMINANTS:
+        raise InputError(
+            "unknown illuminant", field="illuminant", value=illuminant, allowed=", ".join(spectra.ILLUMINANTS)
+        )
+    return spectra.spectrum_to_xyz(lam, transmission * spectra.illuminant(illuminant, lam))
+
+
+def _display(xyz: np.ndarray, exposure: float) -> tuple[np.ndarray, np.ndarray]:
+    rgb = gamut_clip(np.asarray(xyz, dtype=np.float64) * exposure, 1.0)
+    return rgb, np.asarray(encode_srgb(rgb))
+
+
+def interference_colour(
+    material: Material,
+    thickness_mm: float,
+    *,
+    optic_axis=None,
+    crystal_axes=None,
+    polarizer_deg: float = 0.0,
+    analyzer_deg: float = 90.0,
+    accessory_nm: float = 0.0,
+    accessory_deg: float = 45.0,
+    n_ambient: float = 1.0,
+    illuminant: str = "D65",
+    step_nm: float = 5.0,
+    exposure: float = 1.0,
+    reference_nm: float = 550.0,
+    device=None,
+) -> InterferenceColour:
+    """The interference colour of a plate (orthoscopic, light along the microscope axis)."""
+    if not (isinstance(thickness_mm, (int, float)) and np.isfinite(thickness_mm) and thickness_mm >= 0):
+        raise InputError("must be a number >= 0", field="thickness_mm", value=thickness_mm, allowed=">= 0")
+    lam = _colour_grid(step_nm)
+    orient = (
+        {"optic_axis": optic_axis} if not isinstance(material, Biaxial) else {"crystal_axes": crystal_axes}
+    )
+    n3, a3, frame = plate_optics(material, lam, **orient)
+    cfg = PolariscopeConfig(
+        polarizer_deg=polarizer_deg,
+        analyzer_deg=analyzer_deg,
+        n_ambient=n_ambient,
+        accessory_nm=accessory_nm,
+        accessory_deg=accessory_deg,
+    )
+    coh, inc = plate_between_polarizers(
+        [[0.0, 0.0, 1.0]], thickness_mm, lam, n3, crystal_frame=frame, alpha=a3, config=cfg, device=device
+    )
+    xyz = _xyz(lam, coh[0], illuminant)
+    _, srgb = _display(xyz, exposure)
+    return InterferenceColour(
+        wavelength_nm=lam,
+        transmission=coh[0],
+        incoherent=inc[0],
+        xyz=xyz,
+        lab=xyz_to_lab(xyz),
+        srgb=srgb,
+        retardation_nm=plate_retardation(material, thickness_mm, wavelength_nm=reference_nm, **orient),
+        reference_nm=float(reference_nm),
+        exposure=float(exposure),
+    )
+
+
+def michel_levy_chart(
+    *,
+    max_retardation_nm: float = 2000.0,
+    columns: int = 801,
+    illuminant: str = "D65",
+    step_nm: float = 5.0,
+    exposure: float | None = None,
+    device=None,
+) -> MichelLevyChart:
+    """The Michel-Lévy colours for retardations 0..``max_retardation_nm`` (``columns`` samples):
+    a plate of n_o = 1.544, n_e = n_o + 0.01 (no dispersion), mounted in a medium of index n_o,
+    its vibration directions at 45 degrees to crossed polarizers, thickness Delta / 0.01.
+    ``exposure`` scales XYZ before the gamut clip (default: the brightest colour gets Y = 1)."""
+    if not (isinstance(columns, int) and columns >= 2):
+        raise InputError("must be an integer >= 2", field="columns", value=columns)
+    if not (np.isfinite(max_retardation_nm) and max_retardation_nm > 0):
+        raise InputError("must be > 0", field="max_retardation_nm", value=max_retardation_nm)
+    lam = _colour_grid(step_nm)
+    ret = np.linspace(0.0, float(max_retardation_nm), columns)
+    n3 = np.tile([CHART_N_O, 0.0, CHART_N_O + CHART_BIREFRINGENCE], (lam.size, 1))
+    s = np.sqrt(0.5)
+    frame = np.array([[0.0, 0.0, 1.0], [-s, s, 0.0], [s, s, 0.0]])  # optic axis at 45 degrees
+    k = np.tile([0.0, 0.0, 1.0], (columns, 1))
+    cfg = PolariscopeConfig(n_ambient=CHART_N_O)
+    coh, _ = plate_between_polarizers(
+        k, ret * 1e-6 / CHART_BIREFRINGENCE, lam, n3, crystal_frame=frame, config=cfg, device=device
+    )
+    xyz = _xyz(lam, coh, illuminant)
+    if exposure is None:
+        exposure = 1.0 / float(np.max(xyz[:, 1]))
+    rgb, srgb = _display(xyz, exposure)
+    return MichelLevyChart(
+        retardation_nm=ret,
+        xyz=xyz,
+        rgb=rgb,
+        srgb=srgb,
+        exposure=float(exposure),
+        illuminant=illuminant,
+        n_o=CHART_N_O,
+        birefringence=CHART_BIREFRINGENCE,
+    )
+
+
+# ---------------------------------------------------------------------------------------------
+# conoscope
+
+
+def _cone_directions(pupil_xy: np.ndarray, numerical_aperture: float, n_ambient: float) -> np.ndarray:
+    """Unit directions of pupil points (x, y) in [-1, 1] (radius 1 = the aperture)."""
+    st = np.asarray(pupil_xy, dtype=np.float64) * (numerical_aperture / n_ambient)
+    kz = np.sqrt(np.maximum(1.0 - np.sum(st**2, axis=-1), 0.0))
+    return np.concatenate([st, kz[..., None]], axis=-1)
+
+
+def _check_na(numerical_aperture: float, n_ambient: float) -> None:
+    if not (np.isfinite(numerical_aperture) and 0 < numerical_aperture < n_ambient):
+        raise InputError(
+            "numerical aperture must be in (0, n_ambient)",
+            field="numerical_aperture",
+            value=numerical_aperture,
+            allowed=f"(0, {n_ambient:g})",
+        )
+
+
+def conoscope_profile(
+    material: Material,
+    thickness_mm: float,
+    radius,
+    *,
+    azimuth_deg: float = 45.0,
+    wavelength_nm: float = 589.3,
+    numerical_aperture: float = 0.5,
+    optic_axis=(0.0, 0.0, 1.0),
+    crystal_axes=None,
+    polarizer_deg: float = 0.0,
+    analyzer_deg: float = 90.0,
+    accessory_nm: float = 0.0,
+    accessory_deg: float = 45.0,
+    n_ambient: float = 1.0,
+    device=None,
+) -> np.ndarray:
+    """Transmitted intensity along a radius of the conoscopic figure: ``radius`` (R,) in units
+    of the aperture (0 centre, 1 edge: n sin(theta) = NA * radius) at ``azimuth_deg``."""
+    _check_na(numerical_aperture, n_ambient)
+    r = np.asarray(radius, dtype=np.float64)
+    psi = np.radians(azimuth_deg)
+    xy = np.stack([r * np.cos(psi), r * np.sin(psi)], axis=-1)
+    k = _cone_directions(xy, numerical_aperture, n_ambient)
+    orient = (
+        {"optic_axis": optic_axis} if not isinstance(material, Biaxial) else {"crystal_axes": crystal_axes}
+    )
+    n3, a3, frame = plate_optics(material, wavelength_nm, **orient)
+    cfg = PolariscopeConfig(
+        polarizer_deg=polarizer_deg,
+        analyzer_deg=analyzer_deg,
+        n_ambient=n_ambient,
+        accessory_nm=accessory_nm,
+        accessory_deg=accessory_deg,
+    )
+    coh, _ = plate_between_polarizers(
+        k, thickness_mm, [wavelength_nm], n3, crystal_frame=frame, alpha=a3, config=cfg, device=device
+    )
+    return coh[:, 0]
+
+
+def conoscopic_figure(
+    material: Material,
+    thickness_mm: float,
+    *,
+    size: int = 201,
+    numerical_aperture: float = 0.5,
+    wavelength_nm: float | None = 589.3,
+    optic_axis=(0.0, 0.0, 1.0),
+    crystal_axes=None,
+    polarizer_deg: float = 0.0,
+    analyzer_deg: float = 90.0,
+    accessory_nm: float = 0.0,
+    accessory_deg: float = 45.0,
+    n_ambient: float = 1.0,
+    illuminant: str = "D65",
+    step_nm: float = 10.0,
+    exposure: float | None = None,
+    device=None,
+) -> ConoscopicFigure:
+    """The conoscopic figure of a plate (default: cut across its optic axis) in the objective's
+    back focal plane, ``size`` x ``size`` pixels over the aperture; monochromatic at
+    ``wavelength_nm`` or, with ``wavelength_nm=None``, in white light (``illuminant``)."""
+    _check_na(numerical_aperture, n_ambient)
+    if not (isinstance(size, int) and 8 <= size <= 4096):
+        raise InputError("must be an integer in [8, 4096]", field="size", value=size)
+    c = (np.arange(size) + 0.5) / size * 2.0 - 1.0
+    xx, yy = np.meshgrid(c, -c)  # row 0 at the top: image up = world +y
+    pupil = xx**2 + yy**2 <= 1.0
+    k = _cone_directions(np.stack([xx[pupil], yy[pupil]], axis=-1), numerical_aperture, n_ambient)
+    lam = np.array([float(wavelength_nm)]) if wavelength_nm is not None else _colour_grid(step_nm)
+    orient = (
+        {"optic_axis": optic_axis} if not isinstance(material, Biaxial) else {"crystal_axes": crystal_axes}
+    )
+    n3, a3, frame = plate_optics(material, lam, **orient)
+    cfg = PolariscopeConfig(
+        polarizer_deg=polarizer_deg,
+        analyzer_deg=analyzer_deg,
+        n_ambient=n_ambient,
+        accessory_nm=accessory_nm,
+        accessory_deg=accessory_deg,
+    )
+    coh, _ = plate_between_polarizers(
+        k, thickness_mm, lam, n3, crystal_frame=frame, alpha=a3, config=cfg, device=device
+    )
+    if wavelength_nm is not None:
+        img = np.zeros((size, size))
+        img[pupil] = coh[:, 0]
+        peak = float(img.max()) if exposure is None else 1.0 / float(exposure)
+        grey = encode_srgb(np.clip(img / max(peak, 1e-12), 0.0, 1.0))
+        return ConoscopicFigure(
+            img, None, np.repeat(grey[..., None], 3, axis=-1), pupil, numerical_aperture, float(wavelength_nm)
+        )
+    xyz = np.zeros((size, size, 3))
+    xyz[pupil] = _xyz(lam, coh, illuminant)
+    if exposure is None:
+        exposure = 1.0 / max(float(np.max(xyz[..., 1])), 1e-12)
+    _, srgb = _display(xyz.reshape(-1, 3), exposure)
+    return ConoscopicFigure(None, xyz, srgb.reshape(size, size, 3), pupil, numerical_aperture, None)
