@@ -41,7 +41,8 @@ def _auto_dichroscope(scene, *, file=None) -> str:
             mat = Uniaxial(mat.ordinary, mat.extraordinary, optic_axis=tuple(axes[i]), name=mat.name)
         if isinstance(mat, (Biaxial, Uniaxial)):
             angle = eigenwave_angle(mat, fwd, right, up)
-            print(f"dichroscope:auto -> {angle:.2f} deg (object.{i} {mat.name}: fast wave left, slow right)")
+            waves = "fast wave left, slow right" if isinstance(mat, Biaxial) else "o-wave left, e-wave right"
+            print(f"dichroscope:auto -> {angle:.2f} deg (object.{i} {mat.name}: {waves})")
             return f"dichroscope:{angle:.6g}"
     raise InputError(
         "dichroscope:auto needs a birefringent stone in the scene", file=file, field="--view", value="dichroscope:auto"

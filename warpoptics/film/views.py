@@ -21,7 +21,7 @@ element), so views compose and save like renders.
   right), as the calcite rhomb of a gemologist's dichroscope shows two orthogonally polarized
   images of the same window: a pleochroic stone shows two colours.  In a biaxial (trichroic)
   stone the two windows are the two eigenwaves of the viewing direction when θ lies along the
-  D of one of them: :func:`eigenwave_angle` gives that θ (fast wave left) from the stone's
+  D of one of them: :func:`eigenwave_angle` gives that θ (biaxial: fast wave left) from the stone's
   principal axes and the camera, ``dichroscope:auto`` on the command line (uniaxial stones: the
   o-wave's D, perpendicular to the optic axis).  Along a principal axis the windows show the
   colours of the other two principal spectra; looking along X, Y and Z shows all three.
@@ -209,7 +209,8 @@ def eigenwave_angle(material, direction, right, up, *, wavelength_nm: float = 55
     the stone) in ``material``: a :class:`~warpoptics.materials.Biaxial` with world
     ``crystal_axes`` (the D from :func:`warpoptics.optics.biaxial.principal_d`), or a
     :class:`~warpoptics.materials.Uniaxial` (the o-wave: D perpendicular to the optic axis and
-    the direction).  A dichroscope at this angle shows the fast wave left, the slow wave right.
+    the direction; fast in a positive crystal, slow in a negative one).  A dichroscope at this
+    angle shows that wave left, the other right.
     Isotropic materials, and a wave normal along an optic axis, have no preferred D: 0.0."""
     from ..materials import Biaxial, Uniaxial
     from ..optics.biaxial import principal_d
