@@ -343,14 +343,18 @@ def test_dichroscope_shows_the_two_eigenwaves_along_each_axis(device):
         # the two D directions are the other two principal axes, fast (lower index) first
         fast, slow = [j for j in range(3) if j != view_axis]
         # the fast wave's D (axis `fast`, a row of the frame) lies along the analyzer
-        assert abs(abs(np.cos(np.radians(angle)) * (axes[fast] @ right) + np.sin(np.radians(angle)) * (axes[fast] @ up)) - 1) < 1e-6
+        analyzer = np.cos(np.radians(angle)) * right + np.sin(np.radians(angle)) * up
+        assert abs(abs(axes[fast] @ analyzer) - 1.0) < 1e-6
         img = wo.render(scene({**base, "object": [{**plate, "crystal_axes": axes.tolist()}]}), device=device)
         d = dichroscope(img, angle, gap=0, device=device)
         w = img.xyz.shape[1]
         for j, window in ((fast, d.xyz[:, :w]), (slow, d.xyz[:, w:])):
             lab = colour.XYZ_to_Lab(window.reshape(-1, 3).mean(axis=0) / white_y, wxy)
             de = float(colour.delta_E(lab, ref[j], method="CIE 2000"))
-            print(f"along {view}: window D along {'XYZ'[j]} Lab {np.round(lab, 2)} ref {np.round(ref[j], 2)} dE00 {de:.3f}")
+            print(
+                f"along {view}: D along {'XYZ'[j]} Lab {np.round(lab, 2)} "
+                f"ref {np.round(ref[j], 2)} dE00 {de:.3f}"
+            )
             assert de < 1.0
             seen[j].append(lab)
     for j in range(3):

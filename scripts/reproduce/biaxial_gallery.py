@@ -6,8 +6,10 @@ Writes into ``--out-dir`` (default ``docs/gallery``):
 - ``biaxial_trichroism.png``: tanzanite and iolite long step cuts (14 x 7 mm) on the white dome,
   seen from above with the principal axis X, Y or Z toward the eye (the other two axes across
   the image, cyclic: X toward the eye puts Y left-right).  Along each axis the light is carried
-  by the two eigenwaves whose D lie along the other two axes, so the three views show three
-  colours (the three principal spectra mixed two at a time).
+  by the two eigenwaves whose D lie along the other two axes, so the three views show the three
+  principal spectra mixed two at a time; under each view its dichroscope (``dichroscope`` at
+  ``eigenwave_angle``: fast wave left) separates the two, and across the three views each
+  principal colour shows twice.
 - ``biaxial_andalusite.png``: the andalusite of seed 002 fig. 11 e-g (the same long step cut, dome,
   camera and panels as ``seed002_fig11_andalusite.py``, absorbance x 5 where the paper's weak
   triplets show colour): top row the library's biaxial andalusite (Handbook of Mineralogy indices,
@@ -24,7 +26,7 @@ Writes into ``--out-dir`` (default ``docs/gallery``):
   andalusite per orientation, and the peridot's biaxial-vs-one-index image difference.
 
 Usage:
-    python scripts/reproduce/biaxial_gallery.py [--out-dir docs/gallery] [--size 128] [--quick]
+    python scripts/reproduce/biaxial_gallery.py [--out-dir docs/gallery] [--size 112] [--quick]
 """
 
 from __future__ import annotations
@@ -81,18 +83,47 @@ def trichroism(size: int, wavelengths: int, device, out: dict) -> list:
                 "material": stone,
                 "crystal_axes": _frame_toward(i, axes["toward the eye"], axes["left-right"]),
             }
-            panels.append(_panel(f"{stone} along {a}", obj, size=size, wavelengths=wavelengths, device=device, **DOME))
-        entry = {a: _colour(p) for a, p in zip(AXIS_NAMES, panels, strict=True)}
+            panels.append(
+                _panel(f"{stone} along {a}", obj, size=size, wavelengths=wavelengths, device=device, **DOME)
+            )
+        entry: dict = {a: _colour(p) for a, p in zip(AXIS_NAMES, panels, strict=True)}
         for u, v in ((0, 1), (0, 2), (1, 2)):
             entry[f"dE00 {AXIS_NAMES[u]}-{AXIS_NAMES[v]}"] = round(sp.delta_e(panels[u], panels[v]), 2)
-        out[stone] = entry
         for p in panels:
             print(f"  {p.label:20s} {p.describe()}  ({p.seconds:.1f} s)")
-        print(
-            f"  {stone}: dE00 X-Y {entry['dE00 X-Y']}, X-Z {entry['dE00 X-Z']}, Y-Z {entry['dE00 Y-Z']}"
-        )
+        print(f"  {stone}: dE00 X-Y {entry['dE00 X-Y']}, X-Z {entry['dE00 X-Z']}, Y-Z {entry['dE00 Y-Z']}")
         rows.append([(p.label, p.image.display()) for p in panels])
+        rows.append(_dichroscope_row(stone, panels, probe, axes, entry))
+        out[stone] = entry
     return rows
+
+
+def _dichroscope_row(stone: str, panels, probe, axes, entry: dict) -> list:
+    """The dichroscope of each view at the angle of its fast eigenwave (views.eigenwave_angle):
+    the two windows are the two principal spectra whose D lie across the view."""
+    from warpoptics.film.views import dichroscope, eigenwave_angle
+    from warpoptics.stages.camera import camera_basis
+
+    fwd, right, up = camera_basis(probe.camera)
+    mat = wo.materials.get(stone)
+    row = []
+    for i, (a, p) in enumerate(zip(AXIS_NAMES, panels, strict=True)):
+        frame = np.array(_frame_toward(i, axes["toward the eye"], axes["left-right"]))
+        angle = eigenwave_angle(mat.with_crystal_axes(frame), fwd, right, up)
+        d = dichroscope(p.image, angle, gap=2)
+        w = p.image.xyz.shape[1]
+        # the two D axes across the view, fast (lower principal index) first
+        fast, slow = (AXIS_NAMES[j] for j in range(3) if j != i)
+        win = {fast: d.xyz[:, :w][p.stone].mean(axis=0), slow: d.xyz[:, w + 2 :][p.stone].mean(axis=0)}
+        de = float(wo.color.delta_e2000(win[fast] / win[fast][1], win[slow] / win[slow][1]))
+        entry[f"dichroscope along {a}"] = {
+            "angle_deg": round(angle, 2),
+            **{f"D along {k}": [round(float(c), 4) for c in v[:2] / v.sum()] for k, v in win.items()},
+            "dE00 between windows": round(de, 2),
+        }
+        print(f"  {stone} along {a}: dichroscope at {angle:.0f} deg, D along {fast} | {slow}: dE00 {de:.2f}")
+        row.append((f"dichroscope: D {fast} | D {slow}", d.display()))
+    return row
 
 
 def andalusite(size: int, wavelengths: int, device, out: dict, scale: float = 5.0) -> list:
@@ -111,7 +142,9 @@ def andalusite(size: int, wavelengths: int, device, out: dict, scale: float = 5.
     for name, (axis, frame) in orientations.items():
         obj_b = {**base, "material": "andalusite", "crystal_axes": [list(map(float, r)) for r in frame]}
         obj_u = {**base, "material": "andalusite_uniaxial", "optic_axis": [float(v) for v in axis]}
-        bi.append(_panel(f"biaxial, Z {name}", obj_b, size=size, wavelengths=wavelengths, device=device, **DOME))
+        bi.append(
+            _panel(f"biaxial, Z {name}", obj_b, size=size, wavelengths=wavelengths, device=device, **DOME)
+        )
         uni.append(
             _panel(f"uniaxial, axis {name}", obj_u, size=size, wavelengths=wavelengths, device=device, **DOME)
         )
@@ -173,12 +206,14 @@ def peridot(size: int, wavelengths: int, device, out: dict) -> list:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out-dir", default="docs/gallery", help="folder for the PNGs and the JSON")
-    ap.add_argument("--size", type=int, default=None, help="panel size in pixels (default 128; peridot 200)")
-    ap.add_argument("--wavelengths", type=int, default=None, help="stratified wavelengths per pixel (default 12)")
+    ap.add_argument("--size", type=int, default=None, help="panel size in pixels (default 112; peridot 200)")
+    ap.add_argument(
+        "--wavelengths", type=int, default=None, help="stratified wavelengths per pixel (default 12)"
+    )
     ap.add_argument("--quick", action="store_true", help="tiny panels (a smoke test)")
     ap.add_argument("--device", default=None)
     args = ap.parse_args(argv)
-    size, wl = sp.sizes(args, 128, 12)
+    size, wl = sp.sizes(args, 112, 12)
     big = size if (args.size or args.quick) else 200
     out_dir = Path(args.out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -204,7 +239,8 @@ def main(argv: list[str] | None = None) -> int:
     )
     numbers["seconds"] = round(time.perf_counter() - t0, 1)
     write_json(out_dir / "biaxial_gallery.json", numbers)
-    print(f"wrote {out_dir}/biaxial_trichroism.png, biaxial_andalusite.png, biaxial_peridot.png, biaxial_gallery.json")
+    names = "biaxial_trichroism.png, biaxial_andalusite.png, biaxial_peridot.png, biaxial_gallery.json"
+    print(f"wrote {out_dir}/{{{names}}}")
     print(f"total {numbers['seconds']:.1f} s")
     return 0
 

@@ -5,8 +5,8 @@ A long step-cut andalusite (14 x 7 mm; §6.1: biaxial treated as uniaxial, n_o 1
 from above on the white dome, with its optic axis (e) toward the eye, (f) up-down and (g)
 left-right in the image.  The library's ``andalusite`` is biaxial; the paper's uniaxial
 approximation is the entry ``andalusite_uniaxial``, used here (the biaxial stone beside it:
-``scripts/reproduce/biaxial_gallery.py``).  Top row: absorbances as tabulated; bottom row: x 5.  Prints the mean
-colour of the stone per panel and the CIEDE2000 difference (brightness removed) against the
+``scripts/reproduce/biaxial_gallery.py``).  Top row: absorbances as tabulated; bottom row: x 5.
+Prints the mean colour of the stone per panel and the CIEDE2000 difference (brightness removed) against the
 axis-toward-the-eye panel of its row.
 
 Usage:

@@ -6,7 +6,6 @@ import numpy as np
 
 from ..errors import InputError
 
-
 #: wavelengths (nm) at which the summary reports 2V of a biaxial stone (dispersion of the optic axes)
 TWO_V_NM = (450.0, 550.0, 589.3, 650.0)
 
@@ -166,6 +165,6 @@ def register(sub) -> None:
         "--plot",
         metavar="FILE",
         default=None,
-        help="write a plot of n(λ) and alpha(λ) (PNG); biaxial stones: n_alpha/beta/gamma, 2V(λ), alpha_X/Y/Z",
+        help="write a plot of n(λ) and alpha(λ) (PNG); biaxial: n_alpha/beta/gamma, 2V(λ), alpha_X/Y/Z",
     )
     p.set_defaults(func=run)

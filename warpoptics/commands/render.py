@@ -24,10 +24,10 @@ def _check_writable(out: str) -> None:
         raise InputError("is a folder, not an image file", field="-o", value=out)
 
 
-
 def _auto_dichroscope(scene, *, file=None) -> str:
     """``dichroscope:auto``: the dichroscope at the angle of the fast eigenwave travelling along
     the camera's view axis in the scene's first birefringent stone (its world crystal frame)."""
+    from ..errors import InputError
     from ..film.views import eigenwave_angle
     from ..materials import Biaxial, Uniaxial
     from ..pipelines.objects import build_objects, world_axes
@@ -45,8 +45,12 @@ def _auto_dichroscope(scene, *, file=None) -> str:
             print(f"dichroscope:auto -> {angle:.2f} deg (object.{i} {mat.name}: {waves})")
             return f"dichroscope:{angle:.6g}"
     raise InputError(
-        "dichroscope:auto needs a birefringent stone in the scene", file=file, field="--view", value="dichroscope:auto"
+        "dichroscope:auto needs a birefringent stone in the scene",
+        file=file,
+        field="--view",
+        value="dichroscope:auto",
     )
+
 
 def run(args) -> int:
     from ..errors import InputError

@@ -1119,7 +1119,10 @@ def _n_real(mat: Material, wavelength_nm, channel: str = "o") -> np.ndarray:
         j = {"o": 0, "alpha": 0, "beta": 1, "gamma": 2}.get(channel)
         if j is None:
             raise InputError(
-                "unknown channel of a biaxial material", field="channel", value=channel, allowed="alpha, beta, gamma"
+                "unknown channel of a biaxial material",
+                field="channel",
+                value=channel,
+                allowed="alpha, beta, gamma",
             )
         return mat.n(wavelength_nm)[..., j]
     if isinstance(mat, Uniaxial):
