@@ -59,7 +59,9 @@ BIAXIAL_SOURCES = (
     "positions 595/528/455 nm); refractiveindex.info main/BeAl2O4/Walling-alpha/-beta/-gamma "
     "(Walling et al. 1980, IEEE JQE 16, 1302; formula of Loiko & Major 2016, OME 6, 2177) for "
     "alexandrite; chrysoberyl: Deutsche Gemmologische Gesellschaft indices, Handbook of Mineralogy "
-    "2V(meas.) 70°"
+    "2V(meas.) 70°; peridot (forsterite), andalusite, topaz: Handbook of Mineralogy indices / 2V "
+    "ranges (topaz n_beta from its range ends), olivine 2V_z 82°-90° for Fo85-Fo100 (Deer, Howie & "
+    "Zussman 1992), GIA dispersions"
 )
 
 #: the source string of every Cr³⁺ band spectrum
