@@ -102,6 +102,14 @@ def test_uniaxial_exports_its_ordinary_index(tmp_path):
     assert ior == pytest.approx(float(mat.ordinary.n(np.array([587.56]))[0]), rel=1e-6)
 
 
+def test_biaxial_exports_its_beta_index(tmp_path):
+    # peridot (Handbook of Mineralogy forsterite n_beta 1.651 at the sodium D line, Cauchy fit)
+    mat = wo.materials.get("peridot")
+    path = gltf.export_gltf(tmp_path / "p.glb", wo.cuts.round_brilliant(diameter=3.0), mat)
+    ior = gltf._read_json(path)["materials"][0]["extensions"]["KHR_materials_ior"]["ior"]
+    assert ior == pytest.approx(1.651, abs=2e-4)  # 587.56 vs 589.3 nm: 3e-5 apart
+
+
 def test_glb_structure(tmp_path, stone):
     """The GLB container (glTF 2.0 spec §4.4) and the accessors, checked by hand: header and
     chunk lengths, 4-byte alignment, POSITION min/max equal to the decoded data, indices in

@@ -76,7 +76,15 @@ GEM_CONSTANTS = [
     ("zircon", 0, 1.925, 0.039),
     ("zircon", 1, 1.984, None),
     ("emerald", 0, 1.583, 0.014),
-    ("topaz", 1, 1.627, 0.014),
+    ("topaz", 2, 1.627, 0.014),
+    ("topaz", 0, 1.619, None),
+    ("topaz_uniaxial", 1, 1.627, 0.014),
+    ("peridot", 0, 1.635, 0.020),
+    ("peridot", 1, 1.651, None),
+    ("peridot", 2, 1.670, None),
+    ("andalusite", 0, 1.632, 0.016),
+    ("andalusite", 1, 1.636, None),
+    ("andalusite", 2, 1.643, None),
     ("fused_silica", None, 1.458, None),
     ("bk7", None, 1.5168, None),
     ("water", None, 1.333, None),
@@ -91,6 +99,8 @@ def test_library_gemological_constants(device, name, channel, nd, disp):
     assert abs(float(_n(mat, 589.3, channel, device)) - nd) < tol
     if disp is not None:
         ch = "o" if channel in (None, 0) else "e"
+        if isinstance(mat, M.Biaxial):
+            ch = ("alpha", "beta", "gamma")[channel]
         assert abs(M.dispersion_bg(mat, channel=ch) - disp) < 2e-3
 
 
@@ -99,7 +109,8 @@ def test_seed002_indices_and_types(device):
     for name, row in M.GUY_SOLER_2004_GEMS.items():
         if name in ("diamond", "sapphire"):
             continue  # those two use refractiveindex.info pages
-        mat = M.get(name)
+        # the biaxial ("B") rows: the library's explicit uniaxial approximation
+        mat = M.get(name + "_uniaxial" if row["type"] == "B" else name)
         n = mat.n(np.array([546.1, 435.8, 700.0]), device=device)
         n = n[:, None] if n.ndim == 1 else n
         assert abs(n[0, 0] - row["n_o"]) < 1e-5
@@ -120,10 +131,10 @@ def test_library_types_and_all_names_build(device):
         "zircon",
         "tourmaline",
         "emerald",
-        "peridot",
-        "topaz",
+        "peridot_uniaxial",
+        "topaz_uniaxial",
         "moissanite",
-        "andalusite",
+        "andalusite_uniaxial",
     }
     for name in M.names():
         mat = M.get(name)
@@ -471,3 +482,54 @@ def test_cli_material(tmp_path):
     assert png.stat().st_size > 10_000 and png.read_bytes()[:4] == b"\x89PNG"
     r = _run(["-m", "warpoptics.cli", "material", "diamnd"])
     assert r.returncode == 2 and "did you mean 'diamond'" in r.stderr
+
+
+def _two_v_closed_form(na, nb, ng):
+    """2V (degrees) and the sign from Born & Wolf §15.3.3: cos^2 V_z = (nb^-2 - ng^-2) /
+    (na^-2 - ng^-2); positive when V_z < 45° (Z the acute bisectrix)."""
+    vz = np.degrees(np.arccos(np.sqrt((nb**-2.0 - ng**-2.0) / (na**-2.0 - ng**-2.0))))
+    return np.where(vz < 45.0, 2.0 * vz, 180.0 - 2.0 * vz), vz < 45.0
+
+
+def test_cli_material_biaxial(tmp_path):
+    """`warpoptics material peridot --plot`: the three principal indices, 2V and its sign from the
+    Handbook of Mineralogy's forsterite indices (alpha 1.635, beta 1.651, gamma 1.670 ->
+    86.0° (+) by the closed form here), 2V(λ), and a three-panel plot."""
+    png = tmp_path / "peridot.png"
+    r = _run(["-m", "warpoptics.cli", "material", "peridot", "--plot", str(png)])
+    assert r.returncode == 0, r.stderr
+    assert "type           biaxial" in r.stdout
+    assert "alpha 1.6350  beta 1.6510  gamma 1.6700" in r.stdout
+    two_v, positive = _two_v_closed_form(1.635, 1.651, 1.670)
+    line = next(ln for ln in r.stdout.splitlines() if ln.startswith("2V "))
+    assert float(line.split()[1]) == pytest.approx(float(two_v), abs=0.01) and bool(positive)
+    assert "optic sign +" in line
+    assert "2V(lambda)" in r.stdout and "Handbook of Mineralogy" in r.stdout
+    assert png.stat().st_size > 10_000 and png.read_bytes()[:4] == b"\x89PNG"
+
+
+@pytest.mark.parametrize("name", ["alexandrite", "andalusite", "tanzanite"])
+def test_material_plot_biaxial_curves(name):
+    """The biaxial --plot figure: panel 1 n_alpha/beta/gamma(λ), panel 2 2V(λ) equal to the closed
+    form of the plotted indices (to float32 rounding of n: 2V moves ~1e-3° per 1e-7 of n here),
+    panel 3 the three principal absorption spectra alpha_X/Y/Z."""
+    import matplotlib.pyplot as plt
+
+    from warpoptics.commands.material import _figure
+
+    mat = M.get(name)
+    fig = _figure(mat)
+    try:
+        a_n, a_v, a_k = fig.axes
+        lam = a_n.lines[0].get_xdata()
+        n = np.array([ln.get_ydata() for ln in a_n.lines])
+        assert n.shape == (3, lam.size) and np.all(n[0] <= n[1]) and np.all(n[1] <= n[2])
+        np.testing.assert_allclose(n.T, mat.n(lam), atol=1e-7)
+        two_v, positive = _two_v_closed_form(*n.astype(np.float64))
+        np.testing.assert_allclose(a_v.lines[0].get_ydata(), two_v, atol=0.02)
+        assert a_v.lines[0].get_label() == f"2V ({'+' if positive[0] else '-'})"
+        k = np.array([ln.get_ydata() for ln in a_k.lines])
+        np.testing.assert_allclose(k.T, mat.alpha(lam), rtol=1e-6, atol=1e-9)
+        assert [ln.get_label() for ln in a_k.lines] == ["alpha_X", "alpha_Y", "alpha_Z"]
+    finally:
+        plt.close(fig)

@@ -100,3 +100,37 @@ def test_gallery_scenes_renders_a_showcase_scene(tmp_path, device):
     ro = json.loads(r.stdout.strip().splitlines()[-1])
     assert ro["scene"] == "scenes/soap_bubble.toml" and ro["rays"] > 0
     assert 0.0 < ro["mean_Y"] < 10.0  # a lit bubble under the sky: finite, not black
+
+
+def test_biaxial_gallery_quick(tmp_path, device):
+    """scripts/reproduce/biaxial_gallery.py --quick: the three PNGs and the JSON.  Physics that
+    the tiny panels still show: each dichroscope window pair of tanzanite and iolite differs
+    (two different principal spectra, dE00 > 5); the biaxial andalusite differs from the uniaxial
+    approximation most when Z lies across the view (its Y then absorbs like Z, where the
+    uniaxial o-wave took the weak X spectrum)."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    r = subprocess.run(
+        [sys.executable, str(SCRIPTS / "biaxial_gallery.py"), "--quick", "--out-dir", str(tmp_path)]
+        + ["--device", str(device)],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=600,
+        check=False,
+    )
+    assert r.returncode == 0, r.stderr
+    for name in ("biaxial_trichroism.png", "biaxial_andalusite.png", "biaxial_peridot.png"):
+        assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    data = json.loads((tmp_path / "biaxial_gallery.json").read_text())
+    for stone in ("tanzanite", "iolite"):
+        for a in "XYZ":
+            d = data[stone][f"dichroscope along {a}"]
+            assert d["dE00 between windows"] > 5.0, (stone, a, d)
+            assert d["angle_deg"] in (0.0, 90.0)  # principal axes along the image axes
+    anda = data["andalusite"]
+    across = min(anda[k]["dE00 biaxial-uniaxial"] for k in ("up-down", "left-right"))
+    assert across > anda["toward the eye"]["dE00 biaxial-uniaxial"]
+    per = data["peridot"]
+    assert per["birefringence n_gamma - n_alpha"] == 0.035
+    # two distinct refracted rays at the crown (a few tenths of a degree for Δn 0.035)
+    assert 0.05 < per["ray split through a crown facet (deg)"] < 2.0

@@ -118,6 +118,7 @@ def test_parse_view():
     assert parse_view("polariscope:parallel") == ("polariscope", "parallel")
     assert parse_view("dichroscope") == ("dichroscope", 0.0)
     assert parse_view("dichroscope", 20.0) == ("dichroscope", 20.0)
+    assert parse_view("dichroscope:auto") == ("dichroscope", "auto")
     for bad in ("analyzer", "analyser:3", "analyzer:x", "polariscope:sideways", "", "dichroscope:nan"):
         with pytest.raises(InputError):
             parse_view(bad)
@@ -367,6 +368,21 @@ def test_cli_views(tmp_path):
     r = _cli("render", sc, "-o", tmp_path / "d.exr", "--view", "dichroscope", *small)
     assert r.returncode == 0, r.stderr
     assert wo.Image.load(tmp_path / "d.exr").xyz.shape[1] == 2 * 12 + 2
+    # dichroscope:auto: the analyzer along the o-wave's D of the view axis (D perpendicular to the
+    # world optic axis and the view axis), written here from the scene's own numbers
+    r = _cli("render", sc, "-o", tmp_path / "a.exr", "--view", "dichroscope:auto", *small)
+    assert r.returncode == 0, r.stderr
+    s = wo.Scene.load(sc)
+    c = s.camera
+    f = np.subtract(c.look_at, c.position) / np.linalg.norm(np.subtract(c.look_at, c.position))
+    right = np.cross(f, c.up) / np.linalg.norm(np.cross(f, c.up))
+    up = np.cross(right, f)
+    ob = s.objects[0]
+    axis = ob.rotation_matrix() @ np.asarray(ob.optic_axis or wo.materials.get(ob.material).optic_axis)
+    d = np.cross(axis, f)
+    want = math.degrees(math.atan2(d @ up, d @ right)) % 180.0
+    line = next(ln for ln in r.stdout.splitlines() if ln.startswith("dichroscope:auto ->"))
+    assert float(line.split()[2]) == pytest.approx(want, abs=0.01)
     r = _cli(
         "render",
         sc,
@@ -379,3 +395,32 @@ def test_cli_views(tmp_path):
         *small,
     )
     assert r.returncode == 2 and "polarized light" in r.stderr
+
+
+def test_eigenwave_angle_biaxial_oblique(device):
+    """eigenwave_angle of a biaxial stone viewed obliquely to its principal axes: the fast wave's
+    D from an independent eigen-solution (the section of the impermeability tensor eps^-1 by the
+    plane perpendicular to the wave normal, numpy.linalg.eigh; fast = the larger eigenvalue
+    1/n^2), projected on the image.  Tolerance 0.01°: the kernel's D is float32."""
+    rng = np.random.default_rng(7)
+    tz = wo.materials.get("iolite")
+    right, up = np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
+    fwd = np.cross(up, right)  # right = fwd x up
+    for _ in range(5):
+        q, _r = np.linalg.qr(rng.normal(size=(3, 3)))
+        axes = q.T * np.sign(np.linalg.det(q))  # rows X, Y, Z, right-handed
+        mat = tz.with_crystal_axes(axes)
+        got = wo.film.views.eigenwave_angle(mat, fwd, right, up, wavelength_nm=550.0, device=device)
+        n = tz.n(550.0).astype(np.float64)
+        inv_eps = axes.T @ np.diag(n**-2.0) @ axes  # world frame
+        basis = np.stack([right, up])  # the plane perpendicular to fwd
+        w, v = np.linalg.eigh(basis @ inv_eps @ basis.T)
+        d = v[:, np.argmax(w)]
+        want = math.degrees(math.atan2(d[1], d[0])) % 180.0
+        diff = (got - want + 90.0) % 180.0 - 90.0
+        assert abs(diff) < 0.01, (got, want)
+
+
+def test_dichroscope_auto_needs_the_scene(calcite_image):
+    with pytest.raises(InputError, match="dichroscope:auto needs the stone"):
+        apply_view(calcite_image, "dichroscope:auto")

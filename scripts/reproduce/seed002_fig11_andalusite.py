@@ -3,8 +3,10 @@
 A long step-cut andalusite (14 x 7 mm; §6.1: biaxial treated as uniaxial, n_o 1.635, n_e 1.644
 ± .005, K^o = (0.0056, 0.006, 0.0183), K^e = (0.170, 0.175, 0.257) per mm as eq. 9 spectra) seen
 from above on the white dome, with its optic axis (e) toward the eye, (f) up-down and (g)
-left-right in the image.  Top row: absorbances as tabulated; bottom row: x 5.  Prints the mean
-colour of the stone per panel and the CIEDE2000 difference (brightness removed) against the
+left-right in the image.  The library's ``andalusite`` is biaxial; the paper's uniaxial
+approximation is the entry ``andalusite_uniaxial``, used here (the biaxial stone beside it:
+``scripts/reproduce/biaxial_gallery.py``).  Top row: absorbances as tabulated; bottom row: x 5.
+Prints the mean colour of the stone per panel and the CIEDE2000 difference (brightness removed) against the
 axis-toward-the-eye panel of its row.
 
 Usage:
@@ -23,9 +25,12 @@ def main(argv: list[str] | None = None) -> int:
     args = sp.parser(__doc__, "docs/gallery/seed002_fig11_andalusite.png").parse_args(argv)
     size, wl = sp.sizes(args, 112, 12)
     t0 = time.perf_counter()
-    print(f"andalusite (Guy & Soler §6.1), step cut 14 x 7 mm, {size} px, {wl} wavelengths, dome light")
+    print(
+        f"andalusite_uniaxial (Guy & Soler §6.1, the uniaxial approximation), step cut 14 x 7 mm, "
+        f"{size} px, {wl} wavelengths, dome light"
+    )
     rows = sp.pleochroism_rows(
-        "andalusite",
+        "andalusite_uniaxial",
         ["toward the eye", "up-down", "left-right"],
         (1.0, 5.0),
         size=size,

@@ -5,6 +5,8 @@ Garnet, tourmaline (dravite), peridot, diamond, sapphire and andalusite, each a 
 indices (green value ± half the dispersion, Cauchy fits) and the absorbances (eq. 9 inverted to
 K^o(λ), K^e(λ) spectra; base-e per mm, see warpoptics.materials.absorption), optic axis along the
 table normal for the uniaxial (and treated-as-uniaxial biaxial) stones, exact o/e transport.
+Peridot and andalusite are biaxial in the library; the paper's uniaxial approximation of them is
+named explicitly here: the library entries ``peridot_uniaxial`` and ``andalusite_uniaxial``.
 Top row: the absorbances as tabulated.  Bottom row: each coloured stone's absorbances scaled
 (``absorption_scale``) so that its largest tabulated K is 0.3 /mm (x 1.7 garnet, x 3.7 tourmaline,
 x 5.9 peridot, x 1.2 andalusite; sapphire, already above, and the white diamond stay x 1): the
@@ -33,6 +35,10 @@ GEMS = [
 ]
 
 
+#: the library entry of each table row: the seed-002 uniaxial approximation of the biaxial stones
+LIBRARY = {"peridot": "peridot_uniaxial", "andalusite": "andalusite_uniaxial"}
+
+
 def _scale(name: str) -> float:
     """absorption_scale that makes the largest tabulated K of a coloured stone 0.3 /mm (never < 1)."""
     from warpoptics.materials import GUY_SOLER_2004_GEMS
@@ -55,7 +61,12 @@ def main(argv: list[str] | None = None) -> int:
         panels = []
         for name, _ in GEMS:
             scale = 1.0 if row == "as tabulated" else _scale(name)
-            obj = {"shape": "round_brilliant", "diameter": 6.5, "material": name, "absorption_scale": scale}
+            obj = {
+                "shape": "round_brilliant",
+                "diameter": 6.5,
+                "material": LIBRARY.get(name, name),
+                "absorption_scale": scale,
+            }
             sc = sp.gem_scene(obj, size=size, wavelengths=wl, camera=CAMERA, render={"exposure": 0.0})
             panels.append(sp.render_panel(name, sc, args.device))
         for p, (name, paper) in zip(panels, GEMS, strict=True):

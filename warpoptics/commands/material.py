@@ -6,14 +6,47 @@ import numpy as np
 
 from ..errors import InputError
 
+#: wavelengths (nm) at which the summary reports 2V of a biaxial stone (dispersion of the optic axes)
+TWO_V_NM = (450.0, 550.0, 589.3, 650.0)
+
+
+def _biaxial_summary(mat) -> list[str]:
+    from ..materials import abbe_number, dispersion_bg, rgb3_alpha_of
+
+    n = mat.n(589.3)
+    two_v = mat.two_v(np.array(TWO_V_NM))
+    ch = ("alpha", "beta", "gamma")
+    lines = [
+        f"nD (589.3 nm)  alpha {n[0]:.4f}  beta {n[1]:.4f}  gamma {n[2]:.4f}",
+        f"birefringence  {n[2] - n[0]:.4f} (n_gamma - n_alpha at 589.3 nm)",
+        f"2V             {float(mat.two_v(589.3)):.2f} deg, optic sign {mat.optic_sign} "
+        f"({'Z' if mat.optic_sign == '+' else 'X'} is the acute bisectrix)",
+        "2V(lambda)     " + "  ".join(f"{lam:g} nm {v:.2f}" for lam, v in zip(TWO_V_NM, two_v, strict=True)),
+        "B-G dispersion " + "  ".join(f"{c} {dispersion_bg(mat, channel=c):.4f}" for c in ch),
+        "Abbe V_d       " + "  ".join(f"{c} {abbe_number(mat, channel=c):.1f}" for c in ch),
+    ]
+    for name, row in zip("XYZ", mat.crystal_axes, strict=True):
+        lines.append(f"axis {name}         ({row[0]:.3f}, {row[1]:.3f}, {row[2]:.3f})")
+    rgb = mat.rgb3_alpha if mat.rgb3_alpha is not None else rgb3_alpha_of(mat)
+    if max(max(t) for t in rgb) > 0:
+        lines.append(
+            "rgb3 alpha     "
+            + " ".join(f"{a} ({', '.join(f'{v:.4g}' for v in t)})" for a, t in zip("XYZ", rgb, strict=True))
+            + " 1/mm"
+        )
+    return lines
+
 
 def _summary(mat) -> list[str]:
-    from ..materials import Uniaxial, abbe_number, dispersion_bg, rgb3_alpha_of
+    from ..materials import Biaxial, Uniaxial, abbe_number, dispersion_bg, rgb3_alpha_of
 
     lo, hi = mat.wavelength_range_nm
     lines = [f"material       {mat.name}"]
-    lines.append(f"type           {'uniaxial' if isinstance(mat, Uniaxial) else 'isotropic'}")
+    kind = "biaxial" if isinstance(mat, Biaxial) else "uniaxial" if isinstance(mat, Uniaxial) else "isotropic"
+    lines.append(f"type           {kind}")
     lines.append(f"range          {lo:g}-{hi:g} nm")
+    if isinstance(mat, Biaxial):
+        return [*lines, *_biaxial_summary(mat), f"source         {mat.source}"]
     if isinstance(mat, Uniaxial):
         n = mat.n(589.3)
         lines.append(f"nD (589.3 nm)  o {n[0]:.4f}  e {n[1]:.4f}")
@@ -40,25 +73,43 @@ def _summary(mat) -> list[str]:
     return lines
 
 
-def _plot(mat, path: str) -> None:
+def _figure(mat):
+    """The --plot figure: n(λ) and alpha(λ); a biaxial stone adds 2V(λ) between them (three
+    panels: n_alpha/beta/gamma, 2V, alpha_X/Y/Z)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..film.image import save_figure
-    from ..materials import Uniaxial
+    from ..materials import Biaxial, Uniaxial
 
     lo, hi = mat.wavelength_range_nm
     lam = np.linspace(max(lo, 360.0), min(hi, 830.0), 471)
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
-    if isinstance(mat, Uniaxial):
+    if isinstance(mat, Biaxial):
+        fig, (a1, av, a2) = plt.subplots(1, 3, figsize=(14, 4))
+        n, alpha = mat.n(lam), mat.alpha(lam)
+        for j, (c, d) in enumerate(zip(("alpha", "beta", "gamma"), "XYZ", strict=True)):
+            a1.plot(lam, n[:, j], label=f"n_{c} (D along {d})")
+            a2.plot(lam, alpha[:, j], label=f"alpha_{d}")
+        two_v = mat.two_v(lam)
+        av.plot(lam, two_v, label=f"2V ({mat.optic_sign})")
+        # at least a 2-degree span: n is float32, so a stone whose three indices share one
+        # dispersion shows 1e-3-degree rounding steps that autoscaling would blow up
+        mid, half = 0.5 * (two_v.max() + two_v.min()), max(1.0, 0.55 * (two_v.max() - two_v.min()))
+        av.set_ylim(mid - half, mid + half)
+        av.set_xlabel("wavelength (nm)")
+        av.set_ylabel("optic-axial angle 2V (degrees)")
+        av.legend()
+        av.grid(alpha=0.3)
+    elif isinstance(mat, Uniaxial):
+        fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
         n, alpha = mat.n(lam), mat.alpha(lam)
         a1.plot(lam, n[:, 0], label="n_o")
         a1.plot(lam, n[:, 1], label="n_e")
         a2.plot(lam, alpha[:, 0], label="alpha_o")
         a2.plot(lam, alpha[:, 1], label="alpha_e")
     else:
+        fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
         a1.plot(lam, mat.n(lam), label="n")
         a2.plot(lam, mat.alpha(lam), label="alpha")
     a1.set_xlabel("wavelength (nm)")
@@ -70,6 +121,15 @@ def _plot(mat, path: str) -> None:
         a.grid(alpha=0.3)
     fig.suptitle(mat.name)
     fig.tight_layout()
+    return fig
+
+
+def _plot(mat, path: str) -> None:
+    import matplotlib.pyplot as plt
+
+    from ..film.image import save_figure
+
+    fig = _figure(mat)
     save_figure(fig, path, field="--plot", dpi=100)
     plt.close(fig)
 
@@ -101,5 +161,10 @@ def register(sub) -> None:
         "material", help="print a library material's indices, dispersion and source; plot n and alpha"
     )
     p.add_argument("name", help='library name, e.g. "diamond", "sapphire", "rose_bengal_10"')
-    p.add_argument("--plot", metavar="FILE", default=None, help="write a plot of n(λ) and alpha(λ) (PNG)")
+    p.add_argument(
+        "--plot",
+        metavar="FILE",
+        default=None,
+        help="write a plot of n(λ) and alpha(λ) (PNG); biaxial: n_alpha/beta/gamma, 2V(λ), alpha_X/Y/Z",
+    )
     p.set_defaults(func=run)

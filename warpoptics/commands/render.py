@@ -24,6 +24,34 @@ def _check_writable(out: str) -> None:
         raise InputError("is a folder, not an image file", field="-o", value=out)
 
 
+def _auto_dichroscope(scene, *, file=None) -> str:
+    """``dichroscope:auto``: the dichroscope at the angle of the fast eigenwave travelling along
+    the camera's view axis in the scene's first birefringent stone (its world crystal frame)."""
+    from ..errors import InputError
+    from ..film.views import eigenwave_angle
+    from ..materials import Biaxial, Uniaxial
+    from ..pipelines.objects import build_objects, world_axes
+    from ..stages.camera import camera_basis
+
+    built = build_objects(scene.objects, file=file)
+    axes = world_axes(scene.objects, built, file=file)
+    fwd, right, up = camera_basis(scene.camera)
+    for i, mat in enumerate(built.materials):
+        if isinstance(mat, Uniaxial):
+            mat = Uniaxial(mat.ordinary, mat.extraordinary, optic_axis=tuple(axes[i]), name=mat.name)
+        if isinstance(mat, (Biaxial, Uniaxial)):
+            angle = eigenwave_angle(mat, fwd, right, up)
+            waves = "fast wave left, slow right" if isinstance(mat, Biaxial) else "o-wave left, e-wave right"
+            print(f"dichroscope:auto -> {angle:.2f} deg (object.{i} {mat.name}: {waves})")
+            return f"dichroscope:{angle:.6g}"
+    raise InputError(
+        "dichroscope:auto needs a birefringent stone in the scene",
+        file=file,
+        field="--view",
+        value="dichroscope:auto",
+    )
+
+
 def run(args) -> int:
     from ..errors import InputError
     from ..pipelines.render import Renderer
@@ -67,7 +95,9 @@ def run(args) -> int:
         # check the view (and that the light is polarized for a polariscope) before rendering
         from ..film.views import parse_view
 
-        kind, _ = parse_view(view)
+        kind, arg = parse_view(view)
+        if kind == "dichroscope" and arg == "auto":
+            view = _auto_dichroscope(scene, file=args.scene)
         if kind in ("analyzer", "dichroscope") and not scene.render.polarization:
             print(
                 f"warpoptics render: warning: {view} of an unpolarized render (render.polarization = "
@@ -122,7 +152,7 @@ def register(sub) -> None:
         "--view",
         metavar="VIEW",
         help="polarization view: analyzer:ANGLE (degrees from image right toward up), "
-        "polariscope (crossed; polariscope:parallel), dichroscope[:ANGLE] (two orthogonal "
+        "polariscope (crossed; polariscope:parallel), dichroscope[:ANGLE|auto] (two orthogonal "
         "analyzers side by side) or none; default the scene's [view]",
     )
     p.add_argument("--progress", action="store_true", help="show a progress bar even when not on a terminal")

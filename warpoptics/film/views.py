@@ -19,7 +19,12 @@ element), so views compose and save like renders.
   its optic axis lies along a polarizer direction or toward the eye.
 - ``dichroscope`` (angle θ, default 0): the analyzer at θ and at θ + 90° side by side (left,
   right), as the calcite rhomb of a gemologist's dichroscope shows two orthogonally polarized
-  images of the same window: a pleochroic stone shows two colours.
+  images of the same window: a pleochroic stone shows two colours.  In a biaxial (trichroic)
+  stone the two windows are the two eigenwaves of the viewing direction when θ lies along the
+  D of one of them: :func:`eigenwave_angle` gives that θ (biaxial: fast wave left) from the stone's
+  principal axes and the camera, ``dichroscope:auto`` on the command line (uniaxial stones: the
+  o-wave's D, perpendicular to the optic axis).  Along a principal axis the windows show the
+  colours of the other two principal spectra; looking along X, Y and Z shows all three.
 
 Why a render-time source polarizer and not a Mueller film: the film would have to accumulate a
 4x4 Mueller matrix per pixel and channel (48 float64, 16x the Stokes film) in a source frame
@@ -56,6 +61,7 @@ __all__ = [
     "polariscope",
     "dichroscope",
     "polarizer_world_axis",
+    "eigenwave_angle",
 ]
 
 VIEW_KINDS = ("none", "analyzer", "polariscope", "dichroscope")
@@ -65,7 +71,9 @@ def parse_view(
     spec: str, angle: float | None = None, *, field: str = "--view"
 ) -> tuple[str, float | str | None]:
     """``"analyzer:30"`` -> ("analyzer", 30.0); ``"polariscope"`` / ``"polariscope:parallel"``;
-    ``"dichroscope[:angle]"``; ``"none"``.  ``angle`` (degrees) is used when the spec has none."""
+    ``"dichroscope[:angle]"``, ``"dichroscope:auto"`` (-> ("dichroscope", "auto"): the caller that
+    knows the stone and the camera resolves it with :func:`eigenwave_angle`); ``"none"``.
+    ``angle`` (degrees) is used when the spec has none."""
     if not isinstance(spec, str) or not spec.strip():
         raise InputError("must be a view name", field=field, value=spec, allowed=", ".join(VIEW_KINDS))
     kind, _, arg = spec.strip().partition(":")
@@ -75,7 +83,7 @@ def parse_view(
             "unknown view",
             field=field,
             value=spec,
-            allowed="none, analyzer:ANGLE, polariscope[:parallel], dichroscope[:ANGLE]",
+            allowed="none, analyzer:ANGLE, polariscope[:parallel], dichroscope[:ANGLE|auto]",
         )
     arg = arg.strip()
     if kind == "polariscope":
@@ -86,6 +94,9 @@ def parse_view(
         return kind, arg or "crossed"
     if kind == "none":
         return kind, None
+    if kind == "dichroscope" and arg.lower() == "auto":
+        # the angle of the stone's fast eigenwave (eigenwave_angle), set by who knows the scene
+        return kind, "auto"
     value = angle
     if arg:
         try:
@@ -174,6 +185,13 @@ def apply_view(image, kind: str | None, angle: float | None = None, *, device=No
         return analyzer(image, arg, device=device)
     if k == "polariscope":
         return polariscope(image, parallel=arg == "parallel", device=device)
+    if arg == "auto":
+        raise InputError(
+            "dichroscope:auto needs the stone and the camera: `warpoptics render --view "
+            "dichroscope:auto`, or dichroscope(image, eigenwave_angle(...)) in Python",
+            field="view",
+            value=kind,
+        )
     return dichroscope(image, arg, device=device)
 
 
@@ -183,3 +201,35 @@ def polarizer_world_axis(right, up, angle_deg: float) -> np.ndarray:
     return sheet_absorbing_axis(
         np.asarray(right, dtype=np.float64), np.asarray(up, dtype=np.float64), angle_deg
     )
+
+
+def eigenwave_angle(material, direction, right, up, *, wavelength_nm: float = 550.0, device=None) -> float:
+    """The analyzer angle (degrees, from image ``right`` toward image ``up``) along the D vector of
+    the fast eigenwave travelling along ``direction`` (world, toward the eye's line of sight into
+    the stone) in ``material``: a :class:`~warpoptics.materials.Biaxial` with world
+    ``crystal_axes`` (the D from :func:`warpoptics.optics.biaxial.principal_d`), or a
+    :class:`~warpoptics.materials.Uniaxial` (the o-wave: D perpendicular to the optic axis and
+    the direction; fast in a positive crystal, slow in a negative one).  A dichroscope at this
+    angle shows that wave left, the other right.
+    Isotropic materials, and a wave normal along an optic axis, have no preferred D: 0.0."""
+    from ..materials import Biaxial, Uniaxial
+    from ..optics.biaxial import principal_d
+
+    s = np.asarray(direction, dtype=np.float64)
+    s = s / np.linalg.norm(s)
+    r = np.asarray(right, dtype=np.float64)
+    u = np.asarray(up, dtype=np.float64)
+    if isinstance(material, Biaxial):
+        axes = material.crystal_axes
+        n = material.n(wavelength_nm, device=device)
+        _, d_local = principal_d(s, 0, axes, n[0], n[1], n[2], device=device)
+        d = np.asarray(d_local, dtype=np.float64) @ axes
+    elif isinstance(material, Uniaxial):
+        d = np.cross(np.asarray(material.optic_axis, dtype=np.float64), s)
+    else:
+        return 0.0
+    x, y = float(d @ r), float(d @ u)
+    if math.hypot(x, y) < 1e-9:
+        return 0.0
+    # an analyzer axis is a line: fold into [0, 180)
+    return float(np.degrees(np.arctan2(y, x)) % 180.0)

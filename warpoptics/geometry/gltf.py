@@ -23,7 +23,8 @@ parameters as :class:`GltfOptics`; ``GltfOptics.material()`` makes a warpoptics 
 them: a two-term Cauchy law through n_d with the Abbe number V_d, and the smooth absorption
 spectrum whose D65/sRGB absorbance is alpha_c (``materials.spectrum_from_rgb``).  A glTF material
 is isotropic: a uniaxial stone is exported with its ordinary index and the mean of its o and e
-absorption.  A file without the extensions gives glTF's defaults (ior 1.5, no dispersion, clear).
+absorption, a biaxial one with n_beta and the mean of its three principal absorptions.  A file
+without the extensions gives glTF's defaults (ior 1.5, no dispersion, clear).
 
 References:
     Khronos Group, glTF 2.0 specification and the ratified extensions KHR_materials_ior,
@@ -109,10 +110,16 @@ def gem_optics(
 ) -> GltfOptics:
     """The glTF parameters of a warpoptics ``material`` for a stone of largest extent
     ``size_mm`` (see the module docstring); ``film_*``: one thin-film coating."""
-    from ..materials import Uniaxial, rgb_absorbance
+    from ..materials import Biaxial, Uniaxial, rgb_absorbance
 
     lam = np.array([LAMBDA_D, LAMBDA_F, LAMBDA_C])
-    if isinstance(material, Uniaxial):
+    if isinstance(material, Biaxial):
+        # glTF has one index: n_beta (between the other two), alpha averaged over D along X, Y, Z
+        n = np.asarray(material.beta.n(lam), dtype=np.float64)
+
+        def alpha(wl):
+            return np.asarray(material.alpha(wl), dtype=np.float64).mean(axis=-1)
+    elif isinstance(material, Uniaxial):
         n = np.asarray(material.ordinary.n(lam), dtype=np.float64)
 
         def alpha(wl):

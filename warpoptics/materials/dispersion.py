@@ -1115,6 +1115,16 @@ def with_absorption_k(
 
 
 def _n_real(mat: Material, wavelength_nm, channel: str = "o") -> np.ndarray:
+    if isinstance(mat, Biaxial):
+        j = {"o": 0, "alpha": 0, "beta": 1, "gamma": 2}.get(channel)
+        if j is None:
+            raise InputError(
+                "unknown channel of a biaxial material",
+                field="channel",
+                value=channel,
+                allowed="alpha, beta, gamma",
+            )
+        return mat.n(wavelength_nm)[..., j]
     if isinstance(mat, Uniaxial):
         n = mat.n(wavelength_nm)
         return n[..., 0] if channel == "o" else n[..., 1]
@@ -1124,7 +1134,8 @@ def _n_real(mat: Material, wavelength_nm, channel: str = "o") -> np.ndarray:
 def dispersion_bg(mat: Material, *, channel: str = "o") -> float:
     """Gemological dispersion n(430.8 nm) − n(686.7 nm) (Fraunhofer B and G lines).
 
-    For a uniaxial crystal, ``channel`` selects "o" (default) or "e".
+    For a uniaxial crystal, ``channel`` selects "o" (default) or "e"; for a biaxial one "alpha"
+    (the default "o" reads as alpha), "beta" or "gamma".
     """
     n = _n_real(mat, np.array([430.8, 686.7]), channel)
     return float(n[0] - n[1])

@@ -56,7 +56,7 @@ from .datasets.dyes import (
     ROSE_BENGAL_EPSILON,
     ROSE_BENGAL_MOLAR_MASS,
 )
-from .dispersion import Isotropic, Material, Uniaxial, with_absorption_k
+from .dispersion import Biaxial, Isotropic, Material, Uniaxial, with_absorption_k
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -174,7 +174,7 @@ def band_delta_n(bands, wavelength_nm) -> np.ndarray:
 
 def _background(n_background, lam: np.ndarray) -> np.ndarray:
     if isinstance(n_background, Material):
-        if isinstance(n_background, Uniaxial):
+        if isinstance(n_background, (Uniaxial, Biaxial)):
             raise InputError(
                 "background must be isotropic (pass .ordinary or .extraordinary)", field="n_background"
             )
@@ -304,11 +304,24 @@ def anomalous(
     width is exact) on the absorption table's own nodes, not the numerical integral of the table.
 
     ``absorption`` is an :class:`AbsorptionSpectrum` (alpha, 1/mm); for a :class:`Uniaxial`
-    base, a pair (K^o, K^e) or one spectrum for both.  Δn is computed on a uniform grid of
-    ``step_nm`` over the absorption table's range (k = 0 outside unless ``tails="gaussian"``);
-    the result is defined on the overlap of that range with the base's.  The renderer uses it
+    base, a pair (K^o, K^e) or one spectrum for both; for a :class:`Biaxial` base, a triple for
+    D along X, Y, Z or one spectrum for all (each principal index gets its own Δn).  Δn is
+    computed on a uniform grid of ``step_nm`` over the absorption table's range (k = 0 outside
+    unless ``tails="gaussian"``); the result is defined on the overlap of that range with the
+    base's.  The renderer uses it
     like any other material (its Δn and k are tabulated curves of the material table).
     """
+    if isinstance(base, Biaxial):
+        if isinstance(absorption, AbsorptionSpectrum):
+            absorption = (absorption, absorption, absorption)
+        kw = dict(step_nm=step_nm, tails=tails, tail_width_nm=tail_width_nm, bands=bands, device=device)
+        chans = (base.alpha_channel, base.beta, base.gamma)
+        return Biaxial(
+            *(anomalous(c, a, **kw) for c, a in zip(chans, absorption, strict=True)),
+            crystal_axes=base.crystal_axes,
+            name=name or base.name,
+            source=source or base.source + " + Kramers–Kronig",
+        )
     if isinstance(base, Uniaxial):
         if isinstance(absorption, AbsorptionSpectrum):
             absorption = (absorption, absorption)

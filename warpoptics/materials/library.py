@@ -5,10 +5,14 @@ Dispersion comes from a refractiveindex.info page where one exists (read offline
 exactly through a published index and dispersion.  The numbers (pages, constants, bands) and their
 provenance are data, in :mod:`warpoptics.materials.datasets` (``gems``, ``seed002``, ``dyes``);
 this module composes the materials from them.  Biaxial
-stones (peridot, andalusite, topaz) are treated as uniaxial, as Guy & Soler 2004 do for
-peridot and andalusite (§3.2: "behave visually as if they were uniaxial because two of the three
-absorbance spectra are nearly identical"); their n_o / n_e are the two distinct principal
-indices named per entry.  The optic axis defaults to +z (object frame).
+stones (peridot, andalusite, topaz, tanzanite, iolite, chrysoberyl, alexandrite, kyanite) are
+:class:`Biaxial` with three principal indices.  The uniaxial approximation that Guy & Soler 2004
+use for peridot and andalusite (§3.2: "behave visually as if they were uniaxial because two of
+the three absorbance spectra are nearly identical") stays available as explicit entries,
+``peridot_uniaxial``, ``andalusite_uniaxial`` (the §6.1 table's indices and absorbances) and
+``topaz_uniaxial`` (n_alpha, n_gamma as n_o, n_e); their n_o / n_e are two principal indices
+named per entry.  ``Biaxial.uniaxial_approximation()`` gives the same approximation of any
+biaxial entry from its own indices.  The optic axis defaults to +z (object frame).
 
 Formula pages whose range stops short of the colour range 360–830 nm are *extrapolated* to it
 (their Sellmeier poles are far in the UV/IR); the ``source`` string says so.  Colour: the six gems
@@ -24,6 +28,8 @@ References (gemological constants)
   topaz n_α 1.619, n_γ 1.627, 0.014; diamond 2.417, 0.044; sapphire 1.768/1.760, 0.018;
   calcite 1.658/1.486; moissanite (6H-SiC) 2.648/2.691, 0.104; cubic zirconia 2.15–2.18, 0.060.
 - S. Guy, C. Soler, ACM TOG 23(3) 2004, §6.1 table (garnet, tourmaline, peridot, andalusite).
+- Handbook of Mineralogy (Mineral Data Publishing 2001): forsterite, andalusite, topaz (indices,
+  2V, optic sign; see :mod:`.datasets.gems`).
 - D. S. McClure, J. Chem. Phys. 36, 2757 (1962): Cr³⁺ in corundum, E⊥c bands 556/407 nm,
   E∥c 570/400 nm.  D. L. Wood, K. Nassau, Am. Mineral. 53, 777 (1968): Cr³⁺ in beryl, E⊥c
   430/600 nm, E∥c 420/640 nm.
@@ -110,12 +116,21 @@ def _uniaxial(o: Isotropic, e: Isotropic, name: str, source: str, rgb3=None) -> 
     return Uniaxial(o, e, optic_axis=(0.0, 0.0, 1.0), name=name, source=source, rgb3_alpha=rgb3)
 
 
-def _seed002(name: str, mat: Material) -> Material:
-    """Attach the §6.1 absorbances: spectra by eq. 9 inversion, the triplets for rgb3."""
+def _seed002_triplets(name: str) -> dict[str, tuple[float, ...]]:
+    """The §6.1 absorbance triplets of row ``name`` in 1/mm: {"o": K^o, "e": K^e} (K^e = K^o for
+    an isotropic row)."""
     row = GUY_SOLER_2004_GEMS[name]
-    so, se = guy_soler_2004_spectra(name)
     ko = tuple(float(v) * GUY_SOLER_2004_ALPHA_PER_MM for v in row["K_o"])
     ke = tuple(float(v) * GUY_SOLER_2004_ALPHA_PER_MM for v in (row["K_e"] or row["K_o"]))
+    return {"o": ko, "e": ke}
+
+
+def _seed002(name: str, mat: Material) -> Material:
+    """Attach the §6.1 absorbances of row ``name``: spectra by eq. 9 inversion, the triplets
+    for rgb3."""
+    so, se = guy_soler_2004_spectra(name)
+    t = _seed002_triplets(name)
+    ko, ke = t["o"], t["e"]
     src = mat.source + "; absorbance: Guy & Soler 2004 §6.1 (eq. 9 inversion)"
     if isinstance(mat, Uniaxial):
         out = with_absorption(mat, (so, se), source=src)
@@ -126,9 +141,10 @@ def _seed002(name: str, mat: Material) -> Material:
     return out
 
 
-def _seed002_indices(name: str) -> Material:
-    """Cauchy fits to the §6.1 indices: n(546.1) = table value, n(435.8) − n(700) = 2 ± value."""
-    row = GUY_SOLER_2004_GEMS[name]
+def _seed002_indices(name: str, row_name: str | None = None) -> Material:
+    """Cauchy fits to the §6.1 indices of row ``row_name`` (default ``name``): n(546.1) = table
+    value, n(435.8) − n(700) = 2 ± value."""
+    row = GUY_SOLER_2004_GEMS[row_name or name]
     disp = 2.0 * row["half_dispersion"]
     kw = dict(ref_nm=546.1, pair_nm=_RGB)
     src = (
@@ -158,6 +174,7 @@ def _bands(bands, name) -> AbsorptionSpectrum:
 def _gem(name: str) -> Material:
     """Build library entry ``name`` from its data (:data:`~.datasets.gems.GEMS`)."""
     entry = GEMS[name]
+    row = entry.get("seed002", name)  # the seed-002 §6.1 row of "seed002" indices/absorbances
     kind, *args = entry["index"]
     if kind == "page":
         mat = _page(args[0], name)
@@ -183,15 +200,27 @@ def _gem(name: str) -> Material:
         ch = [_page(pg, f"{name} ({a})") for pg, a in zip(args, "abg", strict=True)]
         mat = Biaxial(*ch, name=name, source=entry["source"])
     else:  # "seed002"
-        mat = _seed002_indices(name)
+        mat = _seed002_indices(name, row)
     absorption = entry.get("absorption")
     if isinstance(mat, Biaxial):
         if absorption is None:
             return mat
+        if all(absorption[a] in ("o", "e") for a in "xyz"):
+            # the §6.1 spectra of the seed-002 row, one per principal axis, and their triplets
+            so, se = guy_soler_2004_spectra(row)
+            spec = {"o": so, "e": se}
+            t = _seed002_triplets(row)
+            out = with_absorption(
+                mat,
+                tuple(spec[absorption[a]] for a in "xyz"),
+                source=mat.source + "; " + absorption["source"],
+            )
+            out.rgb3_alpha = tuple(t[absorption[a]] for a in "xyz")
+            return out
         kx, ky, kz = (_bands(absorption[a], f"{name} alpha_{a.upper()}") for a in "xyz")
         return with_absorption(mat, (kx, ky, kz), source=mat.source + "; " + absorption["source"])
     if absorption == "seed002":
-        return _seed002(name, mat)
+        return _seed002(row, mat)
     if absorption is not None:
         ko = _bands(absorption["o"], f"{name} K^o")
         ke = _bands(absorption["e"], f"{name} K^e")

@@ -229,9 +229,9 @@ def _write_ply(path: Path, vertices: np.ndarray, faces: np.ndarray) -> None:
 
 
 def _stone_index(mat, wavelength: float, where: str, file) -> float:
-    from ..materials.dispersion import Uniaxial
+    from ..materials.dispersion import Biaxial, Uniaxial
 
-    if isinstance(mat, Uniaxial):
+    if isinstance(mat, (Uniaxial, Biaxial)):
         raise InputError(
             "Mitsuba's dielectric is isotropic: a birefringent stone cannot be exported",
             file=file,

@@ -19,7 +19,7 @@ from ..errors import InputError
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
-__all__ = ["CameraParams", "CameraConfig", "Camera", "camera_ray", "CAMERA_KINDS"]
+__all__ = ["CameraParams", "CameraConfig", "Camera", "camera_basis", "camera_ray", "CAMERA_KINDS"]
 
 CAMERA_KINDS = {"perspective": 0, "orthographic": 1, "thin_lens": 2}
 _ORTHO = wp.constant(1)
@@ -118,6 +118,17 @@ class CameraConfig:
             raise self._err("focus_distance", self.focus_distance, "must be > 0 mm")
 
 
+def camera_basis(config: CameraConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(forward, right, up): the camera's unit world axes (image right = forward x up, image up
+    = right x forward), as the camera stage traces them."""
+    pos = np.asarray(config.position, dtype=np.float64)
+    fwd = np.asarray(config.look_at, dtype=np.float64) - pos
+    fwd /= np.linalg.norm(fwd)
+    right = np.cross(fwd, np.asarray(config.up, dtype=np.float64))
+    right /= np.linalg.norm(right)
+    return fwd, right, np.cross(right, fwd)
+
+
 class Camera:
     """Source stage for images: holds the :class:`CameraParams` struct of a configuration."""
 
@@ -125,12 +136,8 @@ class Camera:
         self.config = config
         c = config
         pos = np.asarray(c.position, dtype=np.float64)
-        fwd = np.asarray(c.look_at, dtype=np.float64) - pos
-        dist = np.linalg.norm(fwd)
-        fwd /= dist
-        right = np.cross(fwd, np.asarray(c.up, dtype=np.float64))
-        right /= np.linalg.norm(right)
-        up = np.cross(right, fwd)
+        dist = float(np.linalg.norm(np.asarray(c.look_at, dtype=np.float64) - pos))
+        fwd, right, up = camera_basis(c)
         p = CameraParams()
         p.kind = CAMERA_KINDS[c.type]
         p.position = wp.vec3f(*pos)

@@ -52,7 +52,7 @@ import warp as wp
 from ..device import elementwise, get_device
 from ..errors import InputError
 from ..fields import oil_slick_thickness_f, soap_film_thickness_f, turbulence, turbulence_3d
-from ..materials.dispersion import MaterialTable, material_eval
+from ..materials.dispersion import Biaxial, MaterialTable, material_eval
 from ..optics.branches import Cand, add_child
 from ..optics.interface import backward_coated, child_of
 from ..optics.jones import (
@@ -566,7 +566,8 @@ def build_film_surfaces(films, shapes, meshes, mats, *, file: str | None = None,
     naming ``file`` and the object)."""
     configs, frames = [], []
     for i, (cfg, (mesh, _), mat) in enumerate(zip(films, meshes, mats, strict=True)):
-        if cfg is not None and getattr(mat, "is_uniaxial", False):
+        # a Biaxial has is_uniaxial False (its own table flag): refused by its class
+        if cfg is not None and (getattr(mat, "is_uniaxial", False) or isinstance(mat, Biaxial)):
             raise InputError(
                 "coatings, shells and film surfaces need an isotropic material (birefringent "
                 "stones are not coated here)",

@@ -16,10 +16,14 @@ Each entry of :data:`GEMS` (in library order) has
 ``two_v``     biaxial: the literature optic-axial angle ``(low, high, sign, source)`` (degrees; the
               range is the stated uncertainty) that the indices must reproduce
 ``source``    the provenance string the material carries (index entries other than "page")
+``seed002``   the row of the seed-002 §6.1 table an entry takes its ``("seed002",)`` indices and its
+              ``"seed002"`` absorbances from (default: the entry's own name)
 ``absorption`` absent (colourless, k = 0), ``"seed002"`` (the §6.1 absorbances), or
               ``{"o": bands, "e": bands, "source": ...}`` with bands (centre nm, width nm,
               peak alpha 1/mm) of Gaussian profiles; biaxial: ``{"x": ..., "y": ..., "z": ...,
-              "source": ...}`` for D along X, Y, Z
+              "source": ...}`` for D along X, Y, Z, each bands or ``"o"`` / ``"e"``: that seed-002
+              §6.1 spectrum (eq. 9 inversion) of the row named by ``seed002`` (and its triplet
+              for rgb3)
 
 Provenance
 ----------
@@ -28,7 +32,14 @@ Provenance
   (6H-SiC), Daimon (water, 20 °C), SCHOTT (N-BK7)).
 - GIA Gem Reference Guide (1995) and R. Webster, *Gems*, 5th ed. (1994), property tables:
   zircon (high) n_o 1.925, n_e 1.984, dispersion 0.039; emerald n_o 1.583, n_e 1.577, 0.014;
-  topaz n_α 1.619, n_γ 1.627, 0.014.
+  topaz n_α 1.619, n_γ 1.627, 0.014; peridot dispersion 0.020; andalusite 0.016.
+- J. W. Anthony, R. A. Bideaux, K. W. Bladh, M. C. Nichols (eds.), *Handbook of Mineralogy*,
+  Mineralogical Society of America (Mineral Data Publishing, 2001): forsterite α 1.635, β 1.651,
+  γ 1.670, 2V(meas.) 82°, biaxial (+); andalusite α 1.632, β 1.636, γ 1.643, 2V(meas.) 71°–86°,
+  biaxial (−) or (+), pleochroism X reddish pink, Y = Z greenish yellow; topaz α 1.606–1.634,
+  β 1.609–1.637, γ 1.616–1.644, 2V(meas.) 48°–68°, biaxial (+).  W. A. Deer, R. A. Howie,
+  J. Zussman, *An Introduction to the Rock-Forming Minerals* (1992), olivine: optically positive
+  from Fo85 to Fo100 with 2V_z 90° to 82° (as quoted by the MINTS database, mints.uwc.ac.za).
 - S. Guy, C. Soler, ACM TOG 23(3) 2004, §6.1 table (garnet, tourmaline, peridot, andalusite,
   and the absorbances of diamond and sapphire).
 - D. S. McClure, J. Chem. Phys. 36, 2757 (1962): Cr³⁺ in corundum, E⊥c bands 556/407 nm,
@@ -48,7 +59,9 @@ BIAXIAL_SOURCES = (
     "positions 595/528/455 nm); refractiveindex.info main/BeAl2O4/Walling-alpha/-beta/-gamma "
     "(Walling et al. 1980, IEEE JQE 16, 1302; formula of Loiko & Major 2016, OME 6, 2177) for "
     "alexandrite; chrysoberyl: Deutsche Gemmologische Gesellschaft indices, Handbook of Mineralogy "
-    "2V(meas.) 70°"
+    "2V(meas.) 70°; peridot (forsterite), andalusite, topaz: Handbook of Mineralogy indices / 2V "
+    "ranges (topaz n_beta from its range ends), olivine 2V_z 82°-90° for Fo85-Fo100 (Deer, Howie & "
+    "Zussman 1992), GIA dispersions"
 )
 
 #: the source string of every Cr³⁺ band spectrum
@@ -92,10 +105,12 @@ GEMS: dict[str, dict] = {
             source="Cr3+ bands after Wood & Nassau 1968 (illustrative strength)",
         ),
     ),
-    "peridot": dict(index=("seed002",), absorption="seed002"),
+    # biaxial since issue 20; the *_uniaxial entries keep the seed-002 uniaxial model (the
+    # paper's §6.1 indices and absorbances, n_o / n_e = two of the three principal indices)
+    "peridot_uniaxial": dict(index=("seed002",), absorption="seed002", seed002="peridot"),
     "garnet": dict(index=("seed002",), absorption="seed002"),
     "spinel": dict(index=("page", "main/MgAl2O4/Tropf")),
-    "topaz": dict(
+    "topaz_uniaxial": dict(
         index=("constants", 1.619, 1.627, 0.014),
         source=(
             "topaz (biaxial, treated as uniaxial): n_alpha 1.619 -> o, n_gamma 1.627 -> e (nD), "
@@ -107,7 +122,7 @@ GEMS: dict[str, dict] = {
         index=("pages", "main/SiC/Wang-6H-o", "main/SiC/Wang-6H-e"),
         source="refractiveindex.info main/SiC/Wang-6H-o/-e (6H-SiC), extrapolated below 435.8 nm",
     ),
-    "andalusite": dict(index=("seed002",), absorption="seed002"),
+    "andalusite_uniaxial": dict(index=("seed002",), absorption="seed002", seed002="andalusite"),
     # biaxial stones (optics/biaxial.py): principal axes X, Y, Z = the object's x, y, z by default
     "tanzanite": dict(
         index=("biaxial", 1.692, 1.694, 1.700, 0.019),
@@ -176,6 +191,68 @@ GEMS: dict[str, dict] = {
             z=((590.0, 60.0, 0.30), (425.0, 40.0, 0.30)),
             source="Cr3+ 4T2/4T1 bands near 580/420 nm (positions: literature; strengths illustrative)",
         ),
+    ),
+    "peridot": dict(
+        index=("biaxial", 1.635, 1.651, 1.670, 0.020),
+        source=(
+            "peridot (forsterite-rich olivine): n_alpha 1.635, n_beta 1.651, n_gamma 1.670 (Handbook of "
+            "Mineralogy, forsterite), biaxial (+), dispersion 0.020 (GIA); Cauchy fits"
+        ),
+        # the Handbook gives 2V(meas.) = 82° without an uncertainty; its own 3-decimal indices
+        # give 86.0° (±1.6° for ±0.0005 on n_beta).  The range checked is Deer, Howie & Zussman's
+        # 2V_z for the optically positive olivines (Fo85-Fo100: 90° down to 82°)
+        two_v=(
+            82.0,
+            90.0,
+            "+",
+            "Handbook of Mineralogy, forsterite: 2V(meas.) 82° (+); Deer, Howie & Zussman 1992: "
+            "2V_z 82°-90° for Fo100-Fo85",
+        ),
+        absorption=dict(
+            x="e",
+            y="o",
+            z="o",
+            source=(
+                "Guy & Soler 2004 §6.1 peridot triplets, eq. 9 inversion (a fit, not a measured "
+                "spectrum): K^e for D along X (its n_e 1.640 is the low index n_alpha), K^o for Z "
+                "(n_o 1.680 ~ n_gamma) and for Y (the paper's 'two of the three spectra nearly "
+                "identical'; the stronger one, as olivine absorbs most for D along Y)"
+            ),
+        ),
+        seed002="peridot",
+    ),
+    "andalusite": dict(
+        index=("biaxial", 1.632, 1.636, 1.643, 0.016),
+        source=(
+            "andalusite: n_alpha 1.632, n_beta 1.636, n_gamma 1.643 (Handbook of Mineralogy), "
+            "dispersion 0.016 (GIA); Cauchy fits"
+        ),
+        # the Handbook: "Biaxial (-) or (+)", 2V(meas.) 71°-86°; its indices give 74.5° with Z
+        # the acute bisectrix (+).  Gem references (GIA) call gem andalusite negative: a
+        # negative stone needs n_beta > 1.6375 with these n_alpha, n_gamma
+        two_v=(71.0, 86.0, "+", "Handbook of Mineralogy, andalusite: 2V(meas.) 71°-86°, (-) or (+)"),
+        absorption=dict(
+            x="o",
+            y="e",
+            z="e",
+            source=(
+                "Guy & Soler 2004 §6.1 andalusite triplets, eq. 9 inversion (a fit, not a measured "
+                "spectrum): K^o for D along X (its n_o 1.635 ~ n_alpha), K^e for Z (n_e 1.644 ~ "
+                "n_gamma) and Y (Handbook of Mineralogy pleochroism: Y = Z)"
+            ),
+        ),
+        seed002="andalusite",
+    ),
+    "topaz": dict(
+        index=("biaxial", 1.619, 1.621, 1.627, 0.014),
+        source=(
+            "topaz: n_alpha 1.619, n_gamma 1.627 (nD), dispersion 0.014 (GIA); n_beta 1.621 = n_alpha "
+            "+ 0.002, the beta - alpha of the Handbook of Mineralogy's index ranges (0.003 at its low "
+            "end, 0.002-0.003 at its high end), not a measurement; biaxial (+); Cauchy fits"
+        ),
+        # n_beta is not measured for this stone, so this check is one of consistency: the Handbook's
+        # 2V range (48° F-rich to 68° OH-richer) holds n_beta within 1.6204-1.6214 here
+        two_v=(48.0, 68.0, "+", "Handbook of Mineralogy, topaz: 2V(meas.) 48°-68° (+)"),
     ),
     "kyanite": dict(
         index=("biaxial", 1.713, 1.722, 1.729, 0.020),
