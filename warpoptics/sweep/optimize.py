@@ -30,7 +30,11 @@ Dask with ``workers``, ``dask_local`` or ``scheduler``).  Every evaluation is ap
 ``journal.csv`` (fsynced rows, a torn last line dropped).  A rerun with ``resume=True`` replays
 the search: CMA-ES asks the same candidates, the ones in the journal are not rendered again, a
 generation cut short by a kill resumes inside its sweep folder.  ``optimizer.json`` holds the
-settings; a journal of other settings is refused.
+settings; a journal of other settings is refused.  With ``dask_local=N`` one local cluster
+(:func:`~warpoptics.sweep.backends.local_cluster`, started when the first generation needs a
+render) serves every generation, its workers keeping Warp and the kernels loaded; each worker
+renders with cores / N threads.  The renders do not depend on the thread count, so a run on Dask
+journals the same values as a serial one with the same seed (``tests/test_grading_sweeps.py``).
 
 **Outputs** (atomic): ``best.asc`` (the best design, GemCAD, ``geometry.gemcad.write``),
 ``report.md`` and ``report.json`` (settings, the best parameters and metrics, renders spent),
@@ -43,6 +47,7 @@ strategies", Evolutionary Computation 9(2), 159-195 (2001); ``cma`` (pypi.org/pr
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import hashlib
 import json
@@ -58,6 +63,7 @@ from ..errors import InputError
 from ..grading.performance import PROTOCOL, Protocol
 from .grading import SPOT_METRICS, protocol_scene, protocol_scores, protocol_sweep, renders_per_job
 from .results import append_line, csv_line, format_value, read_results, write_text_atomic
+from .backends import local_cluster
 from .runner import SweepRunner
 from .spec import Axis
 
@@ -257,7 +263,14 @@ class CutOptimizer:
         self.resume = resume
         self.overwrite = overwrite
         runner_kw.setdefault("progress", False)
+        n = runner_kw.get("dask_local")
+        if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
+            raise InputError("must be an integer >= 1", field="--dask-local", value=n)
+        if n and runner_kw.get("scheduler"):
+            raise InputError("give either --scheduler or --dask-local", field="--scheduler")
         self.runner_kw = runner_kw
+        self._stack: contextlib.ExitStack | None = None
+        self._cluster_kw: dict | None = None
 
     # -- settings and journal --------------------------------------------------------------------
 
@@ -377,7 +390,7 @@ class CutOptimizer:
             name=f"optimize_g{gen:03d}",
         )
         folder = self.out_dir / "generations" / f"g{gen:03d}"
-        res = SweepRunner(sweep, folder, resume=True, **self.runner_kw).run()
+        res = SweepRunner(sweep, folder, resume=True, **self._generation_kw()).run()
         if len(res.rows) != len(todo):
             raise InputError("a generation's sweep did not finish", file=str(folder / "results.csv"))
         per = renders_per_job(sweep)
@@ -389,7 +402,32 @@ class CutOptimizer:
         spent = res.rendered * per
         return spent
 
+    def _generation_kw(self) -> dict:
+        """The generations' :class:`SweepRunner` keywords: ``runner_kw``, with ``dask_local``
+        replaced by the address of the run's one local cluster (started on first use)."""
+        n = self.runner_kw.get("dask_local")
+        if not n:
+            return self.runner_kw
+        if self._cluster_kw is None:
+            from ..device import cpu_threads
+
+            assert self._stack is not None, "generations run inside run()"
+            address = self._stack.enter_context(local_cluster(int(n)))
+            kw = {**self.runner_kw, "dask_local": None, "scheduler": address}
+            if kw.get("threads") is None:
+                kw["threads"] = max(1, cpu_threads() // int(n))
+            self._cluster_kw = kw
+        return self._cluster_kw
+
     def run(self) -> dict:
+        with contextlib.ExitStack() as stack:
+            self._stack, self._cluster_kw = stack, None
+            try:
+                return self._run()
+            finally:
+                self._stack = self._cluster_kw = None
+
+    def _run(self) -> dict:
         import cma
 
         journal = self._prepare()
