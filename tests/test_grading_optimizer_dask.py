@@ -93,7 +93,11 @@ def test_optimizer_dask_equals_serial_and_resumes_after_sigkill(tmp_path, capsys
     assert 4 <= finished < 12
 
     res = subprocess.run(
-        _cmd("--dask-local", 2, "--resume", "-o", out), env=_env(), capture_output=True, text=True, timeout=300
+        _cmd("--dask-local", 2, "--resume", "-o", out),
+        env=_env(),
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     assert res.returncode == 0, res.stderr
     rep = json.loads((out / "report.json").read_text())

@@ -60,7 +60,10 @@ from warpoptics.sweep.runner import SweepRunner
 
 STONES = {
     "tolkowsky": ("Tolkowsky 53/34.5/40.75", {"table": 0.53, "crown_angle": 34.5, "pavilion_angle": 40.75}),
-    "gia_reference": ("GIA reference 57/34.0/40.7", {"table": 0.57, "crown_angle": 34.0, "pavilion_angle": 40.7}),
+    "gia_reference": (
+        "GIA reference 57/34.0/40.7",
+        {"table": 0.57, "crown_angle": 34.0, "pavilion_angle": 40.7},
+    ),
     "deep43": ("deep pavilion 55/34.5/43", {"table": 0.55, "crown_angle": 34.5, "pavilion_angle": 43.0}),
 }
 LOOKS = ("aset", "idealscope", "arrows", "hearts", "brightness_map", "lp_map")
@@ -160,7 +163,9 @@ def main(argv=None) -> int:
         ap.error(f"unknown stone {unknown[0]!r} (of {', '.join(STONES)})")
     out = Path(args.output)
     looks_dir = out / "grading"
-    strip_proto = dataclasses.replace(PROTOCOL, size=16 if args.quick else 96, wavelengths=2 if args.quick else 8)
+    strip_proto = dataclasses.replace(
+        PROTOCOL, size=16 if args.quick else 96, wavelengths=2 if args.quick else 8
+    )
     strip_tilts = (0.0, 10.0) if args.quick else tuple(float(t) for t in range(0, 31, 5))
     map_azimuths = (0.0, 11.25, 22.5) if args.quick else tuple(5.625 * k for k in range(5))
     map_proto = dataclasses.replace(
@@ -175,12 +180,23 @@ def main(argv=None) -> int:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    titles = ["ASET", "Ideal Scope", "arrows (face-up)", "hearts (face-down)", "brightness map", "light return vs tilt"]
+    titles = [
+        "ASET",
+        "Ideal Scope",
+        "arrows (face-up)",
+        "hearts (face-down)",
+        "brightness map",
+        "light return vs tilt",
+    ]
     fig = plt.figure(figsize=(2.0 * len(LOOKS), 2.25 * len(names)))
     strips = []
-    readout: dict = {"settings": {"scope_size": size, "strip_protocol": dataclasses.asdict(strip_proto),
-                                  "strip_tilts": list(strip_tilts), "map_protocol": dataclasses.asdict(map_proto)},
-                     "stones": {}}  # fmt: skip
+    settings = {
+        "scope_size": size,
+        "strip_protocol": dataclasses.asdict(strip_proto),
+        "strip_tilts": list(strip_tilts),
+        "map_protocol": dataclasses.asdict(map_proto),
+    }
+    readout: dict = {"settings": settings, "stones": {}}
     with tempfile.TemporaryDirectory(prefix="warpoptics-gallery-") as tmp:
         work = Path(args.work) if args.work else Path(tmp)
         for row, key in enumerate(names):
@@ -196,7 +212,9 @@ def main(argv=None) -> int:
             from warpoptics.pipelines.render import render
             from warpoptics.scene.load import Scene
 
-            face = render(Scene.from_dict(face_up_scene(stone, size=size, wavelengths=4 if args.quick else 16)))
+            face = render(
+                Scene.from_dict(face_up_scene(stone, size=size, wavelengths=4 if args.quick else 16))
+            )
             b_img, b_fr, _rel = brightness_map(face.xyz, face.alpha)
             table, lp_rows, lp_renders = _lp_map(stone, map_proto)
             strip, strip_rows, strip_renders = _tilt_strip(stone, strip_proto, strip_tilts, work / key)
