@@ -27,7 +27,7 @@ renders and seconds spent) are written atomically; the tilt sweeps run in a temp
 (``--work`` keeps them, resumable).
 
     python scripts/reproduce/grading_gallery.py -o docs/gallery           # 256 px scopes
-    python scripts/reproduce/grading_gallery.py --quick -o /tmp/gallery   # seconds
+    python scripts/reproduce/grading_gallery.py --quick -o /tmp/gallery   # seconds (the Tolkowsky)
 """
 
 from __future__ import annotations
@@ -154,20 +154,21 @@ def main(argv=None) -> int:
     ap.add_argument("--size", type=int, default=256, help="scope and map views, px (<= 256)")
     ap.add_argument("--stones", default=",".join(STONES), help="of " + ", ".join(STONES))
     ap.add_argument("--work", default=None, help="keep the tilt sweeps here (resumable)")
-    ap.add_argument("--quick", action="store_true", help="24 px, two tilts, coarse map")
+    ap.add_argument("--quick", action="store_true", help="the Tolkowsky only, 24 px, two tilts, coarse map")
     args = ap.parse_args(argv)
     size = 24 if args.quick else args.size
-    names = [s.strip() for s in args.stones.split(",") if s.strip()]
+    stones = "tolkowsky" if args.quick and args.stones == ",".join(STONES) else args.stones
+    names = [s.strip() for s in stones.split(",") if s.strip()]
     unknown = [s for s in names if s not in STONES]
     if unknown:
         ap.error(f"unknown stone {unknown[0]!r} (of {', '.join(STONES)})")
     out = Path(args.output)
     looks_dir = out / "grading"
     strip_proto = dataclasses.replace(
-        PROTOCOL, size=16 if args.quick else 96, wavelengths=2 if args.quick else 8
+        PROTOCOL, size=12 if args.quick else 96, wavelengths=2 if args.quick else 8
     )
     strip_tilts = (0.0, 10.0) if args.quick else tuple(float(t) for t in range(0, 31, 5))
-    map_azimuths = (0.0, 11.25, 22.5) if args.quick else tuple(5.625 * k for k in range(5))
+    map_azimuths = (0.0, 22.5) if args.quick else tuple(5.625 * k for k in range(5))
     map_proto = dataclasses.replace(
         PROTOCOL,
         tilts=(0.0, 10.0) if args.quick else (0.0, 5.0, 10.0, 15.0, 20.0),
