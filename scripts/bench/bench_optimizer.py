@@ -64,7 +64,7 @@ def main(argv=None) -> int:
     ap.add_argument("--objective", default="light_return", help="metric=weight,... (default light_return)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--dask-local", type=int, default=None, help="run both on a local Dask cluster of N")
-    ap.add_argument("--quick", action="store_true", help="4 x 4 grid, 16 px, face-up only: seconds")
+    ap.add_argument("--quick", action="store_true", help="3 x 3 grid, 16 px, face-up only: seconds")
     args = ap.parse_args(argv)
     objective = _objective(args.objective)
     fire = any(objective.get(m, 0) for m in ("fire", "scintillation"))
@@ -74,7 +74,7 @@ def main(argv=None) -> int:
     grid = args.grid
     if args.quick:
         proto = dataclasses.replace(proto, tilts=(0.0,), size=16, wavelengths=2)
-        grid = 4
+        grid = 3
     out = Path(args.out)
     runner_kw = {"dask_local": args.dask_local, "progress": False}
 

@@ -8,6 +8,7 @@
     warpoptics grade tilt design.asc -o out/tilt [--tilts 0:30:2 --azimuths 0,22.5 --dask-local 2]
     warpoptics grade optimize round_brilliant --param pavilion_angle=38:44:43 \\
         --param crown_angle=25:40:30 --budget 40 -o out/opt [--resume --dask-local 2]
+    warpoptics grade optimize design.asc --param tier:2=40:44 -o out/opt   # a GemCAD tier angle
     warpoptics grade retarget design.asc --index 1.544 -o quartz.asc
 
 STONE is a cut name (``warpoptics.geometry.cuts``: round_brilliant, oval, ...; keywords with
@@ -269,7 +270,17 @@ def _optimize(args, stone, kw) -> None:
             nums = []
         if not name or len(nums) not in (2, 3):
             raise InputError("expected KEYWORD=LOW:HIGH[:START]", field="--param", value=item)
-        params.append(Parameter(name.strip(), f"object.0.{name.strip()}", *nums))
+        name = name.strip()
+        if name.startswith("tier:"):  # a GemCAD tier angle: tier:<name or #k> (gemcad.recut_tiers)
+            tier = name[len("tier:") :]
+            if not tier or "." in tier:
+                raise InputError(
+                    "expected tier:<tier name or #k>=LOW:HIGH[:START]", field="--param", value=item
+                )
+            safe = "".join(c if c.isalnum() or c == "_" else "_" for c in tier)
+            params.append(Parameter(f"tier_{safe}", f"object.0.tier_angles.{tier}", *nums))
+        else:
+            params.append(Parameter(name, f"object.0.{name}", *nums))
     if not params:
         raise InputError("give at least one --param KEYWORD=LOW:HIGH[:START]", field="--param")
     objective = {}
@@ -397,7 +408,12 @@ def register(sub) -> None:
             q.add_argument("--azimuths", default="0,22.5", help="degrees (default 0,22.5)")
             q.add_argument("--fps", type=float, default=6.0, help="animation frames per second")
         if name == "optimize":
-            q.add_argument("--param", action="append", metavar="KEYWORD=LOW:HIGH[:START]")
+            q.add_argument(
+                "--param",
+                action="append",
+                metavar="KEYWORD=LOW:HIGH[:START]",
+                help="a cut keyword, or tier:<name|#k> for a GemCAD tier angle (repeatable)",
+            )
             q.add_argument(
                 "--objective", default="light_return", help="METRIC=WEIGHT,... (default light_return)"
             )

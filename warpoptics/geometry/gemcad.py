@@ -48,6 +48,24 @@ into its first occurrence with a warning naming both lines, as other readers ded
 (suitable-name/indicatrix: ``planes_from_asc_schedule`` dedup).  Binary ``.gem`` project files
 are refused with a one-line message.
 
+**Re-cutting tiers at new angles** (:func:`recut_tiers`; a ``shape = "gemcad"`` object's
+``tier_angles``, sweep axes and optimizer parameters ``object.0.tier_angles.<tier>``).  A tier is
+named as GemCAD's cutting diagrams list it: by its facet name (``1``, ``P1``, ``A``, ``T``: the
+``n`` label of the record) or, by position, ``#k`` (the k-th ``a`` record of the file, from 1).
+Each facet of the tier keeps its index (azimuth) and gets the normal of the new angle; its height
+is re-solved *as a cutter would*: the tier is lowered until it reaches the meet point it was cut
+to, taken as the facet's vertex nearest the dop (z) axis in the design as drawn — the culet of
+pavilion mains ("Meet 8 at culet"), the table corner of crown mains, the point where lower girdle
+facets meet the mains — so the new plane passes through that vertex (the tier at one height:
+through the first of its facets' vertices to be reached).  That is the centre-point rule of
+faceting diagrams (facets "cut to TCP", a meet point on the dop axis, keep it at any angle:
+GemCad 4.51 tutorial, lesson 4, the Centerpoint Angle Method) applied to each tier's innermost
+meet; meets the re-cut facet had with other tiers further out move with it (the other tiers are
+not re-cut).  Every tier is re-cut about its meet in the original design, so the order of the
+changes does not matter.  A re-cut tier whose facets would be cut away entirely, a table, culet
+or girdle tier, an unknown tier and an angle outside (0, 90) deg (or of the other side's sign)
+are refused with a one-line error naming ``tier_angles.<tier>``.
+
 References
 ----------
 - R. W. Strickland, *GemCad User's Manual*, version 4.51 (1992; HTML edition 2000), Index gear
@@ -79,6 +97,9 @@ __all__ = [
     "design_from_mesh",
     "dumps",
     "write",
+    "tier_index",
+    "check_tier_angles",
+    "recut_tiers",
 ]
 
 
@@ -392,6 +413,121 @@ def _is_binary(data: bytes) -> bool:
     return len(head) > 0 and ctrl > 0.1 * len(head)
 
 
+def tier_index(design: Design, key: str) -> int:
+    """The position in ``design.tiers`` of the tier ``key`` names (module docstring: a facet name
+    as the diagram lists it, or ``#k`` for the k-th record, from 1)."""
+    field = f"tier_angles.{key}"
+    names = {}
+    for i, t in enumerate(design.tiers):
+        if t.names:
+            names.setdefault(str(t.names[min(t.names)]), []).append(i)
+    listed = ", ".join(f"{n!r}" for n in names) or "none"
+    key = str(key)
+    if key in names:
+        if len(names[key]) > 1:
+            raise InputError(
+                f"tiers {', '.join(f'#{i + 1}' for i in names[key])} share this name: give #k",
+                field=field,
+                value=key,
+            )
+        return names[key][0]
+    if key.startswith("#") and key[1:].isdigit() and 1 <= int(key[1:]) <= len(design.tiers):
+        return int(key[1:]) - 1
+    raise InputError(
+        "no such tier", field=field, value=key, allowed=f"a tier name ({listed}) or #1..#{len(design.tiers)}"
+    )
+
+
+def _check_angle(tier: Tier, key: str, angle) -> float:
+    field = f"tier_angles.{key}"
+    if isinstance(angle, bool) or not isinstance(angle, (int, float)) or not math.isfinite(angle):
+        raise InputError("must be a finite number (degrees)", field=field, value=angle)
+    if tier.angle == 0 or abs(abs(tier.angle) - 90.0) < 1e-9:
+        what = "the culet" if tier.is_culet else "the table" if tier.angle == 0 else "a girdle tier"
+        raise InputError(f"this tier is {what}: its angle cannot change", field=field, value=angle)
+    side = "pavilion" if tier.angle < 0 else "crown"
+    if not 0.0 < abs(angle) < 90.0 or (angle < 0 and side == "crown"):
+        raise InputError(
+            f"a {side} angle must be in (0, 90) degrees",
+            field=field,
+            value=angle,
+            allowed="(0, 90)" + (" or (-90, 0) as the .asc file writes it" if side == "pavilion" else ""),
+        )
+    return -abs(float(angle)) if side == "pavilion" else abs(float(angle))
+
+
+def check_tier_angles(design: Design, angles) -> dict[int, tuple[str, float]]:
+    """Tier position -> (key, signed angle) of ``angles`` (a table tier -> degrees; module
+    docstring), or a one-line :class:`InputError` naming ``tier_angles[.<tier>]``."""
+    if not isinstance(angles, dict):
+        raise InputError(
+            "must be a table of tier = angle (degrees)",
+            field="tier_angles",
+            value=angles,
+            allowed="{ 2 = 41.0 }",
+        )
+    todo: dict[int, tuple[str, float]] = {}
+    for key, angle in angles.items():
+        i = tier_index(design, str(key))
+        if i in todo:
+            raise InputError(
+                f"names the same tier as {todo[i][0]!r}", field=f"tier_angles.{key}", value=angle
+            )
+        todo[i] = (str(key), _check_angle(design.tiers[i], str(key), angle))
+    return todo
+
+
+def recut_tiers(design: Design, angles: dict) -> Design:
+    """``design`` with the tiers named in ``angles`` (tier -> degrees) re-cut at those angles,
+    their heights re-solved through each tier's innermost meet point (module docstring)."""
+    if not angles:
+        return design
+    todo = check_tier_angles(design, angles)
+    normals, dist, _names = design.planes()
+    solid = convex_from_planes(normals, dist)
+    verts = np.asarray(solid.vertices)
+    tol = 1e-6 * float(np.max(np.abs(dist)))
+    on_plane = np.abs(verts @ normals.T - dist[None, :]) < 10 * tol  # (V, K)
+    meets = on_plane.sum(axis=1) >= 3  # a meet point: three or more facets (not a fan centre)
+    tiers = list(design.tiers)
+    facets = design.facets()
+    for i, (key, angle) in todo.items():
+        old = tiers[i]
+        new = dataclasses.replace(old, angle=angle)
+        heights = []
+        for k, (t, j, _n, _d, _name) in enumerate(facets):
+            if t != i:
+                continue
+            pts = verts[meets & on_plane[:, k]]
+            if not len(pts):
+                continue  # a facet the design cuts away
+            p = pts[np.argmin(np.hypot(pts[:, 0], pts[:, 1]))]
+            th, phi = math.radians(abs(angle)), design.azimuth(old.indices[j])
+            n = np.array(
+                [
+                    math.sin(th) * math.cos(phi),
+                    math.sin(th) * math.sin(phi),
+                    math.copysign(math.cos(th), angle),
+                ]
+            )
+            heights.append(float(n @ p))
+        if not heights:
+            raise InputError("the design has no facet of this tier on the stone", field=f"tier_angles.{key}")
+        tiers[i] = dataclasses.replace(new, distance=max(heights))
+    out = dataclasses.replace(design, tiers=tiers)
+    n2, d2, _ = out.planes()
+    kept = convex_from_planes(n2, d2).metadata["planes"]
+    for i, (key, angle) in todo.items():
+        for t, _j, n, d, _name in out.facets():
+            if t == i and not np.any(np.all(np.abs(kept - np.append(n, d)) < 1e-9 + 10 * tol, axis=1)):
+                raise InputError(
+                    "at this angle the tier's facets are cut away by the other tiers",
+                    field=f"tier_angles.{key}",
+                    value=abs(angle),
+                )
+    return out
+
+
 def design_to_mesh(design: Design, diameter: float = 1.0, *, source: str | None = None) -> trimesh.Trimesh:
     """The stone of a design, girdle width scaled to ``diameter`` mm (see module doc)."""
     if not (math.isfinite(diameter) and diameter > 0):
@@ -413,10 +549,16 @@ def design_to_mesh(design: Design, diameter: float = 1.0, *, source: str | None 
     return mesh
 
 
-def read(path: str | os.PathLike, diameter: float = 1.0) -> trimesh.Trimesh:
-    """Read a ``.asc`` design and build its stone with girdle width ``diameter`` mm."""
+def read(
+    path: str | os.PathLike, diameter: float = 1.0, *, tier_angles: dict | None = None
+) -> trimesh.Trimesh:
+    """Read a ``.asc`` design and build its stone with girdle width ``diameter`` mm; the tiers
+    named in ``tier_angles`` (tier -> degrees) re-cut at those angles (:func:`recut_tiers`)."""
     path = os.fspath(path)
-    return design_to_mesh(read_design(path), diameter, source=path)
+    design = read_design(path)
+    if tier_angles:
+        design = recut_tiers(design, dict(tier_angles))
+    return design_to_mesh(design, diameter, source=path)
 
 
 def _fmt_index(idx: float) -> str:

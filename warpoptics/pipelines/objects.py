@@ -49,7 +49,11 @@ def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -
                     closed=film is None or film.surface == "solid",
                 )
             elif ob.shape == "gemcad":
-                mesh = read_gemcad(str(ob.path), diameter=float(ob.params.get("diameter", 1.0)))
+                mesh = read_gemcad(
+                    str(ob.path),
+                    diameter=float(ob.params.get("diameter", 1.0)),
+                    tier_angles=dict(ob.params.get("tier_angles", ())),
+                )
             else:
                 mesh = getattr(cuts, ob.shape)(**ob.params)
         except InputError as exc:

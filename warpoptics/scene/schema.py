@@ -323,7 +323,7 @@ def object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfig
     shape = val.choice(table["shape"], SHAPES, file=file, field=prefix + "shape")
     params = {k: v for k, v in table.items() if k not in _OBJECT_COMMON}
     if shape in ("mesh", "gemcad"):
-        allowed_params = {"diameter"} if shape == "gemcad" else {"repair"}
+        allowed_params = {"diameter", "tier_angles"} if shape == "gemcad" else {"repair"}
     else:
         fn = _shape_functions()[shape]
         sig = inspect.signature(fn).parameters
@@ -333,6 +333,8 @@ def object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfig
             allowed_params |= set(inspect.signature(_shape_functions()["round_brilliant"]).parameters)
     val.check_keys(params, allowed_params | _OBJECT_COMMON, file=file, prefix=prefix)
     for k, v in params.items():
+        if k == "tier_angles" and shape == "gemcad":
+            continue  # checked against the design below, once its path is known
         if k in _TIER_ANGLES and isinstance(v, list):
             # a step cut's tiers: one angle (degrees) per tier, as `cut --crown-angles 40,30` takes
             if not 1 <= len(v) <= 16:
@@ -388,13 +390,28 @@ def object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfig
         if not p.is_file():
             raise InputError("file not found", file=file, field=prefix + "path", value=table["path"])
         kw["path"] = str(p)
-        if shape == "gemcad" and "material" not in table:
-            # a GemCAD design states the index it was designed for (its I line): use it unless the
-            # scene names a material (other readers do the same; the render summary says which)
-            from ..geometry.gemcad import read_design
+        if shape == "gemcad" and ("material" not in table or "tier_angles" in params):
+            from ..geometry.gemcad import check_tier_angles, read_design
 
-            kw["material"] = {"cauchy": [float(read_design(p).refractive_index)]}
-            kw["material_source"] = "gemcad"
+            design = read_design(p)
+            if "tier_angles" in params:
+                # tiers re-cut at new angles (geometry.gemcad.recut_tiers): tier -> signed angle
+                try:
+                    todo = check_tier_angles(design, params["tier_angles"])
+                except InputError as exc:
+                    raise InputError(
+                        exc.message,
+                        file=file,
+                        field=prefix + str(exc.field),
+                        value=exc.value,
+                        allowed=exc.allowed,
+                    ) from None
+                params["tier_angles"] = tuple((key, angle) for _i, (key, angle) in sorted(todo.items()))
+            if "material" not in table:
+                # a GemCAD design states the index it was designed for (its I line): use it unless
+                # the scene names a material (other readers do the same; the render summary says which)
+                kw["material"] = {"cauchy": [float(design.refractive_index)]}
+                kw["material_source"] = "gemcad"
     if "name" in table:
         kw["name"] = str(table["name"])
     kw["film"] = film_config(table, index, file)

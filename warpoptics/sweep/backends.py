@@ -7,11 +7,12 @@ process (spawned pools and Dask pickle it by reference).
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Callable, Iterator
 
 from ..errors import InputError
 
-__all__ = ["local_results", "pool_results", "dask_results"]
+__all__ = ["local_results", "pool_results", "dask_results", "local_cluster"]
 
 
 def local_results(fn: Callable[[dict], dict], payloads) -> Iterator[dict]:
@@ -45,38 +46,48 @@ def pool_results(fn: Callable[[dict], dict], payloads, workers: int, kind: str) 
         ex.shutdown(wait=True, cancel_futures=True)
 
 
+def _distributed(field: str):
+    try:
+        import distributed
+    except ImportError:
+        raise InputError(
+            "Dask is not installed: pip install 'warpoptics[distributed]' (dask[distributed])", field=field
+        ) from None
+    return distributed
+
+
+@contextlib.contextmanager
+def local_cluster(n_workers: int) -> Iterator[str]:
+    """A local Dask cluster of ``n_workers`` worker processes (one thread each), for as long as
+    the ``with`` block lasts: yields its scheduler address.  Runs that share it (the cut
+    optimizer's generations) keep their workers, with Warp started and the kernels loaded."""
+    distributed = _distributed("--dask-local")
+    cluster = distributed.LocalCluster(
+        n_workers=int(n_workers),
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=None,  # type: ignore[arg-type]  # dask documents None: no dashboard
+        silence_logs=40,
+    )
+    try:
+        yield str(cluster.scheduler_address)
+    finally:
+        cluster.close()
+
+
 def dask_results(
     fn: Callable[[dict], dict], payloads, *, scheduler: str | None, dask_local: int | None
 ) -> Iterator[dict]:
     """``fn`` of the payloads on the Dask scheduler at ``scheduler`` or on a local cluster of
-    ``dask_local`` worker processes (one thread each)."""
-    try:
-        from distributed import Client, LocalCluster, as_completed
-    except ImportError:
-        raise InputError(
-            "Dask is not installed: pip install 'warpoptics[distributed]' (dask[distributed])",
-            field="--scheduler" if scheduler else "--dask-local",
-        ) from None
-    cluster = None
-    if scheduler:
-        client = Client(scheduler)
-    else:
-        cluster = LocalCluster(
-            n_workers=int(dask_local or 1),
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=None,  # type: ignore[arg-type]  # dask documents None: no dashboard
-            silence_logs=40,
-        )
-        client = Client(cluster)
-    try:
+    ``dask_local`` worker processes (one thread each, :func:`local_cluster`)."""
+    distributed = _distributed("--scheduler" if scheduler else "--dask-local")
+    with contextlib.ExitStack() as stack:
+        address = scheduler or stack.enter_context(local_cluster(int(dask_local or 1)))
+        client = distributed.Client(address)
+        stack.callback(client.close)
         futures = [
             client.submit(fn, p, key=f"warpoptics-job-{p['job']['key']}-{i}", pure=False)
             for i, p in enumerate(payloads)
         ]
-        for fut in as_completed(futures):
+        for fut in distributed.as_completed(futures):
             yield fut.result()
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()

@@ -21,7 +21,8 @@ within ranges, and *weight retention* V / V_rough at least a minimum, with V_rou
 cylinder over the girdle's length x width of height ``rough_height`` x width (a sawn or
 preformed rough; for a round stone π/4 d² h).  A candidate that violates them costs no render:
 CMA-ES is told 1 + (its total relative violation), worse than any feasible value (-J <= 0 for
-metrics in [0, 1] with positive weights).
+metrics in [0, 1] with positive weights).  A candidate whose geometry cannot be built (a GemCAD
+tier re-cut until its facets vanish) counts as a violation of 1.
 
 **Parallel and resumable.**  Each generation's feasible candidates are one zipped sweep of the
 protocol (:func:`~warpoptics.sweep.grading.protocol_sweep`) run by
@@ -30,7 +31,15 @@ Dask with ``workers``, ``dask_local`` or ``scheduler``).  Every evaluation is ap
 ``journal.csv`` (fsynced rows, a torn last line dropped).  A rerun with ``resume=True`` replays
 the search: CMA-ES asks the same candidates, the ones in the journal are not rendered again, a
 generation cut short by a kill resumes inside its sweep folder.  ``optimizer.json`` holds the
-settings; a journal of other settings is refused.
+settings; a journal of other settings is refused.  With ``dask_local=N`` one local cluster
+(:func:`~warpoptics.sweep.backends.local_cluster`, started when the first generation needs a
+render) serves every generation, its workers keeping Warp and the kernels loaded; each worker
+renders with cores / N threads.  The renders do not depend on the thread count, so a run on Dask
+journals the same values as a serial one with the same seed (``tests/test_grading_sweeps.py``).
+
+**GemCAD tier angles** are parameters like any keyword: ``object.0.tier_angles.<tier>`` (a tier
+name or ``#k``, :func:`warpoptics.geometry.gemcad.recut_tiers`: the tier re-cut at the angle
+through its innermost meet point); ``best.asc`` is then the re-cut design with its names.
 
 **Outputs** (atomic): ``best.asc`` (the best design, GemCAD, ``geometry.gemcad.write``),
 ``report.md`` and ``report.json`` (settings, the best parameters and metrics, renders spent),
@@ -43,7 +52,9 @@ strategies", Evolutionary Computation 9(2), 159-195 (2001); ``cma`` (pypi.org/pr
 
 from __future__ import annotations
 
+import contextlib
 import copy
+import dataclasses
 import hashlib
 import json
 import math
@@ -56,6 +67,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..grading.performance import PROTOCOL, Protocol
+from .backends import local_cluster
 from .grading import SPOT_METRICS, protocol_scene, protocol_scores, protocol_sweep, renders_per_job
 from .results import append_line, csv_line, format_value, read_results, write_text_atomic
 from .runner import SweepRunner
@@ -257,7 +269,14 @@ class CutOptimizer:
         self.resume = resume
         self.overwrite = overwrite
         runner_kw.setdefault("progress", False)
+        nd = runner_kw.get("dask_local")
+        if nd is not None and (isinstance(nd, bool) or not isinstance(nd, int) or nd < 1):
+            raise InputError("must be an integer >= 1", field="--dask-local", value=nd)
+        if nd and runner_kw.get("scheduler"):
+            raise InputError("give either --scheduler or --dask-local", field="--scheduler")
         self.runner_kw = runner_kw
+        self._stack: contextlib.ExitStack | None = None
+        self._cluster_kw: dict | None = None
 
     # -- settings and journal --------------------------------------------------------------------
 
@@ -377,7 +396,7 @@ class CutOptimizer:
             name=f"optimize_g{gen:03d}",
         )
         folder = self.out_dir / "generations" / f"g{gen:03d}"
-        res = SweepRunner(sweep, folder, resume=True, **self.runner_kw).run()
+        res = SweepRunner(sweep, folder, resume=True, **self._generation_kw()).run()
         if len(res.rows) != len(todo):
             raise InputError("a generation's sweep did not finish", file=str(folder / "results.csv"))
         per = renders_per_job(sweep)
@@ -389,9 +408,44 @@ class CutOptimizer:
         spent = res.rendered * per
         return spent
 
+    def _generation_kw(self) -> dict:
+        """The generations' :class:`SweepRunner` keywords: ``runner_kw``, with ``dask_local``
+        replaced by the address of the run's one local cluster (started on first use)."""
+        n = self.runner_kw.get("dask_local")
+        if not n:
+            return self.runner_kw
+        if self._cluster_kw is None:
+            from ..device import cpu_threads
+
+            assert self._stack is not None, "generations run inside run()"
+            address = self._stack.enter_context(local_cluster(int(n)))
+            kw = {**self.runner_kw, "dask_local": None, "scheduler": address}
+            if kw.get("threads") is None:
+                kw["threads"] = max(1, cpu_threads() // int(n))
+            self._cluster_kw = kw
+        return self._cluster_kw
+
     def run(self) -> dict:
+        with contextlib.ExitStack() as stack:
+            self._stack, self._cluster_kw = stack, None
+            try:
+                return self._run()
+            finally:
+                self._stack = self._cluster_kw = None
+
+    def _check_parameters(self) -> None:
+        """Errors of the parameters themselves, before any search: the scene at each parameter's
+        bounds (an unknown GemCAD tier, an angle out of range) and the stone at the start."""
+        start = {p.name: float(p.start) for p in self.parameters}  # type: ignore[arg-type]
+        for p in self.parameters:
+            for v in (p.low, p.high):
+                protocol_scene(self.candidate_stone({**start, p.name: v}), Protocol(size=4, wavelengths=1))
+        stone_mesh(self.candidate_stone(start))
+
+    def _run(self) -> dict:
         import cma
 
+        self._check_parameters()
         journal = self._prepare()
         rng = np.random.default_rng(self.seed)
         x0 = [p.scaled(float(p.start)) for p in self.parameters]  # type: ignore[arg-type]
@@ -411,12 +465,17 @@ class CutOptimizer:
             for i, x in enumerate(xs):
                 values = {p.name: p.value(u) for p, u in zip(self.parameters, x, strict=True)}
                 e = _Eval(len(evals) + i, gen, i, values, True, 0.0, {})
-                e.measured = self.constraints.measure(stone_mesh(self.candidate_stone(values)))
+                try:
+                    e.measured = self.constraints.measure(stone_mesh(self.candidate_stone(values)))
+                    buildable = True
+                except InputError:  # e.g. a GemCAD tier re-cut until its facets vanish: no stone
+                    e.measured = {k: float("nan") for k in ("depth", "table", "weight_retention")}
+                    buildable = False
                 key = self._key(values)
                 if key in journal:
                     self._from_row(journal[key], e)
                 else:
-                    e.violation = self.constraints.violation(e.measured)
+                    e.violation = self.constraints.violation(e.measured) if buildable else 1.0
                     e.feasible = e.violation == 0.0
                 batch.append(e)
             need = sum(1 for e in batch if e.feasible and math.isnan(e.objective))
@@ -450,17 +509,24 @@ class CutOptimizer:
             )
         best = max(feasible, key=lambda e: e.objective)
         stone = self.candidate_stone(best.values)
-        mat = material_from_spec(stone.get("material", "diamond"))
-        n_d = float(np.real(np.asarray(mat.n(np.array([589.3])))).ravel()[0])  # type: ignore[attr-defined]
+        mesh = stone_mesh(stone)
+        design = mesh.metadata.get("design")
+        if design is not None and "material" not in stone:
+            n_d = float(design.refractive_index)  # a GemCAD stone renders with its design's index
+        else:
+            mat = material_from_spec(stone.get("material", "diamond"))
+            n_d = float(np.real(np.asarray(mat.n(np.array([589.3])))).ravel()[0])  # type: ignore[attr-defined]
         files = {"journal": self.journal_path, "best": self.out_dir / "best.asc"}
-        gemcad.write(
-            stone_mesh(stone),
-            files["best"],
-            refractive_index=n_d,
-            title="warpoptics cut optimizer: "
+        title = (
+            "warpoptics cut optimizer: "
             + ", ".join(f"{k} {v:.3f}" for k, v in best.values.items())
-            + f"; objective {best.objective:.4f}",
+            + f"; objective {best.objective:.4f}"
         )
+        if design is not None:  # a GemCAD stone: its (re-cut) design, names and records kept
+            design = dataclasses.replace(design, headers=[title, *design.headers], refractive_index=n_d)
+            gemcad.write(design, files["best"])
+        else:
+            gemcad.write(mesh, files["best"], refractive_index=n_d, title=title)
         per_eval = renders_per_job(
             protocol_sweep(self.stone, self.protocol, fire=self.fire, frame_mm=self.frame_mm)
         )
