@@ -213,10 +213,13 @@ def add_child(
     wn: wp.vec3f,
 ):
     """Append a backward child as row ``count`` of ``cand`` with its energy (:func:`branch_energy`)
-    if it carries any; returns (cand, energies, count)."""
+    if it carries any; returns (cand, energies, count).  The row is written either way (a child
+    without energy is overwritten by the next one or lies beyond ``count``): a conditional write
+    would make the compiled code select between two copies of the whole candidate matrix."""
     e = branch_energy(m, w)
+    row = wp.min(count, 3)  # an event has at most 4 children (2 reflected, 2 refracted waves)
+    cand = write_row(cand, row, o, d, b, m, w, inside, depth, mode, wn)
+    energies[row] = e
     if e > 0.0:
-        cand = write_row(cand, count, o, d, b, m, w, inside, depth, mode, wn)
-        energies[count] = e
-        count += 1
+        count = row + 1
     return cand, energies, count

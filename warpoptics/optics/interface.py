@@ -98,6 +98,7 @@ from .jones import (
     jones_mul,
     jones_real,
     jones_scale,
+    jones_zero,
     s_vector,
 )
 from .thinfilm import CoatingStack, coating_amplitudes_scaled
@@ -216,11 +217,15 @@ def _isotropic_children(
     k_out = -d  # light leaves the interface toward the camera along -d
     energies = wp.vec4f(0.0, 0.0, 0.0, 0.0)
     count = int(0)
+    # the refracted child is added in every case (without energy under total internal
+    # reflection): a conditional add_child would select between two copies of ``cand``
+    m_t = jones_zero()
+    w_t = float(0.0)
     if wp.dot(d_t, d_t) > 0.0:
         m_t, w_t = child_of(m, w, k_out, bx, s, ts, tp, t_flux, polarized)
-        cand, energies, count = add_child(
-            cand, energies, count, x + d_t * eps, d_t, s, m_t, w_t, in_b, depth + 1, -1, -d_t
-        )
+    cand, energies, count = add_child(
+        cand, energies, count, x + d_t * eps, d_t, s, m_t, w_t, in_b, depth + 1, -1, -d_t
+    )
     d_r = wp.normalize(d + nrm * (2.0 * cos_a))
     m_r, w_r = child_of(m, w, k_out, bx, s, rs, rp, 1.0, polarized)
     cand, energies, count = add_child(
