@@ -161,12 +161,14 @@ class Bench:
         if scene.objects:
             built = build_objects(scene.objects, file=scene.path)
             meshes, mats, axes = built.meshes, built.materials, built.axes
+            parents = built.parents
         else:
             # an empty bench: one tiny object far away keeps the geometry struct valid
             far = np.eye(4)
             far[:3, 3] = (1.0e5, 1.0e5, 1.0e5)
             meshes, mats, axes = [(cuts.cube(1.0e-3), far)], [get_material("water")], [None]
-        self.geometry = GeometryScene(meshes, device=self.device)
+            parents = None
+        self.geometry = GeometryScene(meshes, parents=parents, device=self.device)
         self.materials, ids = build_material_table(mats, self.device, rgb3=False)
         world_axes = []
         for i, (mat, ax) in enumerate(zip(mats, axes, strict=True)):

@@ -12,6 +12,7 @@ from ..errors import InputError
 from ..geometry import cuts
 from ..geometry.gemcad import read as read_gemcad
 from ..geometry.mesh import load_mesh
+from ..geometry.nesting import OverlapError, object_parents
 from ..materials import material_from_spec
 from ..materials.dispersion import Biaxial, Uniaxial
 from ..scene.schema import ObjectConfig
@@ -23,11 +24,18 @@ __all__ = ["SceneObjects", "build_objects", "world_axes", "crystal_axes_of"]
 class SceneObjects:
     """What :func:`build_objects` returns, one entry per object: ``meshes`` (trimesh, 4x4 object ->
     world transform), ``materials`` (dispersion models), ``axes`` (the object's ``optic_axis``
-    override in the object frame, or None)."""
+    override in the object frame, or None), ``parents`` (the innermost object containing it, -1:
+    none; ``geometry.nesting.object_parents``)."""
 
     meshes: list
     materials: list
     axes: list
+    parents: np.ndarray
+
+    @property
+    def nested(self) -> bool:
+        """Whether any object lies inside another."""
+        return bool(np.any(self.parents >= 0))
 
 
 def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -> SceneObjects:
@@ -87,7 +95,17 @@ def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -
             )
         mats.append(mat)
         axes.append(ob.optic_axis)
-    return SceneObjects(meshes=meshes, materials=mats, axes=axes)
+    solid = [getattr(ob, "film", None) is None or ob.film.surface == "solid" for ob in objects]
+    try:
+        parents = object_parents(meshes, solid=solid)
+    except OverlapError as exc:
+        raise InputError(
+            f"{exc}: solids may be nested (one wholly inside another) or apart, not partly overlapping",
+            file=file,
+            field=f"object.{exc.first}",
+            value=f"object.{exc.second}",
+        ) from None
+    return SceneObjects(meshes=meshes, materials=mats, axes=axes, parents=parents)
 
 
 def crystal_axes_of(

@@ -370,7 +370,7 @@ class Renderer:
         check_render_memory(scene.camera.width, scene.camera.height, file=scene.path)
         built = build_objects(scene.objects, file=scene.path)
         meshes, mats = built.meshes, built.materials
-        self.geometry = GeometryScene(meshes, allow_empty=True, device=self.device)
+        self.geometry = GeometryScene(meshes, allow_empty=True, parents=built.parents, device=self.device)
         if mats:
             self.materials, ids = build_material_table(mats, self.device)
         else:  # surfaces only: a placeholder material table (no object refers to it)

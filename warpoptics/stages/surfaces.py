@@ -511,12 +511,13 @@ def gem_transmittance(
         if h.object < 0:
             break
         k = h.object
+        eps = geom.epsilon[k]  # the tracer's origin offset (geometry.query.offset_epsilon)
         p_in = o + d * h.t
-        ex = object_exit_hit(geom, k, p_in + d * 1.0e-4, d, _BIG)
+        ex = object_exit_hit(geom, k, p_in + d * eps, d, _BIG)
         chord = float(0.0)
         cos_out = float(1.0)
         if ex.object >= 0:
-            chord = ex.t + 1.0e-4
+            chord = ex.t + eps
             cos_out = wp.abs(wp.dot(d, ex.normal))
         cos_in = wp.abs(wp.dot(d, h.normal))
         mid = obj_material[k]
@@ -529,7 +530,7 @@ def gem_transmittance(
         t_o = _interface_t(cos_in, amb, n_o) * _interface_t(cos_out, amb, n_o)
         t_e = _interface_t(cos_in, amb, n_e) * _interface_t(cos_out, amb, n_e)
         tr *= 0.5 * (t_o * wp.exp(-a_o * sc * chord) + t_e * wp.exp(-a_e * sc * chord))
-        step = h.t + chord + 1.0e-4
+        step = h.t + chord + eps
         remaining = remaining - step
         if remaining <= 0.0:
             break
