@@ -17,8 +17,8 @@ and the index ratio at every interface is that of the two media on its sides.
    cast as a segment against the other (``query.GeometryScene.closest_hit``, BVH); a crossing
    strictly inside a segment means the solids partly overlap: refused with both objects named;
 3. containment of the pairs that do not cross: the generalized winding number of the outer
-   closed mesh at vertices of the inner one (van Oosterom & Strackee 1983, the solid angle of a
-   triangle; Jacobson et al. 2013): 1 inside, 0 outside.  Coincident solids (each inside the
+   closed mesh at face centres of the inner one, a hair inward (van Oosterom & Strackee 1983,
+   the solid angle of a triangle; Jacobson et al. 2013): 1 inside, 0 outside.  Coincident solids (each inside the
    other) are refused.
 
 Surfaces that only touch (a vertex or an edge on the other surface) do not count as crossing.
@@ -40,12 +40,14 @@ import trimesh
 
 from .query import GeometryScene
 
-__all__ = ["OverlapError", "object_parents", "winding_number"]
+__all__ = ["OverlapError", "object_parents", "point_medium", "winding_number"]
 
 # a crossing closer than this (relative segment parameter) to an end of an edge is a touch
 _TOUCH = 1.0e-6
-# vertices of the inner mesh at which the winding number of the outer one is evaluated
+# face centres of the inner mesh at which the winding number of the outer one is evaluated
 _SAMPLES = 16
+# how far (relative to the mesh's size) those samples are moved inward, off the surface
+_INWARD = 1.0e-6
 
 
 class OverlapError(ValueError):
@@ -160,13 +162,18 @@ def object_parents(
         return edges[k]
 
     def inside(a: int, b: int) -> bool:
-        # is a inside b?  Only possible when a's box lies in b's
+        # is a inside closed b?  Only possible when a's box lies in b's.  The samples are face
+        # centres of a moved a hair (1e-6 of its size) inward, so that surfaces that touch or
+        # coincide are not sampled on b's surface (where the winding number jumps)
+        if not objects[b][0].is_watertight:
+            return False
         if np.any(lo[a] < lo[b]) or np.any(hi[a] > hi[b]):
             return False
         mesh_a, xf_a = objects[a]
         mesh_b, xf_b = objects[b]
-        v = np.asarray(mesh_a.vertices, dtype=np.float64)
-        v = v[np.linspace(0, len(v) - 1, min(len(v), _SAMPLES)).astype(int)]
+        pick = np.linspace(0, len(mesh_a.faces) - 1, min(len(mesh_a.faces), _SAMPLES)).astype(int)
+        v = np.asarray(mesh_a.triangles_center, dtype=np.float64)[pick]
+        v = v - np.asarray(mesh_a.face_normals)[pick] * (_INWARD * float(mesh_a.scale))
         v = v @ np.asarray(xf_a)[:3, :3].T + xf_a[:3, 3]
         inv = np.linalg.inv(xf_b)
         w = winding_number(mesh_b, v @ inv[:3, :3].T + inv[:3, 3])
@@ -179,8 +186,9 @@ def object_parents(
             world_edges(j), scene_of(i), objects[i][1]
         ):
             raise OverlapError(f"the surfaces of object.{i} and object.{j} intersect", i, j)
-        i_in_j = bool(objects[j][0].is_watertight) and inside(i, j)
-        j_in_i = bool(objects[i][0].is_watertight) and inside(j, i)
+        i_in_j, j_in_i = inside(i, j), inside(j, i)
+        if i_in_j and j_in_i:
+            raise OverlapError(f"object.{i} and object.{j} coincide", i, j)
         if solid is not None and (i_in_j or j_in_i) and not (solid[i] and solid[j]):
             a, b = (i, j) if i_in_j else (j, i)
             raise OverlapError(
@@ -188,8 +196,6 @@ def object_parents(
                 a,
                 b,
             )
-        if i_in_j and j_in_i:
-            raise OverlapError(f"object.{i} and object.{j} coincide", i, j)
         if i_in_j:
             containers[i].append(j)
         elif j_in_i:
@@ -199,3 +205,28 @@ def object_parents(
             # the containers of k nest in one another: the innermost has the most containers
             parents[k] = max(containers[k], key=lambda c: len(containers[c]))
     return parents
+
+
+def point_medium(
+    objects: Sequence[tuple[trimesh.Trimesh, np.ndarray]], parents: np.ndarray, point
+) -> int:
+    """The innermost solid containing the world ``point`` (mm), -1 for the ambient medium: where a
+    camera inside a solid (in water, in a glass) starts its rays.  ``parents`` from
+    :func:`object_parents`."""
+    x = np.asarray(point, dtype=np.float64).reshape(3)
+    if not len(objects):
+        return -1
+    lo, hi = _world_boxes(objects)
+    best, best_depth = -1, -1
+    for k in np.flatnonzero(np.all((lo <= x) & (x <= hi), axis=1)):
+        mesh, xf = objects[int(k)]
+        if not mesh.is_watertight:
+            continue
+        inv = np.linalg.inv(xf)
+        if winding_number(mesh, (inv[:3, :3] @ x + inv[:3, 3])[None])[0] > 0.5:
+            depth, j = 0, int(k)
+            while parents[j] >= 0:
+                depth, j = depth + 1, int(parents[j])
+            if depth > best_depth:
+                best, best_depth = int(k), depth
+    return best

@@ -22,6 +22,7 @@ from ..device import get_device, launch_tiled, load_module
 from ..errors import InputError
 from ..film.image import Image
 from ..film.views import polarizer_world_axis
+from ..geometry.nesting import point_medium
 from ..geometry.query import GeometryScene, SceneGeometry
 from ..materials import material_from_spec
 from ..materials.dispersion import MaterialTable, build_material_table
@@ -422,12 +423,15 @@ class Renderer:
             polarized=r.polarization,
             birefringence=r.birefringence,
         )
+        # a camera inside a solid (in water, in a glass) starts its rays in that medium
+        self.camera_medium = point_medium(meshes, built.parents, scene.camera.position)
         self.trace_params = default_params(
             np.asarray(ids, dtype=np.int32),
             np.array([ob.absorption_scale for ob in scene.objects], dtype=np.float32),
             world_axes(scene.objects, built, file=scene.path),
             config=self.trace_config,
             ambient=(r.ambient_index, 0.0),
+            camera_medium=self.camera_medium,
             rgb3=r.spectral == "rgb3",
             device=self.device,
             films=films,
@@ -460,7 +464,10 @@ class Renderer:
         # (stages/bundle.py); `spectral_bundle=False` or `render.bundle = false` traces a tree
         # per wavelength
         self.spectral_bundle = (
-            not self.shared_spectrum and spectral_bundle is not False and bundle_applies(scene, built)
+            not self.shared_spectrum
+            and spectral_bundle is not False
+            and bundle_applies(scene, built)
+            and self.camera_medium < 0  # bundles start in the ambient medium
         )
         film.bundle = 1 if self.spectral_bundle else 0
         film.groups = -(-film.count // r.bundle_lanes) if self.spectral_bundle else 1

@@ -101,6 +101,7 @@ class TraceParams:
     max_splits: int  # at most this many extra branches from deterministic splits per primary ray
     rr_threshold: float  # below this energy a branch survives Russian roulette with p = e / rr
     t_max: float  # mm
+    camera_medium: int  # the solid the camera is in (geometry.nesting.point_medium; -1: ambient)
     ambient: wp.vec2f  # complex index of the medium around the objects (air: 1)
     rgb3: int  # 1: use the materials' eq. 9 RGB absorbances (channel = sample index)
     birefringence: int  # 0 exact (separate o/e directions), 1 approx (shared direction, eq. 10)
@@ -182,7 +183,7 @@ def trace_radiance(
     non-absorbing scenes) the exact integral over the spectrum (EnvironmentLight.exact_response).
     ``wavelength`` and ``weight`` are still the sample's for the materials and the surfaces hook."""
     st = Stack()
-    st = write_row(st, 0, origin, direction, basis_x, jones_identity(), 1.0, -1, 0, -1, -direction)
+    st = write_row(st, 0, origin, direction, basis_x, jones_identity(), 1.0, p.camera_medium, 0, -1, -direction)
     n = int(1)
     cand = Cand()
     acc_x = jones_zero()
@@ -443,18 +444,20 @@ def default_params(
     config: TraceConfig,
     ambient=(1.0, 0.0),
     t_max: float = 1.0e6,
+    camera_medium: int = -1,
     rgb3: bool = False,
     device=None,
     films: FilmSurfaces | None = None,
 ) -> TraceParams:
     """TraceParams for objects with material ids, alpha multipliers and world optic axes (zero
-    rows for isotropic objects)."""
+    rows for isotropic objects); ``camera_medium``: the object the camera is inside (-1: none)."""
     p = TraceParams()
     p.max_depth = int(config.max_depth)
     p.split_threshold = float(config.split_threshold)
     p.max_splits = int(config.max_splits)
     p.rr_threshold = float(config.rr_threshold)
     p.t_max = float(t_max)
+    p.camera_medium = int(camera_medium)
     p.ambient = wp.vec2f(*ambient)
     p.rgb3 = int(rgb3)
     p.birefringence = BIREFRINGENCE[config.birefringence]
