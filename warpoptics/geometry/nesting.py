@@ -40,7 +40,7 @@ import trimesh
 
 from .query import GeometryScene
 
-__all__ = ["OverlapError", "object_parents", "point_medium", "winding_number"]
+__all__ = ["OverlapError", "object_parents", "point_medium", "winding_number", "world_boxes"]
 
 # a crossing closer than this (relative segment parameter) to an end of an edge is a touch
 _TOUCH = 1.0e-6
@@ -79,8 +79,9 @@ def winding_number(mesh: trimesh.Trimesh, points: np.ndarray) -> np.ndarray:
     return out
 
 
-def _world_boxes(objects: Sequence[tuple[trimesh.Trimesh, np.ndarray]]):
-    """World bounding boxes (lo, hi), (n, 3) each, from each mesh's box corners."""
+def world_boxes(objects: Sequence[tuple[trimesh.Trimesh, np.ndarray]]):
+    """World bounding boxes (lo, hi), (n, 3) each, of meshes with object-to-world transforms (the
+    box of each mesh's transformed box corners)."""
     local: dict[int, np.ndarray] = {}
     corners = np.empty((len(objects), 8, 3))
     xfs = np.empty((len(objects), 4, 4))
@@ -141,7 +142,7 @@ def object_parents(
     parents = np.full(n, -1, dtype=np.int32)
     if n < 2:
         return parents
-    lo, hi = _world_boxes(objects)
+    lo, hi = world_boxes(objects)
     pairs = _box_pairs(lo, hi)
     if not len(pairs):
         return parents
@@ -216,7 +217,7 @@ def point_medium(
     x = np.asarray(point, dtype=np.float64).reshape(3)
     if not len(objects):
         return -1
-    lo, hi = _world_boxes(objects)
+    lo, hi = world_boxes(objects)
     best, best_depth = -1, -1
     for k in np.flatnonzero(np.all((lo <= x) & (x <= hi), axis=1)):
         mesh, xf = objects[int(k)]

@@ -630,7 +630,7 @@ EPS_OFFSET = 1.0e-4
 #: mm: below this bounding radius the offset shrinks with the object (EPS_OFFSET r / EPS_RADIUS)
 EPS_RADIUS = 0.25
 #: the offset is at least this many float32 spacings of the largest coordinate on the object
-EPS_ULPS = 4.0
+EPS_ULPS = 2.0
 
 
 def offset_epsilon(radius, center) -> np.ndarray:

@@ -11,8 +11,8 @@ import numpy as np
 from ..errors import InputError
 from ..geometry import cuts
 from ..geometry.gemcad import read as read_gemcad
-from ..geometry.mesh import load_mesh
-from ..geometry.nesting import OverlapError, object_parents
+from ..geometry.mesh import load_mesh, scale_problem
+from ..geometry.nesting import OverlapError, object_parents, world_boxes
 from ..materials import material_from_spec
 from ..materials.dispersion import Biaxial, Uniaxial
 from ..scene.schema import ObjectConfig
@@ -95,6 +95,8 @@ def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -
             )
         mats.append(mat)
         axes.append(ob.optic_axis)
+    if meshes:
+        _check_scale(objects, meshes, file)
     solid = [getattr(ob, "film", None) is None or ob.film.surface == "solid" for ob in objects]
     try:
         parents = object_parents(meshes, solid=solid)
@@ -106,6 +108,25 @@ def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -
             value=f"object.{exc.second}",
         ) from None
     return SceneObjects(meshes=meshes, materials=mats, axes=axes, parents=parents)
+
+
+def _check_scale(objects: Sequence[ObjectConfig], meshes: list, file: str | None) -> None:
+    """The one size and placement rule of every object (``geometry.query.scale_problem``), on its
+    world bounding box; the error names the field that sets the size (``diameter``, ``size`` or
+    ``scale``) or the ``position``."""
+    lo, hi = world_boxes(meshes)
+    sizes = (hi - lo).max(axis=1)
+    far = np.maximum(np.abs(lo), np.abs(hi)).max(axis=1)
+    for i, ob in enumerate(objects):
+        why = scale_problem(float(sizes[i]), float(far[i]))
+        if why is None:
+            continue
+        if why.startswith("object size"):
+            key = next((k for k in ("diameter", "size") if k in ob.params and ob.scale == 1.0), "scale")
+            value = ob.params[key] if key != "scale" else ob.scale
+        else:
+            key, value = "position", list(ob.position)
+        raise InputError(why, file=file, field=f"object.{i}.{key}", value=value)
 
 
 def crystal_axes_of(
