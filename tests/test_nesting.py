@@ -30,7 +30,13 @@ from warpoptics.scene import Scene
 from warpoptics.scene.bench import BenchScene
 
 DIAMOND = {
-    "camera": {"position": [0.0, -22.0, 30.0], "look_at": [0.0, 0.0, -0.3], "fov": 15.0, "width": 16, "height": 16},
+    "camera": {
+        "position": [0.0, -22.0, 30.0],
+        "look_at": [0.0, 0.0, -0.3],
+        "fov": 15.0,
+        "width": 16,
+        "height": 16,
+    },
     # deterministic trees: every branch split (the trees here have < 2^10 branches), no roulette
     "render": {
         "spectral": "stratified",
@@ -208,8 +214,14 @@ def test_winding_number_of_a_closed_mesh():
 @pytest.mark.parametrize(
     "second, message",
     [
-        ({"shape": "cube", "size": 6.0, "position": [4.0, 0.0, 0.0]}, "surfaces of object.0 and object.1 intersect"),
-        ({"shape": "cube", "size": 5.0, "position": [0.0, 0.0, 0.0]}, "surfaces of object.0 and object.1 intersect"),
+        (
+            {"shape": "cube", "size": 6.0, "position": [4.0, 0.0, 0.0]},
+            "surfaces of object.0 and object.1 intersect",
+        ),
+        (
+            {"shape": "cube", "size": 5.0, "position": [0.0, 0.0, 0.0]},
+            "surfaces of object.0 and object.1 intersect",
+        ),
         ({"shape": "round_brilliant", "diameter": 6.5}, "object.0 and object.1 coincide"),
     ],
 )

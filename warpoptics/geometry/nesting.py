@@ -18,8 +18,8 @@ and the index ratio at every interface is that of the two media on its sides.
    strictly inside a segment means the solids partly overlap: refused with both objects named;
 3. containment of the pairs that do not cross: the generalized winding number of the outer
    closed mesh at face centres of the inner one, a hair inward (van Oosterom & Strackee 1983,
-   the solid angle of a triangle; Jacobson et al. 2013): 1 inside, 0 outside.  Coincident solids (each inside the
-   other) are refused.
+   the solid angle of a triangle; Jacobson et al. 2013): 1 inside, 0 outside.  Coincident
+   solids (each inside the other) are refused.
 
 Surfaces that only touch (a vertex or an edge on the other surface) do not count as crossing.
 A mesh that intersects itself is not detected here.
@@ -208,9 +208,7 @@ def object_parents(
     return parents
 
 
-def point_medium(
-    objects: Sequence[tuple[trimesh.Trimesh, np.ndarray]], parents: np.ndarray, point
-) -> int:
+def point_medium(objects: Sequence[tuple[trimesh.Trimesh, np.ndarray]], parents: np.ndarray, point) -> int:
     """The innermost solid containing the world ``point`` (mm), -1 for the ambient medium: where a
     camera inside a solid (in water, in a glass) starts its rays.  ``parents`` from
     :func:`object_parents`."""

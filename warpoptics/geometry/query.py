@@ -11,7 +11,8 @@ Two closest-hit paths share one result:
 
 ``object_exit_hit(geom, k, origin, direction, t_max)`` is the query for a ray known to travel
 inside object ``k`` (after a refraction into it, the tracer's common case): only that object,
-and on the convex path only the planes the ray is leaving through.
+and on the convex path only the planes the ray is leaving through.  ``medium_closest_hit`` adds
+the solids nested in ``k`` (``geom.parent``, geometry/nesting.py) when the scene has any.
 
 ``scene_closest_hit(geom, origin, direction, t_max)`` (and ``scene_closest_hit_leaving``, which
 skips the convex solid a ray leaves) picks the convex path for objects flagged
@@ -379,7 +380,8 @@ def scene_closest_hit_leaving(
 def object_exit_hit(
     geom: SceneGeometry, k: wp.int32, origin: wp.vec3f, direction: wp.vec3f, t_max: wp.float32
 ):
-    """Where a ray that travels INSIDE object ``k`` leaves it (objects must not overlap).
+    """Where a ray that travels INSIDE object ``k`` leaves it (solids nested in ``k`` are not
+    searched: :func:`medium_closest_hit`).
 
     The tracer's query after a refraction into a solid: only object ``k`` is searched, and its
     convex path needs only the leaving planes (:func:`convex_exit_hit`).  Same result struct as

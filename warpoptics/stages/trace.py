@@ -23,6 +23,14 @@ Unpolarized light of radiance L entering the path arrives as the coherency matri
 ``L/2 M M^dagger``.  With ``polarized=False`` the branch carries the unpolarized power
 coefficients instead (a scalar renderer, for comparison with unpolarized peers).
 
+Nested solids (a stone in water, an inclusion): a branch carries the solid it runs in; it meets
+that solid's surface or the surface of a solid nested in it (``geometry.query.medium_closest_hit``)
+and, leaving a solid, enters the one around it (``geom.parent``, ``geometry/nesting.py``), so the
+index ratio at every interface is that of the media on its two sides.  A camera inside a solid
+starts its rays there (``TraceParams.camera_medium``).  Children start ``geom.epsilon[k]`` along
+their direction from a hit on object k (``geometry.query.offset_epsilon``: relative to the
+object's size and position).
+
 Transmitted amplitudes are scaled by sqrt(Re(N_out cos t) / Re(N_in cos i)) so that |M|^2 is the
 transmitted power; radiance's n^2 factors cancel on paths that start and end in the same
 ambient medium.  Absorption follows Bouguer–Lambert, exp(-alpha l) on the intensity, with alpha
@@ -183,7 +191,9 @@ def trace_radiance(
     non-absorbing scenes) the exact integral over the spectrum (EnvironmentLight.exact_response).
     ``wavelength`` and ``weight`` are still the sample's for the materials and the surfaces hook."""
     st = Stack()
-    st = write_row(st, 0, origin, direction, basis_x, jones_identity(), 1.0, p.camera_medium, 0, -1, -direction)
+    st = write_row(
+        st, 0, origin, direction, basis_x, jones_identity(), 1.0, p.camera_medium, 0, -1, -direction
+    )
     n = int(1)
     cand = Cand()
     acc_x = jones_zero()
