@@ -257,3 +257,20 @@ def test_a_shell_cannot_hold_a_stone():
     )
     with pytest.raises(InputError, match="only solids nest"):
         Renderer(Scene.from_dict(data, path="/scenes/x.toml"))
+
+
+def test_box_pairs_are_the_brute_force_pairs():
+    """The broad phase (a grid of the typical box size, large boxes against all) finds exactly the
+    overlapping or touching pairs of random boxes, some five times the typical size."""
+    from warpoptics.geometry.nesting import _box_pairs
+
+    rng = np.random.default_rng(1)
+    for _ in range(200):
+        n = int(rng.integers(1, 40))
+        lo = rng.uniform(0.0, 10.0, (n, 3))
+        hi = lo + rng.uniform(0.1, 3.0, (n, 3)) * np.where(rng.random((n, 1)) < 0.1, 5.0, 1.0)
+        got = {(int(i), int(j)) for i, j in _box_pairs(lo, hi)}
+        ref = {
+            (i, j) for i in range(n) for j in range(i + 1, n) if np.all((lo[i] <= hi[j]) & (lo[j] <= hi[i]))
+        }
+        assert got == ref

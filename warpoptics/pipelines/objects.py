@@ -11,7 +11,7 @@ import numpy as np
 from ..errors import InputError
 from ..geometry import cuts
 from ..geometry.gemcad import read as read_gemcad
-from ..geometry.mesh import load_mesh, scale_problem
+from ..geometry.mesh import SIZE_MAX, SIZE_MIN, load_mesh, scale_problem
 from ..geometry.nesting import OverlapError, object_parents, world_boxes
 from ..materials import material_from_spec
 from ..materials.dispersion import Biaxial, Uniaxial
@@ -117,7 +117,10 @@ def _check_scale(objects: Sequence[ObjectConfig], meshes: list, file: str | None
     lo, hi = world_boxes(meshes)
     sizes = (hi - lo).max(axis=1)
     far = np.maximum(np.abs(lo), np.abs(hi)).max(axis=1)
-    for i, ob in enumerate(objects):
+    # the rule's boundaries, vectorized, then the rule itself for the objects near or past them
+    suspect = (sizes < 2.0 * SIZE_MIN) | (sizes > 0.5 * SIZE_MAX) | (far > 1.0e3 * sizes)
+    for i in np.flatnonzero(suspect):
+        ob = objects[int(i)]
         why = scale_problem(float(sizes[i]), float(far[i]))
         if why is None:
             continue
