@@ -222,12 +222,12 @@ def test_winding_number_of_a_closed_mesh():
             {"shape": "cube", "size": 5.0, "position": [0.0, 0.0, 0.0]},
             "surfaces of object.0 and object.1 intersect",
         ),
-        ({"shape": "round_brilliant", "diameter": 6.5}, "object.0 and object.1 coincide"),
     ],
 )
 def test_overlapping_solids_are_refused(second, message):
-    """A stone that pokes out of a cube, a cube cutting through it, and two coincident stones:
-    one line naming the file and both objects."""
+    """A stone that pokes out of a cube and a cube cutting through it: one line naming the file
+    and both objects.  (Two coincident stones stay accepted: the light meets one of them,
+    tests/test_physical_edge_cases.py::test_coincident_objects.)"""
     data = copy.deepcopy(DIAMOND)
     data["object"].append({"material": "diamond", **second})
     with pytest.raises(InputError, match=message) as info:
@@ -274,3 +274,44 @@ def test_box_pairs_are_the_brute_force_pairs():
             (i, j) for i in range(n) for j in range(i + 1, n) if np.all((lo[i] <= hi[j]) & (lo[j] <= hi[i]))
         }
         assert got == ref
+
+
+def test_stone_shadow_through_an_index_matched_cube(device):
+    """Stone shadows on a table (the straight-through filter of stages/surfaces.py) cross nested
+    media in turn: a stone floating over a lit table inside an invisible n = 1.0 cube casts the
+    bare stone's shadow, and the table and lamp light arrive as without the cube."""
+    base = {
+        "camera": {
+            "position": [0.0, -40.0, 30.0],
+            "look_at": [0.0, 0.0, 3.0],
+            "fov": 30.0,
+            "width": 16,
+            "height": 16,
+        },
+        "render": {**DIAMOND["render"], "max_depth": 6, "spp": 1, "diffuse_depth": 1},
+        "light": [
+            {"type": "environment", "map": "studio", "intensity": 0.2},
+            {
+                "type": "area",
+                "center": [0.0, 0.0, 40.0],
+                "normal": [0.0, 0.0, -1.0],
+                "size": [6.0, 6.0],
+                "radiance": 20.0,
+            },
+        ],
+        "surface": [
+            {"type": "plane", "height": 0.0, "size": 200.0, "bsdf": "diffuse", "color": [0.5, 0.5, 0.5]}
+        ],
+        "object": [
+            {"shape": "round_brilliant", "diameter": 6.5, "material": "diamond", "position": [0.0, 0.0, 10.0]}
+        ],
+    }
+    nested = copy.deepcopy(base)
+    nested["render"]["max_depth"] = 8
+    nested["object"].append(
+        {"shape": "cube", "size": 11.0, "material": {"cauchy": [1.0]}, "position": [0.0, 0.0, 10.0]}
+    )
+    _, a = _render(base, device)
+    _, b = _render(nested, device)
+    assert a[..., 1].mean() > 0.05
+    np.testing.assert_allclose(b[..., 1], a[..., 1], atol=1e-4 * a[..., 1].max())
