@@ -424,7 +424,9 @@ class Renderer:
             birefringence=r.birefringence,
         )
         # a camera inside a solid (in water, in a glass) starts its rays in that medium
-        self.camera_medium = point_medium(meshes, built.parents, scene.camera.position)
+        self._nesting = (meshes, built.parents)
+        self._media: dict[tuple, int] = {}
+        self.camera_medium = self._camera_medium(scene.camera.position)
         self.trace_params = default_params(
             np.asarray(ids, dtype=np.int32),
             np.array([ob.absorption_scale for ob in scene.objects], dtype=np.float32),
@@ -663,7 +665,12 @@ class Renderer:
         if (cam.width, cam.height) != (w, h):
             raise ValueError(f"the camera is {cam.width}x{cam.height} but the film {w}x{h}")
         f = self.film
-        saved = (f.width, f.height, f.pass_index, f.round, f.adaptive, f.spp_begin, f.spp)
+        saved = (f.width, f.height, f.pass_index, f.round, f.adaptive, f.spp_begin, f.spp, f.bundle, f.groups)
+        # a moved camera (the preview's orbit) may be in another medium; bundles start outside
+        medium = self._camera_medium(tuple(float(v) for v in cam.position))
+        self.trace_params.camera_medium = medium
+        if medium >= 0:
+            f.bundle, f.groups = 0, 1
         f.width, f.height = w, h
         f.pass_index, f.round, f.adaptive = int(pass_index), int(spp_begin), 0
         f.spp_begin, f.spp = int(spp_begin), int(spp_begin) + int(spp)
@@ -674,7 +681,17 @@ class Renderer:
                 _render_pixels, n, [0, *inputs], device=self.device, threads=threads, tile_size=tile_size
             )
         finally:
-            f.width, f.height, f.pass_index, f.round, f.adaptive, f.spp_begin, f.spp = saved
+            f.width, f.height, f.pass_index, f.round, f.adaptive, f.spp_begin, f.spp, f.bundle, f.groups = (
+                saved
+            )
+            self.trace_params.camera_medium = self.camera_medium
+
+    def _camera_medium(self, position) -> int:
+        """The solid a camera at ``position`` (mm) is in, -1 outside all (cached per position)."""
+        key = tuple(float(v) for v in position)
+        if key not in self._media:
+            self._media[key] = point_medium(*self._nesting, key)
+        return self._media[key]
 
 
 def render(
