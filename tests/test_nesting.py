@@ -315,3 +315,23 @@ def test_stone_shadow_through_an_index_matched_cube(device):
     _, b = _render(nested, device)
     assert a[..., 1].mean() > 0.05
     np.testing.assert_allclose(b[..., 1], a[..., 1], atol=1e-4 * a[..., 1].max())
+
+
+def test_bench_source_inside_a_solid_is_refused():
+    """Beam rays start in the ambient medium: a source inside a solid would be traced as if in
+    air (silently wrong); it is refused with one line naming the field and the object."""
+    data = {
+        "source": {
+            "type": "beam",
+            "position": [0.0, 0.0, 1.0],
+            "direction": [0.0, 0.0, -1.0],
+            "lines": [550.0],
+        },
+        "object": [{"shape": "cube", "size": 10.0, "material": {"cauchy": [1.333]}}],
+        "sensor": [
+            {"type": "screen", "center": [0.0, 0.0, -10.0], "normal": [0.0, 0.0, 1.0], "size": [20.0, 20.0]}
+        ],
+    }
+    with pytest.raises(InputError, match="inside object.0") as info:
+        bench(BenchScene.from_dict(data, path="/scenes/b.toml"))
+    assert "source.position" in str(info.value) and "\n" not in str(info.value)
