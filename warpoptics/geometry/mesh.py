@@ -28,7 +28,45 @@ import trimesh
 
 from ..errors import InputError
 
-__all__ = ["SUPPORTED_EXTENSIONS", "load_mesh", "validate_mesh", "facet_planes"]
+__all__ = [
+    "SUPPORTED_EXTENSIONS",
+    "SIZE_MIN",
+    "SIZE_MAX",
+    "load_mesh",
+    "validate_mesh",
+    "facet_planes",
+    "scale_problem",
+]
+
+#: the range of object sizes (largest world extent, mm) the tracers serve: below 0.1 um, a
+#: fraction of a wavelength, geometric optics does not apply; 100 m is the largest scene
+SIZE_MIN = 1.0e-4
+SIZE_MAX = 1.0e5
+#: float32 spacing at an object's farthest coordinate must stay below this fraction of its size
+#: (about 16,000 sizes from the origin: a 6.5 mm stone up to x ~ 1.1e5 mm)
+SPACING_MAX = 2.0e-3
+
+
+def scale_problem(size: float, far: float) -> str | None:
+    """Why an object of largest world extent ``size`` (mm) whose farthest coordinate is ``far``
+    (max |x|, mm) cannot be traced accurately in float32, or None.  The one rule for every shape
+    (cuts, meshes, GemCAD designs) and placement; within it the tracers offset ray origins
+    relative to the object (``geometry.query.offset_epsilon``) and a stone renders as the same
+    stone at reference size."""
+    if not SIZE_MIN <= size <= SIZE_MAX:
+        return (
+            f"object size {size:.4g} mm out of range [{SIZE_MIN:g}, {SIZE_MAX:g}] mm (below 0.1 um "
+            "geometric optics does not apply; lengths are in mm)"
+        )
+    spacing = far * float(np.finfo(np.float32).eps)
+    if spacing > SPACING_MAX * size:
+        return (
+            f"the object lies {far:.4g} mm from the origin, {far / size:.3g} times its size: float32 "
+            f"coordinates there are {spacing / size:.2%} of the object (at most {SPACING_MAX:.1%}, "
+            f"{SPACING_MAX / float(np.finfo(np.float32).eps):.3g} sizes); move the scene toward the origin"
+        )
+    return None
+
 
 SUPPORTED_EXTENSIONS = (".obj", ".stl", ".ply", ".glb", ".gltf", ".off")
 
@@ -38,8 +76,8 @@ def load_mesh(
     *,
     scale: float = 1.0,
     repair: bool = False,
-    min_size: float = 1e-3,
-    max_size: float = 1e4,
+    min_size: float = SIZE_MIN,
+    max_size: float = SIZE_MAX,
     closed: bool = True,
 ) -> trimesh.Trimesh:
     """Load a triangle mesh (mm after multiplying by ``scale``) and validate it (see module doc).
@@ -89,8 +127,8 @@ def validate_mesh(
     *,
     name: str | None = None,
     repair: bool = False,
-    min_size: float = 1e-3,
-    max_size: float = 1e4,
+    min_size: float = SIZE_MIN,
+    max_size: float = SIZE_MAX,
     closed: bool = True,
 ) -> trimesh.Trimesh:
     """Check (and with ``repair`` fix, on a copy) a mesh for ray tracing; return the mesh to use.

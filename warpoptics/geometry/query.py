@@ -11,7 +11,8 @@ Two closest-hit paths share one result:
 
 ``object_exit_hit(geom, k, origin, direction, t_max)`` is the query for a ray known to travel
 inside object ``k`` (after a refraction into it, the tracer's common case): only that object,
-and on the convex path only the planes the ray is leaving through.
+and on the convex path only the planes the ray is leaving through.  ``medium_closest_hit`` adds
+the solids nested in ``k`` (``geom.parent``, geometry/nesting.py) when the scene has any.
 
 ``scene_closest_hit(geom, origin, direction, t_max)`` (and ``scene_closest_hit_leaving``, which
 skips the convex solid a ray leaves) picks the convex path for objects flagged
@@ -70,6 +71,8 @@ __all__ = [
     "convex_exit_hit",
     "ray_meets_sphere",
     "object_exit_hit",
+    "medium_closest_hit",
+    "offset_epsilon",
     "convex_plane_excess",
     "convex_exit_through",
     "scene_closest_hit",
@@ -94,6 +97,9 @@ class SceneGeometry:
     outward unit normal, mm), the facet of each of its triangles ``face_facet[face_start[k] + f]``
     and an object-space bounding sphere ``bounding_sphere[k] = (cx, cy, cz, r)`` (culls rays
     for the convex path).  ``mode``: 0 auto, 1 BVH for all, 2 convex planes for all.
+    ``parent[k]``: the innermost object containing object k (-1: the ambient medium), ``nested``
+    1 if any object has a parent; ``epsilon[k]``: the origin offset (mm) of rays leaving k's
+    surface (:func:`offset_epsilon`).
     """
 
     num_objects: wp.int32
@@ -112,6 +118,13 @@ class SceneGeometry:
     face_start: wp.array(dtype=wp.int32)
     face_facet: wp.array(dtype=wp.int32)
     bounding_sphere: wp.array(dtype=wp.vec4f)
+    # nesting (geometry/nesting.py): the innermost solid around object k (-1: none), and whether
+    # any object has one; a ray inside k meets k's surface or that of a solid whose parent is k
+    parent: wp.array(dtype=wp.int32)
+    nested: wp.int32
+    # origin offset of a new ray leaving object k's surface, mm (offset_epsilon: relative to the
+    # object's size and to the float32 spacing at its position)
+    epsilon: wp.array(dtype=wp.float32)
 
 
 @wp.struct
@@ -367,7 +380,8 @@ def scene_closest_hit_leaving(
 def object_exit_hit(
     geom: SceneGeometry, k: wp.int32, origin: wp.vec3f, direction: wp.vec3f, t_max: wp.float32
 ):
-    """Where a ray that travels INSIDE object ``k`` leaves it (objects must not overlap).
+    """Where a ray that travels INSIDE object ``k`` leaves it (solids nested in ``k`` are not
+    searched: :func:`medium_closest_hit`).
 
     The tracer's query after a refraction into a solid: only object ``k`` is searched, and its
     convex path needs only the leaving planes (:func:`convex_exit_hit`).  Same result struct as
@@ -401,6 +415,48 @@ def object_exit_hit(
             n_obj = q.normal
     if hit.object >= 0:
         hit.normal = wp.normalize(wp.transform_vector(wp.transpose(m), n_obj))
+    return hit
+
+
+@wp.func
+def medium_closest_hit(
+    geom: SceneGeometry, k: wp.int32, origin: wp.vec3f, direction: wp.vec3f, t_max: wp.float32
+):
+    """Closest hit of a ray travelling in the medium of object ``k``: inside ``k`` and outside the
+    solids nested in it (``geom.parent[j] == k``, geometry/nesting.py).  It meets ``k``'s own
+    surface (:func:`object_exit_hit`) or enters one of those children (tested from outside as in
+    :func:`scene_closest_hit_leaving`).  A scene without nesting is :func:`object_exit_hit`."""
+    hit = object_exit_hit(geom, k, origin, direction, t_max)
+    if geom.nested != 0:
+        for j in range(geom.num_objects):
+            if geom.parent[j] == k:
+                m = geom.world_to_object[j]
+                o = wp.transform_point(m, origin)
+                d = wp.transform_vector(m, direction)
+                found = int(0)
+                n_obj = wp.vec3f(0.0, 0.0, 0.0)
+                if geom.mode == 2 or (geom.mode == 0 and geom.convex[j] != 0):
+                    if ray_meets_sphere(geom.bounding_sphere[j], o, d, hit.t):
+                        s = geom.plane_start[j]
+                        t, f = convex_closest_hit(geom.planes, s, geom.plane_count[j], o, d, hit.t)
+                        if f >= 0:
+                            found = 1
+                            hit.t = t
+                            hit.facet = f
+                            hit.face = -1
+                            p = geom.planes[s + f]
+                            n_obj = wp.vec3f(p[0], p[1], p[2])
+                else:
+                    q = wp.mesh_query_ray(geom.mesh_ids[j], o, d, hit.t)
+                    if q.result and q.t < hit.t:
+                        found = 1
+                        hit.t = q.t
+                        hit.face = q.face
+                        hit.facet = geom.face_facet[geom.face_start[j] + q.face]
+                        n_obj = q.normal
+                if found != 0:
+                    hit.object = j
+                    hit.normal = wp.normalize(wp.transform_vector(wp.transpose(m), n_obj))
     return hit
 
 
@@ -571,6 +627,30 @@ def _plane_blocks(planes_all, plane_start, plane_count):
     return blocks, np.array(block_start, np.int32), np.array(block_count, np.int32)
 
 
+#: origin offset (mm) of a ray leaving a surface, for objects of bounding radius >= EPS_RADIUS
+EPS_OFFSET = 1.0e-4
+#: mm: below this bounding radius the offset shrinks with the object (EPS_OFFSET r / EPS_RADIUS)
+EPS_RADIUS = 0.25
+#: the offset is at least this many float32 spacings of the largest coordinate on the object
+EPS_ULPS = 2.0
+
+
+def offset_epsilon(radius, center) -> np.ndarray:
+    """Origin offset (mm) of new rays leaving the surface of objects with world bounding spheres
+    of ``radius`` (n,) and ``center`` (n, 3), mm.
+
+    A new ray starts ``epsilon`` along its direction from the hit point so that its query does not
+    find the surface it leaves.  Two bounds: relative to the object's size (1e-4 mm for a stone of
+    radius >= 0.25 mm, 4e-4 of the radius below: the offset never skips a noticeable part of a
+    small stone), and at least ``EPS_ULPS`` float32 spacings of the largest coordinate a point of
+    the object has (``(|c|_max + r) 2^-23``: round-off of a hit point far from the origin)."""
+    r = np.asarray(radius, dtype=np.float64).reshape(-1)
+    c = np.asarray(center, dtype=np.float64).reshape(-1, 3)
+    rel = EPS_OFFSET * np.minimum(1.0, r / EPS_RADIUS)
+    floor = EPS_ULPS * (np.abs(c).max(axis=1) + r) * float(np.finfo(np.float32).eps)
+    return np.maximum(rel, floor)
+
+
 class GeometryScene:
     """Solids on a device, with their BVHs and facet planes, ready for kernels.
 
@@ -578,7 +658,8 @@ class GeometryScene:
     ``convex``: ``"auto"`` (convex path for watertight convex meshes with at most
     ``convex_max_planes`` facets), ``True``/``False`` for all, or a per-object sequence of those.
     The ``wp.Mesh`` objects live as long as this scene; :attr:`geometry` is the struct to pass to
-    kernels (``mode`` auto).
+    kernels (``mode`` auto).  ``parents``: the innermost object containing each object (-1:
+    none), as ``geometry.nesting.object_parents`` finds it; None: no object is nested.
     """
 
     def __init__(
@@ -588,6 +669,7 @@ class GeometryScene:
         convex: bool | str | Sequence[bool | str] = "auto",
         convex_max_planes: int = 256,
         allow_empty: bool = False,
+        parents: Sequence[int] | None = None,
         device=None,
     ) -> None:
         self.device = _device.get_device(device)
@@ -685,6 +767,22 @@ class GeometryScene:
         g.face_start = wp.array(np.array(face_start, dtype=np.int32), dtype=wp.int32, device=dev)
         g.face_facet = wp.array(np.concatenate(face_facet_all).astype(np.int32), dtype=wp.int32, device=dev)
         g.bounding_sphere = wp.array(np.array(spheres, dtype=np.float32), dtype=wp.vec4f, device=dev)
+        par = np.full(max(len(objs), 1), -1, dtype=np.int32)
+        if parents is not None:
+            if len(parents) != len(objs):
+                raise ValueError("parents: one entry per object")
+            par[: len(objs)] = np.asarray(parents, dtype=np.int32)
+        g.parent = wp.array(par, dtype=wp.int32, device=dev)
+        g.nested = int(np.any(par >= 0))
+        # world bounding spheres: the object-space sphere through each transform
+        eps = np.full(1, EPS_OFFSET)
+        if objs:
+            xfs = np.array([xf for _, xf in objs], dtype=np.float64)
+            sph = np.array(spheres, dtype=np.float64)
+            centers = np.einsum("nij,nj->ni", xfs[:, :3, :3], sph[:, :3]) + xfs[:, :3, 3]
+            radii = sph[:, 3] * np.linalg.norm(xfs[:, :3, :3], ord=2, axis=(1, 2))
+            eps = offset_epsilon(radii, centers)
+        g.epsilon = wp.array(eps.astype(np.float32), dtype=wp.float32, device=dev)
         self.geometry = g
         self._by_mode = {MODE_AUTO: g}
 
@@ -713,6 +811,9 @@ class GeometryScene:
                 "face_start",
                 "face_facet",
                 "bounding_sphere",
+                "parent",
+                "nested",
+                "epsilon",
             ):
                 setattr(g, name, getattr(src, name))
             g.mode = code

@@ -13,8 +13,10 @@ import numpy as np
 import warp as wp
 
 from ..device import get_device, launch_tiled, load_module
+from ..errors import InputError
 from ..film.screen import Screen, ScreenImage, screen_set
 from ..geometry import cuts
+from ..geometry.nesting import point_medium
 from ..geometry.query import GeometryScene
 from ..materials import get as get_material
 from ..materials.dispersion import build_material_table
@@ -161,12 +163,23 @@ class Bench:
         if scene.objects:
             built = build_objects(scene.objects, file=scene.path)
             meshes, mats, axes = built.meshes, built.materials, built.axes
+            parents = built.parents
+            inside = point_medium(meshes, parents, scene.source.position)
+            if inside >= 0:
+                # beam rays start in the ambient medium: a source inside a solid is refused
+                raise InputError(
+                    f"the source lies inside object.{inside}; place it outside the solids",
+                    file=scene.path,
+                    field="source.position",
+                    value=list(scene.source.position),
+                )
         else:
             # an empty bench: one tiny object far away keeps the geometry struct valid
             far = np.eye(4)
             far[:3, 3] = (1.0e5, 1.0e5, 1.0e5)
             meshes, mats, axes = [(cuts.cube(1.0e-3), far)], [get_material("water")], [None]
-        self.geometry = GeometryScene(meshes, device=self.device)
+            parents = None
+        self.geometry = GeometryScene(meshes, parents=parents, device=self.device)
         self.materials, ids = build_material_table(mats, self.device, rgb3=False)
         world_axes = []
         for i, (mat, ax) in enumerate(zip(mats, axes, strict=True)):

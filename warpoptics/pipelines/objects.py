@@ -11,7 +11,8 @@ import numpy as np
 from ..errors import InputError
 from ..geometry import cuts
 from ..geometry.gemcad import read as read_gemcad
-from ..geometry.mesh import load_mesh
+from ..geometry.mesh import SIZE_MAX, SIZE_MIN, load_mesh, scale_problem
+from ..geometry.nesting import OverlapError, object_parents, world_boxes
 from ..materials import material_from_spec
 from ..materials.dispersion import Biaxial, Uniaxial
 from ..scene.schema import ObjectConfig
@@ -23,11 +24,18 @@ __all__ = ["SceneObjects", "build_objects", "world_axes", "crystal_axes_of"]
 class SceneObjects:
     """What :func:`build_objects` returns, one entry per object: ``meshes`` (trimesh, 4x4 object ->
     world transform), ``materials`` (dispersion models), ``axes`` (the object's ``optic_axis``
-    override in the object frame, or None)."""
+    override in the object frame, or None), ``parents`` (the innermost object containing it, -1:
+    none; ``geometry.nesting.object_parents``)."""
 
     meshes: list
     materials: list
     axes: list
+    parents: np.ndarray
+
+    @property
+    def nested(self) -> bool:
+        """Whether any object lies inside another."""
+        return bool(np.any(self.parents >= 0))
 
 
 def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -> SceneObjects:
@@ -91,7 +99,41 @@ def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -
             )
         mats.append(mat)
         axes.append(ob.optic_axis)
-    return SceneObjects(meshes=meshes, materials=mats, axes=axes)
+    if meshes:
+        _check_scale(objects, meshes, file)
+    solid = [getattr(ob, "film", None) is None or ob.film.surface == "solid" for ob in objects]
+    try:
+        parents = object_parents(meshes, solid=solid)
+    except OverlapError as exc:
+        raise InputError(
+            f"{exc}: solids may be nested (one wholly inside another) or apart, not partly overlapping",
+            file=file,
+            field=f"object.{exc.first}",
+            value=f"object.{exc.second}",
+        ) from None
+    return SceneObjects(meshes=meshes, materials=mats, axes=axes, parents=parents)
+
+
+def _check_scale(objects: Sequence[ObjectConfig], meshes: list, file: str | None) -> None:
+    """The one size and placement rule of every object (``geometry.query.scale_problem``), on its
+    world bounding box; the error names the field that sets the size (``diameter``, ``size`` or
+    ``scale``) or the ``position``."""
+    lo, hi = world_boxes(meshes)
+    sizes = (hi - lo).max(axis=1)
+    far = np.maximum(np.abs(lo), np.abs(hi)).max(axis=1)
+    # the rule's boundaries, vectorized, then the rule itself for the objects near or past them
+    suspect = (sizes < 2.0 * SIZE_MIN) | (sizes > 0.5 * SIZE_MAX) | (far > 1.0e3 * sizes)
+    for i in np.flatnonzero(suspect):
+        ob = objects[int(i)]
+        why = scale_problem(float(sizes[i]), float(far[i]))
+        if why is None:
+            continue
+        if why.startswith("object size"):
+            key = next((k for k in ("diameter", "size") if k in ob.params and ob.scale == 1.0), "scale")
+            value = ob.params[key] if key != "scale" else ob.scale
+        else:
+            key, value = "position", list(ob.position)
+        raise InputError(why, file=file, field=f"object.{i}.{key}", value=value)
 
 
 def crystal_axes_of(

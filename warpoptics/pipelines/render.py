@@ -22,6 +22,7 @@ from ..device import get_device, launch_tiled, load_module
 from ..errors import InputError
 from ..film.image import Image
 from ..film.views import polarizer_world_axis
+from ..geometry.nesting import point_medium
 from ..geometry.query import GeometryScene, SceneGeometry
 from ..materials import material_from_spec
 from ..materials.dispersion import MaterialTable, build_material_table
@@ -370,7 +371,7 @@ class Renderer:
         check_render_memory(scene.camera.width, scene.camera.height, file=scene.path)
         built = build_objects(scene.objects, file=scene.path)
         meshes, mats = built.meshes, built.materials
-        self.geometry = GeometryScene(meshes, allow_empty=True, device=self.device)
+        self.geometry = GeometryScene(meshes, allow_empty=True, parents=built.parents, device=self.device)
         if mats:
             self.materials, ids = build_material_table(mats, self.device)
         else:  # surfaces only: a placeholder material table (no object refers to it)
@@ -422,12 +423,17 @@ class Renderer:
             polarized=r.polarization,
             birefringence=r.birefringence,
         )
+        # a camera inside a solid (in water, in a glass) starts its rays in that medium
+        self._nesting = (meshes, built.parents)
+        self._media: dict[tuple, int] = {}
+        self.camera_medium = self._camera_medium(scene.camera.position)
         self.trace_params = default_params(
             np.asarray(ids, dtype=np.int32),
             np.array([ob.absorption_scale for ob in scene.objects], dtype=np.float32),
             world_axes(scene.objects, built, file=scene.path),
             config=self.trace_config,
             ambient=(r.ambient_index, 0.0),
+            camera_medium=self.camera_medium,
             rgb3=r.spectral == "rgb3",
             device=self.device,
             films=films,
@@ -460,7 +466,10 @@ class Renderer:
         # (stages/bundle.py); `spectral_bundle=False` or `render.bundle = false` traces a tree
         # per wavelength
         self.spectral_bundle = (
-            not self.shared_spectrum and spectral_bundle is not False and bundle_applies(scene, built)
+            not self.shared_spectrum
+            and spectral_bundle is not False
+            and bundle_applies(scene, built)
+            and self.camera_medium < 0  # bundles start in the ambient medium
         )
         film.bundle = 1 if self.spectral_bundle else 0
         film.groups = -(-film.count // r.bundle_lanes) if self.spectral_bundle else 1
@@ -656,7 +665,12 @@ class Renderer:
         if (cam.width, cam.height) != (w, h):
             raise ValueError(f"the camera is {cam.width}x{cam.height} but the film {w}x{h}")
         f = self.film
-        saved = (f.width, f.height, f.pass_index, f.round, f.adaptive, f.spp_begin, f.spp)
+        saved = (f.width, f.height, f.pass_index, f.round, f.adaptive, f.spp_begin, f.spp, f.bundle, f.groups)
+        # a moved camera (the preview's orbit) may be in another medium; bundles start outside
+        medium = self._camera_medium(tuple(float(v) for v in cam.position))
+        self.trace_params.camera_medium = medium
+        if medium >= 0:
+            f.bundle, f.groups = 0, 1
         f.width, f.height = w, h
         f.pass_index, f.round, f.adaptive = int(pass_index), int(spp_begin), 0
         f.spp_begin, f.spp = int(spp_begin), int(spp_begin) + int(spp)
@@ -667,7 +681,17 @@ class Renderer:
                 _render_pixels, n, [0, *inputs], device=self.device, threads=threads, tile_size=tile_size
             )
         finally:
-            f.width, f.height, f.pass_index, f.round, f.adaptive, f.spp_begin, f.spp = saved
+            f.width, f.height, f.pass_index, f.round, f.adaptive, f.spp_begin, f.spp, f.bundle, f.groups = (
+                saved
+            )
+            self.trace_params.camera_medium = self.camera_medium
+
+    def _camera_medium(self, position) -> int:
+        """The solid a camera at ``position`` (mm) is in, -1 outside all (cached per position)."""
+        key = tuple(float(v) for v in position)
+        if key not in self._media:
+            self._media[key] = point_medium(*self._nesting, key)
+        return self._media[key]
 
 
 def render(

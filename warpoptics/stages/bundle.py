@@ -29,8 +29,9 @@ the lanes that left it, weighting the rest by the balance heuristic of hero-wave
 (Wilkie et al. 2014): unbiased too, but 1.4x the noise of grouping (32x32, 16 lanes: 0.42 vs
 0.30 relative RMSE), because near dispersed facet edges few lanes stay.
 
-Scope.  Isotropic, uncoated solids in an environment light (no surfaces, lamps or films; not
-rgb3): :func:`bundle_applies` is the Renderer's test; everything else is traced per wavelength by
+Scope.  Isotropic, uncoated solids in an environment light (no surfaces, lamps or films, no
+solid inside another: a bundle keeps one solid's indices; not rgb3): :func:`bundle_applies` is
+the Renderer's test; everything else is traced per wavelength by
 ``stages.trace.trace_radiance``.  Lane rows: a split puts a node's reflected children at its own
 stack position and the refracted ones at the next, a single child stays at the node's position,
 so positions grow only with splits; each lane's pending nodes sit below the one being traced,
@@ -340,7 +341,7 @@ def trace_bundle(
                         n_a,
                         n_b,
                         o_j + d_j * lane_t[j],
-                        p.epsilon,
+                        geom.epsilon[obj],
                         inside,
                         in_b,
                         depth,
@@ -435,7 +436,8 @@ def trace_bundle(
 
 def bundle_applies(scene, built) -> bool:
     """Whether a camera scene can be traced in spectral bundles (``render.bundle`` and isotropic,
-    uncoated solids in an environment light: no surfaces, lamps, films or caustics; not rgb3)."""
+    uncoated solids in an environment light, none inside another: no surfaces, lamps, films,
+    caustics or nesting; not rgb3)."""
     r = scene.render
     return (
         bool(getattr(r, "bundle", True))
@@ -446,4 +448,5 @@ def bundle_applies(scene, built) -> bool:
         and not any(getattr(ob, "film", None) for ob in scene.objects)
         and all(isinstance(m, Isotropic) and not m.is_uniaxial for m in built.materials)
         and len(built.materials) > 0
+        and not built.nested
     )

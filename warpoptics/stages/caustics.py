@@ -403,7 +403,7 @@ def _caustic_kernel(
             e_lost += e  # a ray inside a solid found no exit
             continue
         # the segment's absorption, then the interface: the optical bench's own step (stages.forward)
-        st, n, rng, ledger_step = forward_step(st, n, rng, fp, mats, coatings, hit, r, e, wl, csrc)
+        st, n, rng, ledger_step = forward_step(st, n, rng, fp, geom, mats, coatings, hit, r, e, wl, csrc)
         e_abs += ledger_step[0]
         e_trunc += ledger_step[1]
         e_iface += ledger_step[2]

@@ -119,7 +119,6 @@ class ForwardParams:
     max_depth: int
     split_threshold: float  # relative power above which a node splits deterministically
     t_max: float  # mm
-    epsilon: float  # origin offset along a new direction, mm
     ambient: wp.vec2f  # complex index around the objects
     max_deposits: int  # screen deposit slots per beam ray
     seed: int
@@ -180,6 +179,7 @@ def forward_step(
     n: int,
     rng: wp.uint32,
     fp: ForwardParams,
+    geom: SceneGeometry,
     mats: MaterialTable,
     coatings: CoatingStack,
     hit: RayHit,
@@ -216,7 +216,7 @@ def forward_step(
         return st, n, rng, wp.vec3f(e_abs, 0.0, 0.0)
     obj_b = hit.object
     if wp.dot(r.d, hit.normal) >= 0.0:
-        obj_b = -1  # leaving the solid
+        obj_b = geom.parent[hit.object]  # leaving the solid: into the one around it (nesting)
     med_b, n_b, alpha_b = _medium(fp, mats, obj_b, wl)
     x = r.o + r.d * hit.t
     cand, ea, e_sum, c = forward_event(
@@ -237,7 +237,7 @@ def forward_step(
         coatings,
         fp.object_coating[hit.object],
         wl,
-        fp.epsilon,
+        geom.epsilon[hit.object],
         w,
         e,
         csrc,
@@ -321,7 +321,7 @@ def forward_trace_kernel(
             e_lost += e  # a ray inside a solid found no exit
             continue
         # the segment's absorption, then the interface: the one step both forward tracers share
-        st, n, rng, ledger_step = forward_step(st, n, rng, fp, mats, coatings, hit, r, e, wl, csrc)
+        st, n, rng, ledger_step = forward_step(st, n, rng, fp, geom, mats, coatings, hit, r, e, wl, csrc)
         e_abs += ledger_step[0]
         e_trunc += ledger_step[1]
         e_iface += ledger_step[2]
@@ -343,7 +343,6 @@ def forward_params(
     config: ForwardConfig,
     ambient=(1.0, 0.0),
     t_max: float = 1.0e6,
-    epsilon: float = 1.0e-4,
     device=None,
 ) -> ForwardParams:
     """The kernel struct of a forward trace; per-object arrays have one entry per object."""
@@ -351,7 +350,6 @@ def forward_params(
     p.max_depth = int(config.max_depth)
     p.split_threshold = float(config.split_threshold)
     p.t_max = float(t_max)
-    p.epsilon = float(epsilon)
     p.ambient = wp.vec2f(*ambient)
     p.max_deposits = int(config.max_deposits)
     p.seed = int(config.seed)

@@ -70,7 +70,13 @@ import warp as wp
 
 from ..device import elementwise, get_device
 from ..errors import InputError
-from ..geometry.query import SceneGeometry, object_exit_hit, scene_closest_hit
+from ..geometry.query import (
+    RayHit,
+    SceneGeometry,
+    medium_closest_hit,
+    object_exit_hit,
+    scene_closest_hit,
+)
 from ..materials.dispersion import MaterialTable
 from ..optics.fresnel import fresnel_amplitudes, unpolarized_power
 from ..optics.microfacet import ggx_d, ggx_g1, ggx_sample_normal, orthonormal_basis
@@ -486,6 +492,87 @@ def _interface_t(cos_i: float, n1: wp.vec2f, n2: wp.vec2f):
 
 
 @wp.func
+def _medium_index_alpha(
+    mats: MaterialTable,
+    obj_material: wp.array(dtype=wp.int32),
+    obj_absorption: wp.array(dtype=wp.float32),
+    ambient: float,
+    k: int,
+    wavelength: float,
+    rgb3_channel: int,
+):
+    """(real index, alpha 1/mm) of the medium of object ``k`` (-1: the ambient medium) for a
+    straight-through shadow ray: a crystal's mean index and mean of its o/e absorption."""
+    if k < 0:
+        return ambient, 0.0
+    mid = obj_material[k]
+    med, no, ne, alpha = object_medium(mats, mid, wp.vec3f(0.0), wavelength)
+    a_o, a_e = medium_alpha(mats, mid, alpha, rgb3_channel)
+    return 0.5 * (no[0] + ne[0]), 0.5 * (a_o + a_e) * obj_absorption[k]
+
+
+@wp.func
+def _nested_transmittance(
+    geom: SceneGeometry,
+    mats: MaterialTable,
+    obj_material: wp.array(dtype=wp.int32),
+    obj_absorption: wp.array(dtype=wp.float32),
+    ambient: float,
+    x: wp.vec3f,
+    d: wp.vec3f,
+    t_max: float,
+    wavelength: float,
+    rgb3_channel: int,
+):
+    """:func:`gem_transmittance` in a scene of nested solids (a stone in a glass of water): the
+    straight segment from medium to medium (``geometry.query.medium_closest_hit``; leaving a solid
+    enters the one around it), Fresnel 1 - R between the indices on the two sides of every
+    interface (from its outer side, as there) and Bouguer-Lambert along every segment inside a
+    solid."""
+    tr = float(1.0)
+    o = x
+    remaining = t_max
+    cur = int(-1)  # surfaces and lamps lie in the ambient medium
+    n_cur = ambient
+    a_cur = float(0.0)
+    for _i in range(2 * _MAX_STONES):
+        if tr <= 0.0:
+            break
+        h = RayHit()
+        if cur < 0:
+            h = scene_closest_hit(geom, o, d, remaining)
+        else:
+            h = medium_closest_hit(geom, cur, o, d, remaining)
+        if h.object < 0:
+            break
+        k = h.object
+        nxt = k
+        if wp.dot(d, h.normal) >= 0.0:
+            nxt = geom.parent[k]  # leaving k into the solid around it
+        n_nxt, a_nxt = _medium_index_alpha(
+            mats, obj_material, obj_absorption, ambient, nxt, wavelength, rgb3_channel
+        )
+        # Fresnel seen from the outer side of k's surface at the straight ray's angle, entering or
+        # leaving (no refraction, no total reflection: gem_transmittance's model)
+        n_outer = n_cur
+        n_inner = n_nxt
+        if nxt != k:
+            n_outer = n_nxt
+            n_inner = n_cur
+        cos_i = wp.abs(wp.dot(d, h.normal))
+        tr *= wp.exp(-a_cur * h.t) * _interface_t(cos_i, wp.vec2f(n_outer, 0.0), wp.vec2f(n_inner, 0.0))
+        eps = geom.epsilon[k]
+        remaining = remaining - h.t - eps
+        if remaining <= 0.0:
+            break
+        o = o + d * (h.t + eps)
+        cur = nxt
+        n_cur = n_nxt
+        a_cur = a_nxt
+    return tr
+
+
+@wp.func
 def gem_transmittance(
     geom: SceneGeometry,
     mats: MaterialTable,
@@ -500,7 +587,12 @@ def gem_transmittance(
 ):
     """Straight-through transmittance of the stones along the segment x + t d, 0 < t < t_max
     (module doc: Fresnel 1 - R at entry and exit x exp(-alpha l); refraction is NOT followed).
-    ``rgb3_channel`` >= 0: the rgb3 mode's eq. 9 absorbances of that channel, as the tracer uses."""
+    ``rgb3_channel`` >= 0: the rgb3 mode's eq. 9 absorbances of that channel, as the tracer uses.
+    Nested solids: :func:`_nested_transmittance`."""
+    if geom.nested != 0:
+        return _nested_transmittance(
+            geom, mats, obj_material, obj_absorption, ambient, x, d, t_max, wavelength, rgb3_channel
+        )
     tr = float(1.0)
     o = x
     remaining = t_max
@@ -511,12 +603,13 @@ def gem_transmittance(
         if h.object < 0:
             break
         k = h.object
+        eps = geom.epsilon[k]  # the tracer's origin offset (geometry.query.offset_epsilon)
         p_in = o + d * h.t
-        ex = object_exit_hit(geom, k, p_in + d * 1.0e-4, d, _BIG)
+        ex = object_exit_hit(geom, k, p_in + d * eps, d, _BIG)
         chord = float(0.0)
         cos_out = float(1.0)
         if ex.object >= 0:
-            chord = ex.t + 1.0e-4
+            chord = ex.t + eps
             cos_out = wp.abs(wp.dot(d, ex.normal))
         cos_in = wp.abs(wp.dot(d, h.normal))
         mid = obj_material[k]
@@ -529,7 +622,7 @@ def gem_transmittance(
         t_o = _interface_t(cos_in, amb, n_o) * _interface_t(cos_out, amb, n_o)
         t_e = _interface_t(cos_in, amb, n_e) * _interface_t(cos_out, amb, n_e)
         tr *= 0.5 * (t_o * wp.exp(-a_o * sc * chord) + t_e * wp.exp(-a_e * sc * chord))
-        step = h.t + chord + 1.0e-4
+        step = h.t + chord + eps
         remaining = remaining - step
         if remaining <= 0.0:
             break

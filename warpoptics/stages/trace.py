@@ -23,6 +23,14 @@ Unpolarized light of radiance L entering the path arrives as the coherency matri
 ``L/2 M M^dagger``.  With ``polarized=False`` the branch carries the unpolarized power
 coefficients instead (a scalar renderer, for comparison with unpolarized peers).
 
+Nested solids (a stone in water, an inclusion): a branch carries the solid it runs in; it meets
+that solid's surface or the surface of a solid nested in it (``geometry.query.medium_closest_hit``)
+and, leaving a solid, enters the one around it (``geom.parent``, ``geometry/nesting.py``), so the
+index ratio at every interface is that of the media on its two sides.  A camera inside a solid
+starts its rays there (``TraceParams.camera_medium``).  Children start ``geom.epsilon[k]`` along
+their direction from a hit on object k (``geometry.query.offset_epsilon``: relative to the
+object's size and position).
+
 Transmitted amplitudes are scaled by sqrt(Re(N_out cos t) / Re(N_in cos i)) so that |M|^2 is the
 transmitted power; radiance's n^2 factors cancel on paths that start and end in the same
 ambient medium.  Absorption follows Bouguer–Lambert, exp(-alpha l) on the intensity, with alpha
@@ -37,7 +45,7 @@ import numpy as np
 import warp as wp
 
 from .. import validate as val
-from ..geometry.query import RayHit, SceneGeometry, object_exit_hit, scene_closest_hit_leaving
+from ..geometry.query import RayHit, SceneGeometry, medium_closest_hit, scene_closest_hit_leaving
 from ..materials.dispersion import MaterialTable
 from ..optics.absorption import bouguer_lambert
 from ..optics.birefringence import uniaxial_medium
@@ -101,7 +109,7 @@ class TraceParams:
     max_splits: int  # at most this many extra branches from deterministic splits per primary ray
     rr_threshold: float  # below this energy a branch survives Russian roulette with p = e / rr
     t_max: float  # mm
-    epsilon: float  # origin offset along the new direction, mm
+    camera_medium: int  # the solid the camera is in (geometry.nesting.point_medium; -1: ambient)
     ambient: wp.vec2f  # complex index of the medium around the objects (air: 1)
     rgb3: int  # 1: use the materials' eq. 9 RGB absorbances (channel = sample index)
     birefringence: int  # 0 exact (separate o/e directions), 1 approx (shared direction, eq. 10)
@@ -183,7 +191,9 @@ def trace_radiance(
     non-absorbing scenes) the exact integral over the spectrum (EnvironmentLight.exact_response).
     ``wavelength`` and ``weight`` are still the sample's for the materials and the surfaces hook."""
     st = Stack()
-    st = write_row(st, 0, origin, direction, basis_x, jones_identity(), 1.0, -1, 0, -1, -direction)
+    st = write_row(
+        st, 0, origin, direction, basis_x, jones_identity(), 1.0, p.camera_medium, 0, -1, -direction
+    )
     n = int(1)
     cand = Cand()
     acc_x = jones_zero()
@@ -225,7 +235,8 @@ def trace_radiance(
         rays += 1
         hit = RayHit()
         if inside >= 0:
-            hit = object_exit_hit(geom, inside, o, d, p.t_max)  # solids do not overlap
+            # its own surface or that of a solid nested in it (solids nest or stay apart)
+            hit = medium_closest_hit(geom, inside, o, d, p.t_max)
         else:
             hit = scene_closest_hit_leaving(geom, o, d, p.t_max, left)
             # surfaces hook (stages/surfaces.py): an opaque surface or a lamp in front of every
@@ -293,13 +304,14 @@ def trace_radiance(
         if depth >= p.max_depth or w <= 0.0:
             continue
         x = o + d * hit.t
+        eps = geom.epsilon[hit.object]  # origin offset of the children (query.offset_epsilon)
         n_out = hit.normal
         entering = wp.dot(d, n_out) < 0.0
         nrm = n_out  # unit normal on the side the backward ray arrives from (medium A)
         obj_b = hit.object
         if not entering:
             nrm = -n_out
-            obj_b = -1
+            obj_b = geom.parent[hit.object]  # leaving a solid: into the one around it (nesting)
         med_b = ambient_med
         n_b = ambient_n
         if obj_b >= 0:
@@ -329,7 +341,7 @@ def trace_radiance(
                 n_a,
                 x,
                 geom.world_to_object[obj_f],
-                p.epsilon,
+                eps,
                 inside,
                 depth,
                 polarized,
@@ -354,7 +366,7 @@ def trace_radiance(
                     n_a,
                     n_b,
                     x,
-                    p.epsilon,
+                    eps,
                     inside,
                     obj_b,
                     depth,
@@ -368,7 +380,7 @@ def trace_radiance(
             elif not crystal:
                 # a bare interface between isotropic media: the hot path
                 cand, energies, count = backward_isotropic(
-                    cand, m, w, bx, d, n_out, nrm, n_a, n_b, x, p.epsilon, inside, obj_b, depth, polarized
+                    cand, m, w, bx, d, n_out, nrm, n_a, n_b, x, eps, inside, obj_b, depth, polarized
                 )
             else:
                 cand, energies, count = backward_crystal(
@@ -386,7 +398,7 @@ def trace_radiance(
                     n_a,
                     n_b,
                     x,
-                    p.epsilon,
+                    eps,
                     inside,
                     obj_b,
                     depth,
@@ -442,20 +454,20 @@ def default_params(
     config: TraceConfig,
     ambient=(1.0, 0.0),
     t_max: float = 1.0e6,
-    epsilon: float = 1.0e-4,
+    camera_medium: int = -1,
     rgb3: bool = False,
     device=None,
     films: FilmSurfaces | None = None,
 ) -> TraceParams:
     """TraceParams for objects with material ids, alpha multipliers and world optic axes (zero
-    rows for isotropic objects)."""
+    rows for isotropic objects); ``camera_medium``: the object the camera is inside (-1: none)."""
     p = TraceParams()
     p.max_depth = int(config.max_depth)
     p.split_threshold = float(config.split_threshold)
     p.max_splits = int(config.max_splits)
     p.rr_threshold = float(config.rr_threshold)
     p.t_max = float(t_max)
-    p.epsilon = float(epsilon)
+    p.camera_medium = int(camera_medium)
     p.ambient = wp.vec2f(*ambient)
     p.rgb3 = int(rgb3)
     p.birefringence = BIREFRINGENCE[config.birefringence]
