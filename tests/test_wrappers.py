@@ -1353,3 +1353,63 @@ def test_noise_is_deterministic_and_seeded(device, w):
     c = _call(w, values, device, seed=w.kwargs["seed"] + 1)
     assert not np.allclose(c[0], a[0])
     assert np.all(a[0] >= 0) and np.all(np.isfinite(a[0]))
+
+
+# ---------------------------------------------------------------------------------------------
+# The naming rule (README "How it is built"): every element-wise wrapper ``f`` names the
+# ``@wp.func`` it launches as ``f.wp``; a device function that would share its wrapper's name
+# carries the suffix ``_wp`` (no other suffixes: ``_func``, ``_f``).  Methods of material and
+# colour-table objects evaluate through the device-side material table / table lookup instead.
+# ---------------------------------------------------------------------------------------------
+
+
+def _public(name: str):
+    obj = wo
+    for part in name.split("[")[0].split("."):
+        obj = getattr(obj, part)
+    return obj
+
+
+_FUNCTION_WRAPPERS = sorted(
+    {w.name.split("[")[0] for w in WRAPPERS if not any(c.isupper() for c in w.name.split("[")[0])}
+)
+
+
+@pytest.mark.parametrize("name", _FUNCTION_WRAPPERS)
+def test_wrapper_names_its_device_function(name):
+    import ast
+    import inspect
+
+    fn = _public(name)
+    func = getattr(fn, "wp", None)
+    assert type(func).__name__ == "Function" and type(func).__module__.startswith("warp"), (
+        f"{name} has no .wp device function"
+    )
+    key = func.key
+    assert key != fn.__name__
+    assert not key.endswith(("_func", "_f")), key
+    # the wrapper's module launches a kernel that calls the device function it names
+    tree = ast.parse(inspect.getsource(inspect.getmodule(fn)))
+    called = {
+        ast.unparse(node.func).split(".")[-1]
+        for k in tree.body
+        if isinstance(k, ast.FunctionDef) and any("kernel" in ast.unparse(d) for d in k.decorator_list)
+        for node in ast.walk(k)
+        if isinstance(node, ast.Call)
+    }
+    assert key in called, f"no kernel of {fn.__module__} calls {key}"
+
+
+def test_no_device_function_has_an_old_suffix():
+    import ast
+    from pathlib import Path
+
+    bad = []
+    for path in Path(wo.__file__).parent.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.FunctionDef) and any(
+                "wp.func" in ast.unparse(d) for d in node.decorator_list
+            ):
+                if not node.name.startswith("_") and node.name.endswith(("_func", "_f")):
+                    bad.append(f"{path.name}:{node.name}")
+    assert not bad

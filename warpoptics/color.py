@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 import warp as wp
 
-from .device import elementwise
+from .device import device_function, elementwise
 from .errors import InputError
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -112,6 +112,7 @@ def _finite(value, name: str) -> np.ndarray:
     return a
 
 
+@device_function(gamut_clip_smits_meyer)
 def gamut_clip(xyz, max_value=1.0, *, device=None) -> np.ndarray:
     """Smits–Meyer gamut clip of XYZ colours ``(..., 3)`` -> linear sRGB in [0, max_value]."""
     (out,) = elementwise(

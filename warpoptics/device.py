@@ -38,6 +38,7 @@ __all__ = [
     "cpu_threads",
     "launch_tiled",
     "elementwise",
+    "device_function",
     "to_warp",
     "load_module",
 ]
@@ -209,6 +210,19 @@ def to_warp(value, dtype, device=None) -> wp.array:
     else:
         arr = arr.reshape(-1)
     return wp.array(arr, dtype=dtype, device=dev)
+
+
+def device_function(func):
+    """Pair a NumPy wrapper with the ``@wp.func`` it launches, as ``wrapper.wp`` (the naming rule
+    of README "How it is built": a law is one ``@wp.func`` and one wrapper, ``f`` and ``f.wp``; a
+    device function that would share its wrapper's name carries the suffix ``_wp``).  Users'
+    own kernels call ``wo.optics.fresnel.wp(cos_i, n1, n2)``; tests check the pairing."""
+
+    def mark(wrapper):
+        wrapper.wp = func
+        return wrapper
+
+    return mark
 
 
 def elementwise(

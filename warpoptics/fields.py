@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 import warp as wp
 
-from .device import elementwise
+from .device import device_function, elementwise
 from .errors import InputError
 from .validate import finite_array, number
 
@@ -23,8 +23,8 @@ wp.set_module_options({"enable_backward": False})  # no adjoint code (see device
 __all__ = [
     "turbulence",
     "turbulence_3d",
-    "oil_slick_thickness_f",
-    "soap_film_thickness_f",
+    "oil_slick_thickness_wp",
+    "soap_film_thickness_wp",
     "oil_slick_thickness",
     "soap_film_thickness",
     "turbulence_field",
@@ -61,7 +61,7 @@ def turbulence_3d(seed: int, p: wp.vec3f, octaves: int):
 
 
 @wp.func
-def oil_slick_thickness_f(x: float, y: float, k1: float, k2: float, turb: float, max_thickness_nm: float):
+def oil_slick_thickness_wp(x: float, y: float, k1: float, k2: float, turb: float, max_thickness_nm: float):
     """Oil drop on a rough surface, Smits & Meyer 1990 eq. 13 (eq. 12 for k2 = 0), in nm.
 
     t = t_max exp(-k1 (x^2 + y^2 + k2 turb(x, y))); ``turb`` is :func:`turbulence` at (x, y).
@@ -70,7 +70,7 @@ def oil_slick_thickness_f(x: float, y: float, k1: float, k2: float, turb: float,
 
 
 @wp.func
-def soap_film_thickness_f(height: float, k2: float, turb: float, max_thickness_nm: float):
+def soap_film_thickness_wp(height: float, k2: float, turb: float, max_thickness_nm: float):
     """Soap film thinning under gravity, Smits & Meyer 1990 §4.2, in nm.
 
     ``height`` runs 0 (top) to 1 (bottom); the thickness is proportional to height plus
@@ -101,9 +101,9 @@ def _thickness_field_kernel(
     i = wp.tid() + offset
     turb = turbulence(seed, x[i] * turb_scale, y[i] * turb_scale, octaves)
     if which == 0:
-        out[i] = oil_slick_thickness_f(x[i], y[i], k1, k2, turb, max_thickness_nm)
+        out[i] = oil_slick_thickness_wp(x[i], y[i], k1, k2, turb, max_thickness_nm)
     elif which == 1:
-        out[i] = soap_film_thickness_f(y[i], k2, turb, max_thickness_nm)
+        out[i] = soap_film_thickness_wp(y[i], k2, turb, max_thickness_nm)
     else:
         out[i] = turb
 
@@ -149,6 +149,7 @@ def _field(which: int, x, y, k1, k2, max_thickness_nm, seed, octaves, turb_scale
     return out
 
 
+@device_function(oil_slick_thickness_wp)
 def oil_slick_thickness(
     x,
     y,
@@ -171,6 +172,7 @@ def oil_slick_thickness(
     )
 
 
+@device_function(soap_film_thickness_wp)
 def soap_film_thickness(
     x,
     height,
@@ -199,6 +201,7 @@ def soap_film_thickness(
     )
 
 
+@device_function(turbulence)
 def turbulence_field(x, y, *, seed: int = 0, octaves: int = 6, scale: float = 1.0, device=None) -> np.ndarray:
     """Perlin turbulence (:func:`turbulence`) at (scale x, scale y)."""
     return _field(2, x, y, 0.0, 0.0, 0.0, seed, octaves, scale, device, ("x", "y", "scale"))

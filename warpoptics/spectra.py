@@ -65,7 +65,7 @@ import functools
 import numpy as np
 import warp as wp
 
-from .device import elementwise, get_device
+from .device import device_function, elementwise, get_device
 from .errors import InputError
 from .validate import finite_array
 
@@ -676,6 +676,7 @@ def light_values(spectrum, rgb, wavelength_nm, *, device=None) -> np.ndarray:
     return out
 
 
+@device_function(sample_wavelength)
 def sample_wavelengths(strategy: str, u, index, count: int, *, device=None) -> tuple[np.ndarray, np.ndarray]:
     """NumPy wrapper of :func:`sample_wavelength`: returns ``(wavelength_nm, xyz_weight)``.
 
@@ -705,6 +706,7 @@ def sample_wavelengths(strategy: str, u, index, count: int, *, device=None) -> t
     return wl, w
 
 
+@device_function(cmf_xyz)
 def cmf_device(wavelength_nm, *, device=None) -> np.ndarray:
     """NumPy wrapper of the kernel-side :func:`cmf_xyz` (normalised by integral ybar, per nm)."""
     (out,) = elementwise(

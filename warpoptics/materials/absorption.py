@@ -41,6 +41,7 @@ import numpy as np
 import warp as wp
 
 from .. import device as _device
+from ..device import device_function
 from ..errors import InputError
 from ..optics.absorption import pleochroic_kappa
 from .datasets.seed002 import GUY_SOLER_2004_ALPHA_PER_MM, GUY_SOLER_2004_GEMS
@@ -121,6 +122,7 @@ def _pleochroic_kernel(
 # ----------------------------------------------------------------------------------------------
 
 
+@device_function(pleochroic_kappa)
 def pleochroic_alpha(alpha_o, alpha_e, n_o, n_e, cos_theta, *, device=None) -> np.ndarray:
     """e-ray absorption (Guy & Soler 2004 eq. 7); the law is ``optics.absorption.pleochroic_kappa``."""
     (out,) = _device.elementwise(

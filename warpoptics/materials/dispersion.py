@@ -66,7 +66,7 @@ from .. import device as _device
 from ..errors import InputError
 from ..spectra import light_grid
 from .rgb_weights import rgb_weights
-from .units import alpha_from_k_func
+from .units import alpha_from_k_wp
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -303,7 +303,7 @@ def material_eval(table: MaterialTable, mat_id: int, wavelength_nm: float):
 
 @wp.func
 def _alpha_of(nk: wp.vec2f, wavelength_nm: float):
-    return alpha_from_k_func(nk[1], wavelength_nm)
+    return alpha_from_k_wp(nk[1], wavelength_nm)
 
 
 @wp.func

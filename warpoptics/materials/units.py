@@ -16,13 +16,16 @@ import numpy as np
 import warp as wp
 
 from .. import device as _device
+from ..device import device_function
 from ..errors import InputError
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
 __all__ = [
-    "alpha_from_k_func",
-    "k_from_alpha_func",
+    "alpha_from_k_wp",
+    "k_from_alpha_wp",
+    "alpha_from_absorbance_per_cm_wp",
+    "absorbance_per_cm_from_alpha_wp",
     "alpha_from_k",
     "k_from_alpha",
     "alpha_from_absorbance_per_cm",
@@ -34,15 +37,27 @@ __all__ = [
 
 
 @wp.func
-def alpha_from_k_func(k: float, wavelength_nm: float):
+def alpha_from_k_wp(k: float, wavelength_nm: float):
     """alpha (1/mm, base e) = 4 pi k / λ, λ in mm (Weidlich & Wilkie 2009, eq. 3)."""
     return 4.0 * wp.pi * k / (wavelength_nm * 1.0e-6)
 
 
 @wp.func
-def k_from_alpha_func(alpha_per_mm: float, wavelength_nm: float):
+def k_from_alpha_wp(alpha_per_mm: float, wavelength_nm: float):
     """k = alpha λ / (4 pi), alpha in 1/mm, λ in nm (Weidlich & Wilkie 2009, eq. 3)."""
     return alpha_per_mm * (wavelength_nm * 1.0e-6) / (4.0 * wp.pi)
+
+
+@wp.func
+def alpha_from_absorbance_per_cm_wp(absorbance_per_cm: float):
+    """alpha (1/mm, base e) = ln(10) A / 10 from a decadic absorbance A per cm."""
+    return absorbance_per_cm * wp.log(10.0) / 10.0
+
+
+@wp.func
+def absorbance_per_cm_from_alpha_wp(alpha_per_mm: float):
+    """Decadic absorbance per cm = 10 alpha / ln(10) from alpha (1/mm, base e)."""
+    return alpha_per_mm * 10.0 / wp.log(10.0)
 
 
 @wp.kernel
@@ -56,13 +71,13 @@ def _unit_kernel(
     i = wp.tid() + offset
     v = value[i]
     if mode == 0:
-        out[i] = alpha_from_k_func(v, wavelength_nm[i])
+        out[i] = alpha_from_k_wp(v, wavelength_nm[i])
     elif mode == 1:
-        out[i] = k_from_alpha_func(v, wavelength_nm[i])
+        out[i] = k_from_alpha_wp(v, wavelength_nm[i])
     elif mode == 2:
-        out[i] = v * wp.log(10.0) / 10.0  # decadic absorbance per cm -> alpha 1/mm
+        out[i] = alpha_from_absorbance_per_cm_wp(v)
     else:
-        out[i] = v * 10.0 / wp.log(10.0)  # alpha 1/mm -> decadic absorbance per cm
+        out[i] = absorbance_per_cm_from_alpha_wp(v)
 
 
 def finite_array(name: str, value) -> np.ndarray:
@@ -103,11 +118,13 @@ def _convert(value, wavelength_nm, mode: int, device=None) -> np.ndarray:
     return out
 
 
+@device_function(alpha_from_k_wp)
 def alpha_from_k(k, wavelength_nm, *, device=None) -> np.ndarray:
     """alpha (1/mm, base e) from the extinction coefficient k at λ (nm): 4 pi k / λ."""
     return _convert(nonnegative_array("k", k), wavelength_array(wavelength_nm), 0, device)
 
 
+@device_function(k_from_alpha_wp)
 def k_from_alpha(alpha_per_mm, wavelength_nm, *, device=None) -> np.ndarray:
     """Extinction coefficient k from alpha (1/mm, base e) at λ (nm): alpha λ / 4 pi."""
     return _convert(
@@ -115,12 +132,14 @@ def k_from_alpha(alpha_per_mm, wavelength_nm, *, device=None) -> np.ndarray:
     )
 
 
+@device_function(alpha_from_absorbance_per_cm_wp)
 def alpha_from_absorbance_per_cm(absorbance_per_cm, *, device=None) -> np.ndarray:
     """alpha (1/mm, base e) from decadic absorbance per cm: ln(10) A / 10."""
     a = nonnegative_array("absorbance_per_cm", absorbance_per_cm)
     return _convert(a, np.ones_like(a), 2, device)
 
 
+@device_function(absorbance_per_cm_from_alpha_wp)
 def absorbance_per_cm_from_alpha(alpha_per_mm, *, device=None) -> np.ndarray:
     """Decadic absorbance per cm from alpha (1/mm, base e): 10 alpha / ln(10)."""
     a = nonnegative_array("alpha_per_mm", alpha_per_mm)

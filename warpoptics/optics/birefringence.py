@@ -72,7 +72,7 @@ from dataclasses import dataclass
 import numpy as np
 import warp as wp
 
-from ..device import elementwise
+from ..device import device_function, elementwise
 from ..errors import InputError
 from .absorption import attenuation_oe, pleochroic_kappa
 from .fresnel import fresnel_amplitudes, reflect_direction, refract_direction
@@ -908,6 +908,7 @@ def _medium(m, name: str):
     return n, n, np.zeros(3)
 
 
+@device_function(n_e_theta)
 def extraordinary_index(cos_theta, no, ne, *, device=None) -> np.ndarray:
     """n_e(theta) for cos(theta) = wave normal . optic axis (see ``n_e_theta``)."""
     n, _, _ = _pleo(cos_theta, no, ne, 0.0, 0.0, 0.0, device)
@@ -931,6 +932,7 @@ def _pleo(cos_theta, no, ne, k_o, k_e, length, device):
     return [o.astype(np.float64) for o in outs]
 
 
+@device_function(pleochroic_kappa)
 def kappa_e(cos_theta, k_o, k_e, no, ne, *, device=None) -> np.ndarray:
     """Pleochroic absorbance of the e-ray, eq. 7: K_o cos^2 + K_e (no/ne)^2 sin^2 (cos theta =
     e wave normal . optic axis).  Same units as K_o, K_e (base e, 1/length)."""
@@ -938,6 +940,7 @@ def kappa_e(cos_theta, k_o, k_e, no, ne, *, device=None) -> np.ndarray:
     return k
 
 
+@device_function(attenuation_oe)
 def attenuation(cos_theta, k_o, k_e, no, ne, length, *, device=None) -> np.ndarray:
     """Diagonal of the o/e field attenuation matrix A(s) of eq. 11 (..., 2): exp(-kappa l/2),
     so that the intensities decay as exp(-kappa l) (eq. 6); kappa^e from eq. 7."""
@@ -966,6 +969,7 @@ def _e_dir(direction, normal, axis, n_in, no, ne, side, device, n_in_name="n1"):
     return k.astype(np.float64), ray.astype(np.float64), n.astype(np.float64)
 
 
+@device_function(extraordinary_wave)
 def refract_extraordinary(direction, normal, axis, n1, no, ne, *, return_index: bool = False, device=None):
     """Extraordinary refraction into a uniaxial crystal (Guy & Soler eq. 3; Beyerle & McDermid 1998).
 
@@ -986,6 +990,7 @@ def refract_extraordinary(direction, normal, axis, n1, no, ne, *, return_index: 
     return (k, ray, n) if return_index else (k, ray)
 
 
+@device_function(extraordinary_wave)
 def reflect_extraordinary(direction, normal, axis, n_in, no, ne, *, return_index: bool = False, device=None):
     """Extraordinary internal reflection inside a uniaxial crystal (eq. 4; Beyerle & McDermid).
 
@@ -996,6 +1001,7 @@ def reflect_extraordinary(direction, normal, axis, n_in, no, ne, *, return_index
     return (k, ray, n) if return_index else (k, ray)
 
 
+@device_function(oe_frame_x)
 def oe_polarizations(wave_normal, axis, no, ne, *, normal=(0.0, 0.0, 1.0), device=None):
     """Eq. 2 frames and eigenpolarizations for wave normals ``s`` in a uniaxial crystal.
 
@@ -1043,6 +1049,7 @@ class GeneralizedFresnelResult:
         return np.where(f_in > 0, np.abs(self.coefficients) ** 2 * self.flux[..., 1:] / safe, 0.0)
 
 
+@device_function(generalized_fresnel)
 def generalized_fresnel_coefficients(
     direction, normal, medium1, medium2, *, mode="o", device=None
 ) -> GeneralizedFresnelResult:
@@ -1093,6 +1100,7 @@ def solution_result(coef, kr, ki, er, ei, ray, flux) -> GeneralizedFresnelResult
     return GeneralizedFresnelResult(coefficients, k, e, ray3, flux.astype(np.float64), propagating)
 
 
+@device_function(interface_jones)
 def fresnel_matrices(
     direction, normal, medium1, medium2, *, approx: bool = False, n1=None, n2=None, device=None
 ) -> tuple[np.ndarray, np.ndarray]:

@@ -45,7 +45,7 @@ from __future__ import annotations
 import numpy as np
 import warp as wp
 
-from ..device import elementwise
+from ..device import device_function, elementwise
 from ..errors import InputError
 from .complex import c_abs2, c_div, c_mul, c_normal_component
 
@@ -340,6 +340,7 @@ def _run(cos_i, n1, n2, device):
     )
 
 
+@device_function(fresnel_amplitudes)
 def fresnel(cos_i, n1, n2, *, device=None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Fresnel amplitude coefficients (rs, rp, ts, tp) as complex NumPy arrays.
 
@@ -359,6 +360,7 @@ def fresnel(cos_i, n1, n2, *, device=None) -> tuple[np.ndarray, np.ndarray, np.n
     return tuple(amp[..., 2 * k] + 1j * amp[..., 2 * k + 1] for k in range(4))  # type: ignore[return-value]
 
 
+@device_function(fresnel_power_coefficients)
 def fresnel_power(cos_i, n1, n2, *, device=None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Power coefficients (Rs, Rp, Ts, Tp): reflectances and transmitted normal energy fluxes
     (valid for a non-absorbing incident medium); Rs + Ts = Rp + Tp = 1."""
@@ -377,6 +379,7 @@ def _unit3(v, name: str) -> np.ndarray:
     return a / n
 
 
+@device_function(refract_direction)
 def refract(direction, normal, n1, n2, *, device=None) -> np.ndarray:
     """Snell refraction directions (..., 3) through a surface whose ``normal`` points to the
     incident side; zero vectors under total internal reflection (see ``refract_direction``)."""
@@ -398,6 +401,7 @@ def refract(direction, normal, n1, n2, *, device=None) -> np.ndarray:
     return t.astype(np.float64)
 
 
+@device_function(reflect_direction)
 def reflect(direction, normal, *, device=None) -> np.ndarray:
     """Mirror directions (..., 3) (see ``reflect_direction``)."""
     r, _ = elementwise(

@@ -32,7 +32,7 @@ from __future__ import annotations
 import numpy as np
 import warp as wp
 
-from ..device import elementwise
+from ..device import device_function, elementwise
 from ..errors import InputError
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -436,6 +436,7 @@ def _join(re: np.ndarray, im: np.ndarray) -> np.ndarray:
     return out.reshape(*out.shape[:-1], 2, 2)
 
 
+@device_function(jones_mul)
 def jones_product(a, b, *, device=None) -> np.ndarray:
     """a @ b for (..., 2, 2) complex arrays, through ``jones_mul`` (float32)."""
     ar, ai = _split(a, "a")
@@ -449,6 +450,7 @@ def jones_product(a, b, *, device=None) -> np.ndarray:
     return _join(re, im)
 
 
+@device_function(coherency_transform)
 def coherency_apply(m, j, *, device=None) -> np.ndarray:
     """J' = M J M^dagger for (..., 2, 2) complex arrays, through ``coherency_transform``."""
     mr, mi = _split(m, "m")
@@ -462,6 +464,7 @@ def coherency_apply(m, j, *, device=None) -> np.ndarray:
     return _join(re, im)
 
 
+@device_function(stokes_from_coherency)
 def stokes(j, *, device=None) -> np.ndarray:
     """Stokes vectors (..., 4) of coherency matrices (..., 2, 2): S0 = Jxx+Jyy, S1 = Jxx-Jyy,
     S2 = 2 Re Jxy, S3 = 2 Im Jxy (S3 > 0 right-circular, Born & Wolf naming)."""
@@ -470,6 +473,7 @@ def stokes(j, *, device=None) -> np.ndarray:
     return s.astype(np.float64)
 
 
+@device_function(degree_of_polarization)
 def dop(j, *, device=None) -> np.ndarray:
     """Degree of polarization of coherency matrices (..., 2, 2), in [0, 1]."""
     jr, ji = _split(j, "j")
@@ -477,6 +481,7 @@ def dop(j, *, device=None) -> np.ndarray:
     return p.astype(np.float64)
 
 
+@device_function(coherency_from_stokes_vec)
 def coherency_from_stokes(s, *, device=None) -> np.ndarray:
     """Coherency matrices (..., 2, 2) from Stokes vectors (..., 4)."""
     re, im = elementwise(_from_stokes_kernel, [(_finite(s, "s"), wp.vec4)], [wp.vec4, wp.vec4], device=device)
@@ -492,6 +497,7 @@ def _frames(d, a, b, device):
     )
 
 
+@device_function(frame_change)
 def frame_change_matrix(direction, x_from, x_to, *, device=None) -> np.ndarray:
     """(..., 2, 2) real matrices B with B[i, k] = to_i . from_k (see ``frame_change``)."""
     m, _, _ = _frames(
@@ -500,6 +506,7 @@ def frame_change_matrix(direction, x_from, x_to, *, device=None) -> np.ndarray:
     return m.astype(np.float64).reshape(*m.shape[:-1], 2, 2)
 
 
+@device_function(s_vector)
 def s_vectors(direction, normal, *, device=None) -> np.ndarray:
     """Unit s-directions normalize(normal x direction) (see ``s_vector``)."""
     nrm = _finite(normal, "normal")
@@ -507,6 +514,7 @@ def s_vectors(direction, normal, *, device=None) -> np.ndarray:
     return s.astype(np.float64)
 
 
+@device_function(transport_basis)
 def transport_bases(x, d_old, d_new, *, device=None) -> np.ndarray:
     """Basis vectors ``x`` carried from ray direction d_old to d_new (see ``transport_basis``)."""
     _, _, t = _frames(_finite(d_old, "d_old"), _finite(x, "x"), _finite(d_new, "d_new"), device)

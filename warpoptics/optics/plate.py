@@ -54,7 +54,7 @@ import math
 import numpy as np
 import warp as wp
 
-from ..device import elementwise
+from ..device import device_function, elementwise
 from ..errors import InputError
 from .absorption import bouguer_lambert, wave_kappa
 from .biaxial import biaxial_kappa, biaxial_medium, crystal_fresnel, crystal_fresnel_both, is_biaxial
@@ -290,6 +290,7 @@ def _positive(value, name: str) -> np.ndarray:
     return a
 
 
+@device_function(slab_phase)
 def slab_phases(q, q_ref, thickness_mm, wavelength_nm, *, device=None) -> np.ndarray:
     """exp(i 2 pi (q - q_ref) d / lambda) (complex array) of :func:`slab_phase`."""
     (out,) = elementwise(
@@ -323,6 +324,7 @@ def _crystal_frame(crystal_axes) -> np.ndarray:
     return f
 
 
+@device_function(plate_mode_jones)
 def plate_jones(
     direction,
     wavelength_nm,
@@ -375,6 +377,7 @@ def plate_jones(
     return np.stack([j0, j1]), s
 
 
+@device_function(wave_plate_jones)
 def wave_plates(slow_angle_deg, retardation_nm, wavelength_nm, *, device=None) -> np.ndarray:
     """Jones matrices (..., 2, 2) complex of ideal retarders (:func:`wave_plate_jones`); the
     slow direction at ``slow_angle_deg`` degrees from x toward y."""

@@ -40,7 +40,7 @@ import math
 import numpy as np
 import warp as wp
 
-from ..device import elementwise
+from ..device import device_function, elementwise
 from ..errors import InputError
 from .jones import Jones, coherency_from_stokes_vec, coherency_unpolarized
 
@@ -162,6 +162,7 @@ def _finite(value, name: str) -> np.ndarray:
     return a
 
 
+@device_function(mueller_linear_polarizer)
 def mueller_polarizer(angle_deg, *, device=None) -> np.ndarray:
     """Mueller matrices (..., 4, 4) of ideal linear polarizers at ``angle_deg`` (degrees)."""
     theta = np.radians(_finite(angle_deg, "angle_deg").astype(np.float64))
@@ -169,6 +170,7 @@ def mueller_polarizer(angle_deg, *, device=None) -> np.ndarray:
     return np.asarray(m, dtype=np.float64).reshape(*theta.shape, 4, 4)
 
 
+@device_function(polarizer_stokes)
 def analyze(stokes, angle_deg, *, device=None) -> np.ndarray:
     """Stokes vectors (..., 4) after an ideal linear analyzer with its transmission axis at
     ``angle_deg`` (degrees from x toward y; broadcasts against ``stokes[..., 0]``).  Float64 in
@@ -183,6 +185,7 @@ def analyze(stokes, angle_deg, *, device=None) -> np.ndarray:
     return out
 
 
+@device_function(sheet_polarizer_coherency)
 def sheet_polarizer_stokes(absorb_axis, k, basis_x, *, device=None) -> np.ndarray:
     """Stokes vectors (..., 4) in the frame (basis_x, k x basis_x) of unit-intensity unpolarized
     light after an ideal sheet with absorbing axis ``absorb_axis`` (see

@@ -49,9 +49,9 @@ from typing import Any
 import numpy as np
 import warp as wp
 
-from ..device import elementwise, get_device
+from ..device import device_function, elementwise, get_device
 from ..errors import InputError
-from ..fields import oil_slick_thickness_f, soap_film_thickness_f, turbulence, turbulence_3d
+from ..fields import oil_slick_thickness_wp, soap_film_thickness_wp, turbulence, turbulence_3d
 from ..materials.dispersion import Biaxial, MaterialTable, material_eval
 from ..optics.branches import Cand, add_child
 from ..optics.interface import backward_coated, child_of
@@ -147,9 +147,9 @@ def film_thickness_nm(fs: FilmSurfaces, obj: int, xl: wp.vec3f):
 
     Uniform: the coating's own total.  Gravity (Smits & Meyer 1990 §4.2): h = normalised depth
     below the top of the object (0 top, 1 bottom), t = top + (bottom - top) max(h + k2 turb, 0)
-    (``soap_film_thickness_f``), turbulence in 3-D at frequency f per half size.  Oil drop
+    (``soap_film_thickness_wp``), turbulence in 3-D at frequency f per half size.  Oil drop
     (eq. 13): (u, v) = (x, y) / half size, t = t_max exp(-k1 (u^2 + v^2 + k2 turb(f u, f v)))
-    (``oil_slick_thickness_f``)."""
+    (``oil_slick_thickness_wp``)."""
     prof = fs.profile[obj]
     t = fs.nominal_nm[obj]
     if prof == PROFILE_GRAVITY:
@@ -158,7 +158,7 @@ def film_thickness_nm(fs: FilmSurfaces, obj: int, xl: wp.vec3f):
         sd = fs.profile_seed[obj]
         h = wp.clamp((fr[1] - xl[2]) / wp.max(fr[1] - fr[0], 1.0e-12), 0.0, 1.0)
         turb = turbulence_3d(sd[0], xl * (a[3] / wp.max(fr[2], 1.0e-12)), sd[1])
-        t = a[0] + soap_film_thickness_f(h, a[2], turb, a[1] - a[0])
+        t = a[0] + soap_film_thickness_wp(h, a[2], turb, a[1] - a[0])
     elif prof == PROFILE_OIL:
         a = fs.profile_a[obj]
         fr = fs.frame[obj]
@@ -166,7 +166,7 @@ def film_thickness_nm(fs: FilmSurfaces, obj: int, xl: wp.vec3f):
         u = xl[0] / wp.max(fr[2], 1.0e-12)
         v = xl[1] / wp.max(fr[2], 1.0e-12)
         turb = turbulence(sd[0], u * a[3], v * a[3], sd[1])
-        t = oil_slick_thickness_f(u, v, a[1], a[2], turb, a[0])
+        t = oil_slick_thickness_wp(u, v, a[1], a[2], turb, a[0])
     return wp.max(t, 0.0)
 
 
@@ -586,6 +586,7 @@ def build_film_surfaces(films, shapes, meshes, mats, *, file: str | None = None,
 # ---------------------------------------------------------------------------------------------
 
 
+@device_function(film_surface_children)
 def film_event(
     config: FilmConfig,
     direction,
@@ -646,6 +647,7 @@ def film_event(
     return {"count": count, "energy": energy, "direction": np.stack([d0, d1], axis=-2), "jones": jones}
 
 
+@device_function(film_thickness_nm)
 def film_thickness(config: FilmConfig, position, *, frame=(0.0, 1.0, 1.0), device=None) -> np.ndarray:
     """Film thickness (nm) of :func:`film_thickness_nm` at object-space points (..., 3), mm."""
     dev = get_device(device)

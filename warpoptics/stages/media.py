@@ -23,7 +23,7 @@ from __future__ import annotations
 import warp as wp
 
 from ..materials.dispersion import MaterialTable, material_eval_beta, material_optics
-from ..materials.units import alpha_from_k_func
+from ..materials.units import alpha_from_k_wp
 from ..optics.absorption import wave_kappa
 from ..optics.biaxial import biaxial_kappa, biaxial_medium, is_biaxial
 from ..optics.birefringence import UniaxialMedium, uniaxial_medium
@@ -41,7 +41,7 @@ def object_medium(mats: MaterialTable, mat_id: int, axis: wp.vec3f, wavelength: 
     no, ne, alpha = material_optics(mats, mat_id, wavelength)
     if mats.beta_channel[mat_id] >= 0:
         nb = material_eval_beta(mats, mat_id, wavelength)
-        a_y = alpha_from_k_func(nb[1], wp.max(wavelength, 1.0e-3))
+        a_y = alpha_from_k_wp(nb[1], wp.max(wavelength, 1.0e-3))
         med = biaxial_medium(no[0], nb[0], ne[0], mats.crystal_frame[mat_id], a_y)
         return med, no, ne, alpha
     ax = wp.vec3f(0.0, 0.0, 0.0)

@@ -68,7 +68,7 @@ from pathlib import Path
 import numpy as np
 import warp as wp
 
-from ..device import elementwise, get_device
+from ..device import device_function, elementwise, get_device
 from ..errors import InputError
 from ..geometry.query import (
     RayHit,
@@ -957,6 +957,7 @@ def _reflectance_kernel(
 # Python side
 
 
+@device_function(bsdf_eval)
 def bsdf_values(kind: str, albedo, roughness, ior, normal, wo, wi, *, device=None):
     """NumPy wrapper of :func:`bsdf_eval` and :func:`bsdf_pdf`: returns (f, pdf), broadcast."""
     k = BSDF_KINDS[choice(kind, BSDF_KINDS, field="kind")]
@@ -977,6 +978,7 @@ def bsdf_values(kind: str, albedo, roughness, ior, normal, wo, wi, *, device=Non
     return f, pdf
 
 
+@device_function(reflectance_value)
 def reflectance_spectrum(rgb, wavelength_nm, *, device=None) -> np.ndarray:
     """NumPy wrapper of :func:`reflectance_value`: reflectance of linear-sRGB albedos at λ (nm)."""
     (out,) = elementwise(

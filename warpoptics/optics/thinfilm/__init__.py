@@ -62,15 +62,15 @@ from __future__ import annotations
 
 from .smits_meyer import (
     smits_meyer_effective_thickness,
-    smits_meyer_effective_thickness_f,
+    smits_meyer_effective_thickness_wp,
     smits_meyer_film,
     smits_meyer_film_reflectance,
     smits_meyer_morpho_thickness,
-    smits_meyer_morpho_thickness_f,
+    smits_meyer_morpho_thickness_wp,
     smits_meyer_multilayer,
     smits_meyer_multilayer_intensity,
     smits_meyer_optical_thickness,
-    smits_meyer_optical_thickness_f,
+    smits_meyer_optical_thickness_wp,
 )
 from .stack import (
     CoatingStack,
@@ -105,9 +105,9 @@ __all__ = [
     "coating_amplitudes",
     "coating_amplitudes_scaled",
     "smits_meyer_film_reflectance",
-    "smits_meyer_optical_thickness_f",
-    "smits_meyer_effective_thickness_f",
-    "smits_meyer_morpho_thickness_f",
+    "smits_meyer_optical_thickness_wp",
+    "smits_meyer_effective_thickness_wp",
+    "smits_meyer_morpho_thickness_wp",
     "smits_meyer_multilayer_intensity",
     "make_coating_stack",
     "amplitudes",

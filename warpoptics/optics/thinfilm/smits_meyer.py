@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 import warp as wp
 
-from ...device import elementwise
+from ...device import device_function, elementwise
 from ...errors import InputError
 from ...validate import finite_array
 from .inputs import cos_angle, positive
@@ -24,9 +24,9 @@ wp.set_module_options({"enable_backward": False})  # no adjoint code (see device
 
 __all__ = [
     "smits_meyer_film_reflectance",
-    "smits_meyer_optical_thickness_f",
-    "smits_meyer_effective_thickness_f",
-    "smits_meyer_morpho_thickness_f",
+    "smits_meyer_optical_thickness_wp",
+    "smits_meyer_effective_thickness_wp",
+    "smits_meyer_morpho_thickness_wp",
     "smits_meyer_multilayer_intensity",
     "smits_meyer_film",
     "smits_meyer_optical_thickness",
@@ -53,19 +53,19 @@ def smits_meyer_film_reflectance(
 
 
 @wp.func
-def smits_meyer_optical_thickness_f(thickness_nm: float, n: float, cos_theta: float):
+def smits_meyer_optical_thickness_wp(thickness_nm: float, n: float, cos_theta: float):
     """Optical thickness t' = t n cos(theta), Smits & Meyer 1990 eq. 11 (nm)."""
     return thickness_nm * n * cos_theta
 
 
 @wp.func
-def smits_meyer_effective_thickness_f(thickness_nm: float, n: float, sin_theta: float):
+def smits_meyer_effective_thickness_wp(thickness_nm: float, n: float, sin_theta: float):
     """Effective thickness t_theta = t (n^2 - sin^2 theta)^(1/2), Smits & Meyer 1990 eq. 10 (nm)."""
     return thickness_nm * wp.sqrt(wp.max(n * n - sin_theta * sin_theta, 0.0))
 
 
 @wp.func
-def smits_meyer_morpho_thickness_f(d1_nm: float, d2_nm: float, n: float, cos_theta: float):
+def smits_meyer_morpho_thickness_wp(d1_nm: float, d2_nm: float, n: float, cos_theta: float):
     """Morpho period t_theta = d1 cos(theta) + d2 (n^2 - sin^2 theta)^(1/2), eq. 14 (nm).
 
     d1 is the air spacing between the mullions, d2 their thickness, n their index.
@@ -127,11 +127,11 @@ def _sm_thickness_kernel(
     i = wp.tid() + offset
     c = cos_theta[i]
     if rule == 11:
-        out[i] = smits_meyer_optical_thickness_f(d1_nm[i], n[i], c)
+        out[i] = smits_meyer_optical_thickness_wp(d1_nm[i], n[i], c)
     elif rule == 10:
-        out[i] = smits_meyer_effective_thickness_f(d1_nm[i], n[i], wp.sqrt(wp.max(1.0 - c * c, 0.0)))
+        out[i] = smits_meyer_effective_thickness_wp(d1_nm[i], n[i], wp.sqrt(wp.max(1.0 - c * c, 0.0)))
     else:
-        out[i] = smits_meyer_morpho_thickness_f(d1_nm[i], d2_nm[i], n[i], c)
+        out[i] = smits_meyer_morpho_thickness_wp(d1_nm[i], d2_nm[i], n[i], c)
 
 
 @wp.kernel
@@ -152,6 +152,7 @@ def _sm_multilayer_kernel(
 # ---------------------------------------------------------------------------------------------
 
 
+@device_function(smits_meyer_film_reflectance)
 def smits_meyer_film(
     wavelength_nm, optical_thickness_nm, phase_change: bool = True, K=1.0, *, device=None
 ) -> np.ndarray:
@@ -192,6 +193,7 @@ def _thickness_rule(rule: int, d1, d2, n, angle, device, d1_name: str = "thickne
     return out
 
 
+@device_function(smits_meyer_optical_thickness_wp)
 def smits_meyer_optical_thickness(thickness_nm, n=1.0, angle=0.0, *, device=None) -> np.ndarray:
     """Optical thickness t' = t n cos(theta), Smits & Meyer 1990 eq. 11 (nm); ``angle`` in degrees.
 
@@ -201,16 +203,19 @@ def smits_meyer_optical_thickness(thickness_nm, n=1.0, angle=0.0, *, device=None
     return _thickness_rule(11, thickness_nm, 0.0, n, angle, device)
 
 
+@device_function(smits_meyer_effective_thickness_wp)
 def smits_meyer_effective_thickness(thickness_nm, n, angle=0.0, *, device=None) -> np.ndarray:
     """Effective thickness t (n^2 - sin^2 theta)^(1/2), Smits & Meyer 1990 eq. 10 (nm)."""
     return _thickness_rule(10, thickness_nm, 0.0, n, angle, device)
 
 
+@device_function(smits_meyer_morpho_thickness_wp)
 def smits_meyer_morpho_thickness(d1_nm, d2_nm, n, angle=0.0, *, device=None) -> np.ndarray:
     """Morpho period d1 cos(theta) + d2 (n^2 - sin^2 theta)^(1/2), Smits & Meyer 1990 eq. 14 (nm)."""
     return _thickness_rule(14, d1_nm, d2_nm, n, angle, device, "d1_nm")
 
 
+@device_function(smits_meyer_multilayer_intensity)
 def smits_meyer_multilayer(
     wavelength_nm, effective_thickness_nm, layers, A0=1.0, *, device=None
 ) -> np.ndarray:

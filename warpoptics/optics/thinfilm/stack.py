@@ -42,7 +42,7 @@ from __future__ import annotations
 import numpy as np
 import warp as wp
 
-from ...device import elementwise, get_device
+from ...device import device_function, elementwise, get_device
 from ...errors import InputError
 from ..complex import c_abs2, c_div, c_exp, c_mul, c_normal_component
 from ..fresnel import flux_transmittance, p_normal_flux
@@ -521,6 +521,7 @@ def _run_stack(wavelength_nm, n_layers, thickness_nm, n_incident, n_substrate, a
     return amps, outs[4]
 
 
+@device_function(stack_amplitudes)
 def amplitudes(
     wavelength_nm,
     n_layers,
@@ -575,6 +576,7 @@ def _select(power: np.ndarray, polarization: str, offset: int) -> np.ndarray:
     )
 
 
+@device_function(stack_power)
 def reflectance(
     wavelength_nm,
     n_layers,
@@ -599,6 +601,7 @@ def reflectance(
     return _select(power, polarization, 0)
 
 
+@device_function(stack_power)
 def transmittance(
     wavelength_nm,
     n_layers,
@@ -620,6 +623,7 @@ def transmittance(
     return _select(power, polarization, 2)
 
 
+@device_function(coating_amplitudes)
 def evaluate_coating(
     stack: CoatingStack,
     coating,

@@ -27,7 +27,7 @@ from ...spectra import ILLUMINANTS, SpectralTables, cmf_xyz, illuminant_value, s
 from ...validate import finite_array
 from .smits_meyer import (
     smits_meyer_film_reflectance,
-    smits_meyer_morpho_thickness_f,
+    smits_meyer_morpho_thickness_wp,
     smits_meyer_multilayer_intensity,
 )
 from .stack import CoatingStack, make_coating_stack, stack_amplitudes, stack_power
@@ -86,7 +86,7 @@ def table_spectral_reflectance(m: TableModel, entry: int, axis_value: float, wav
         return smits_meyer_film_reflectance(wavelength_nm, axis_value, m.phase, m.K)
     cos_t = wp.cos(wp.radians(axis_value))
     if m.model == TABLE_SMITS_MEYER_MULTILAYER:
-        t = smits_meyer_morpho_thickness_f(m.d1_nm, m.d2_nm, m.n_layer, cos_t)
+        t = smits_meyer_morpho_thickness_wp(m.d1_nm, m.d2_nm, m.n_layer, cos_t)
         return smits_meyer_multilayer_intensity(wavelength_nm, t, m.layers, m.A0)
     coating = entry
     c = wp.float64(1.0)
