@@ -193,6 +193,40 @@ def _display(xyz: np.ndarray, exposure: float) -> tuple[np.ndarray, np.ndarray]:
     return rgb, np.asarray(encode_srgb(rgb))
 
 
+def _orientation(material, optic_axis, crystal_axes) -> dict:
+    """The orientation keyword of a plate: its optic axis, or a biaxial crystal's axes."""
+    return {"crystal_axes": crystal_axes} if isinstance(material, Biaxial) else {"optic_axis": optic_axis}
+
+
+def _through_plate(
+    material,
+    k,
+    thickness_mm,
+    wavelength_nm,
+    optic_axis,
+    crystal_axes,
+    polarizer_deg,
+    analyzer_deg,
+    accessory_nm,
+    accessory_deg,
+    n_ambient,
+    device,
+):
+    """(coherent, incoherent) intensities of a plate of ``material`` (oriented by ``optic_axis``,
+    or ``crystal_axes`` for a biaxial one) between the polarizers, per direction x wavelength."""
+    n3, a3, frame = plate_optics(material, wavelength_nm, **_orientation(material, optic_axis, crystal_axes))
+    cfg = PolariscopeConfig(
+        polarizer_deg=polarizer_deg,
+        analyzer_deg=analyzer_deg,
+        n_ambient=n_ambient,
+        accessory_nm=accessory_nm,
+        accessory_deg=accessory_deg,
+    )
+    return plate_between_polarizers(
+        k, thickness_mm, wavelength_nm, n3, crystal_frame=frame, alpha=a3, config=cfg, device=device
+    )
+
+
 def interference_colour(
     material: Material,
     thickness_mm: float,
@@ -214,19 +248,19 @@ def interference_colour(
     if not (isinstance(thickness_mm, (int, float)) and np.isfinite(thickness_mm) and thickness_mm >= 0):
         raise InputError("must be a number >= 0", field="thickness_mm", value=thickness_mm, allowed=">= 0")
     lam = _colour_grid(step_nm)
-    orient = (
-        {"optic_axis": optic_axis} if not isinstance(material, Biaxial) else {"crystal_axes": crystal_axes}
-    )
-    n3, a3, frame = plate_optics(material, lam, **orient)
-    cfg = PolariscopeConfig(
-        polarizer_deg=polarizer_deg,
-        analyzer_deg=analyzer_deg,
-        n_ambient=n_ambient,
-        accessory_nm=accessory_nm,
-        accessory_deg=accessory_deg,
-    )
-    coh, inc = plate_between_polarizers(
-        [[0.0, 0.0, 1.0]], thickness_mm, lam, n3, crystal_frame=frame, alpha=a3, config=cfg, device=device
+    coh, inc = _through_plate(
+        material,
+        [[0.0, 0.0, 1.0]],
+        thickness_mm,
+        lam,
+        optic_axis,
+        crystal_axes,
+        polarizer_deg,
+        analyzer_deg,
+        accessory_nm,
+        accessory_deg,
+        n_ambient,
+        device,
     )
     xyz = _xyz(lam, coh[0], illuminant)
     _, srgb = _display(xyz, exposure)
@@ -237,7 +271,12 @@ def interference_colour(
         xyz=xyz,
         lab=xyz_to_lab(xyz),
         srgb=srgb,
-        retardation_nm=plate_retardation(material, thickness_mm, wavelength_nm=reference_nm, **orient),
+        retardation_nm=plate_retardation(
+            material,
+            thickness_mm,
+            wavelength_nm=reference_nm,
+            **_orientation(material, optic_axis, crystal_axes),
+        ),
         reference_nm=float(reference_nm),
         exposure=float(exposure),
     )
@@ -331,19 +370,19 @@ def conoscope_profile(
     psi = np.radians(azimuth_deg)
     xy = np.stack([r * np.cos(psi), r * np.sin(psi)], axis=-1)
     k = _cone_directions(xy, numerical_aperture, n_ambient)
-    orient = (
-        {"optic_axis": optic_axis} if not isinstance(material, Biaxial) else {"crystal_axes": crystal_axes}
-    )
-    n3, a3, frame = plate_optics(material, wavelength_nm, **orient)
-    cfg = PolariscopeConfig(
-        polarizer_deg=polarizer_deg,
-        analyzer_deg=analyzer_deg,
-        n_ambient=n_ambient,
-        accessory_nm=accessory_nm,
-        accessory_deg=accessory_deg,
-    )
-    coh, _ = plate_between_polarizers(
-        k, thickness_mm, [wavelength_nm], n3, crystal_frame=frame, alpha=a3, config=cfg, device=device
+    coh, _ = _through_plate(
+        material,
+        k,
+        thickness_mm,
+        [wavelength_nm],
+        optic_axis,
+        crystal_axes,
+        polarizer_deg,
+        analyzer_deg,
+        accessory_nm,
+        accessory_deg,
+        n_ambient,
+        device,
     )
     return coh[:, 0]
 
@@ -378,19 +417,19 @@ def conoscopic_figure(
     pupil = xx**2 + yy**2 <= 1.0
     k = _cone_directions(np.stack([xx[pupil], yy[pupil]], axis=-1), numerical_aperture, n_ambient)
     lam = np.array([float(wavelength_nm)]) if wavelength_nm is not None else _colour_grid(step_nm)
-    orient = (
-        {"optic_axis": optic_axis} if not isinstance(material, Biaxial) else {"crystal_axes": crystal_axes}
-    )
-    n3, a3, frame = plate_optics(material, lam, **orient)
-    cfg = PolariscopeConfig(
-        polarizer_deg=polarizer_deg,
-        analyzer_deg=analyzer_deg,
-        n_ambient=n_ambient,
-        accessory_nm=accessory_nm,
-        accessory_deg=accessory_deg,
-    )
-    coh, _ = plate_between_polarizers(
-        k, thickness_mm, lam, n3, crystal_frame=frame, alpha=a3, config=cfg, device=device
+    coh, _ = _through_plate(
+        material,
+        k,
+        thickness_mm,
+        lam,
+        optic_axis,
+        crystal_axes,
+        polarizer_deg,
+        analyzer_deg,
+        accessory_nm,
+        accessory_deg,
+        n_ambient,
+        device,
     )
     if wavelength_nm is not None:
         img = np.zeros((size, size))
