@@ -39,7 +39,8 @@ from ..spectra import grid as spectral_grid
 from ..stages.bundle import LaneWavelengths, LaneWeights, bundle_applies, trace_bundle
 from ..stages.camera import Camera, CameraParams, camera_ray
 from ..stages.coated import build_film_surfaces
-from ..stages.environment import Environment, EnvironmentLight, spectral_response
+from ..stages.coherence import direction_tolerance
+from ..stages.environment import ENV_KINDS, Environment, EnvironmentLight, spectral_response
 from ..stages.surfaces import Surfaces, SurfaceStage
 from ..stages.trace import TraceConfig, TraceParams, default_params, trace_radiance
 from .adaptive import allocate
@@ -421,6 +422,10 @@ class Renderer:
             rr_threshold=r.rr_threshold,
             polarized=r.polarization,
             birefringence=r.birefringence,
+            coherence_width_mm=r.coherence_width_mm,
+            coherence_cos=direction_tolerance(
+                self.environment.struct.height if self.environment.struct.kind == ENV_KINDS["latlong"] else 0
+            ),
         )
         self.trace_params = default_params(
             np.asarray(ids, dtype=np.int32),
@@ -453,6 +458,8 @@ class Renderer:
             # surfaces and lamps: spectral albedos, one random path per wavelength
             and not scene.surfaces
             and not scene.lamps
+            # coherent mode: the optical phases depend on the wavelength
+            and r.birefringence != "coherent"
         )
         film.shared = 1 if self.shared_spectrum else 0
         # a dispersive (or absorbing) scene of isotropic, uncoated stones in an environment light
@@ -460,7 +467,10 @@ class Renderer:
         # (stages/bundle.py); `spectral_bundle=False` or `render.bundle = false` traces a tree
         # per wavelength
         self.spectral_bundle = (
-            not self.shared_spectrum and spectral_bundle is not False and bundle_applies(scene, built)
+            not self.shared_spectrum
+            and spectral_bundle is not False
+            and r.birefringence != "coherent"  # the bundle tracer carries no phases
+            and bundle_applies(scene, built)
         )
         film.bundle = 1 if self.spectral_bundle else 0
         film.groups = -(-film.count // r.bundle_lanes) if self.spectral_bundle else 1
