@@ -58,7 +58,6 @@ from ..optics.jones import (
     jones_mul,
     jones_real,
     jones_scale,
-    jones_zero,
 )
 from ..optics.plate import slab_phase
 from ..optics.polarizer import sheet_polarizer_coherency
@@ -237,4 +236,3 @@ def coherent_flush(
             k_unit = coherency_transform(mg, sheet_polarizer_coherency(polarizer, ki, bi, 1.0))
             acc_x, acc_y, acc_z = _add_xyz(acc_x, acc_y, acc_z, k_unit, _vec(buf, i, _C_XYZ))
     return acc_x, acc_y, acc_z
-

@@ -72,8 +72,8 @@ from ..optics.jones import (
 )
 from ..optics.polarizer import sheet_polarizer_coherency
 from ..spectra import SpectralTables
-from .coherence import DEFAULT_COHERENCE_WIDTH_MM, LeafBuffer, coherent_flush, coherent_leaf, segment_phase
 from .coated import KIND_COATED, FilmSurfaces, coating_at, empty_film_surfaces, film_surface_children
+from .coherence import DEFAULT_COHERENCE_WIDTH_MM, LeafBuffer, coherent_flush, coherent_leaf, segment_phase
 from .environment import Environment, environment_coefficients
 from .media import object_medium, segment_kappa
 from .surfaces import Surfaces, surface_radiance, surfaces_closest_hit
