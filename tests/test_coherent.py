@@ -187,7 +187,7 @@ def _assert_psd(img) -> None:
 
 
 def test_thick_tourmaline_coherent_matches_exact_within_noise(device):
-    """(b) scenes/tourmaline_polariscope.toml (an 8 x 6 mm step-cut tourmaline, ~5 mm deep) in
+    """(b) scenes/tourmaline_polariscope.toml (the 8 x 6 mm step-cut tourmaline) in
     white D65: over the spectrum the phase differences of the coherently added leaves (here
     every leaf pair within 0.1 mm, a 100x wider coherence width than the default, so that
     coherent sums really happen) average out.  Per-pixel crossed-polarizer Y of three seeds per
@@ -245,3 +245,12 @@ def test_white_furnace_coherent(device, material):
     print(f"furnace coherent {material}: Y/Y0 min {ratio.min():.4f} max {ratio.max():.4f}")
     assert ratio.min() > 0.998 and ratio.max() < 1.002
     _assert_psd(img)
+
+
+def test_coherence_width_is_validated():
+    from warpoptics.errors import InputError
+
+    sc = _plate_scene(0.03, 45.0, "coherent")
+    with pytest.raises(InputError, match="coherence_width_mm"):
+        sc.with_overrides({"render.coherence_width_mm": -1.0})
+    assert sc.render.coherence_width_mm == 0.001  # the default (stages/coherence.py)

@@ -36,10 +36,14 @@ gives 0.019 mm, a stopped-down microscope condenser (alpha ~ 0.01-0.05) 0.002-0.
 Leaf buffer.  The leaves of a primary ray wait in a per-thread buffer of ``LEAVES`` rows, flushed
 at the end of ``trace_radiance``; a leaf that finds the buffer full is added incoherently at once
 (documented overflow: it loses only its interference with the others).  The cross terms are
-weighted sqrt(w_i w_j): exact for deterministically split branches; a branch continued
-stochastically (weight 1/probability, below ``split_threshold``) interferes with that weight,
-which keeps each leaf's own term unbiased but not the cross term's variance.  Scalar renders
-(``polarization = false``) have no amplitudes and ignore the mode.
+weighted sqrt(w_i w_j): exact for deterministically split branches.  A branch continued
+stochastically (below ``split_threshold``, weight 1/probability) keeps its own term unbiased, but
+its cross terms carry sqrt(1/probability): an approximation, on branches of < 0.2 % of the
+pixel's energy.  Leaves that end on
+an opaque surface or a lamp (``stages/surfaces.py``, extended incoherent sources) stay incoherent.
+Scalar renders (``polarization = false``) have no amplitudes and ignore the mode; the spectral
+bundle and shared-spectrum paths are turned off in this mode (the phases depend on the
+wavelength: one tree per wavelength sample, ``pipelines/render.py``).
 """
 
 from __future__ import annotations
