@@ -40,7 +40,8 @@ from ..spectra import grid as spectral_grid
 from ..stages.bundle import LaneWavelengths, LaneWeights, bundle_applies, trace_bundle
 from ..stages.camera import Camera, CameraParams, camera_ray
 from ..stages.coated import build_film_surfaces
-from ..stages.environment import Environment, EnvironmentLight, spectral_response
+from ..stages.coherence import direction_tolerance
+from ..stages.environment import ENV_KINDS, Environment, EnvironmentLight, spectral_response
 from ..stages.surfaces import Surfaces, SurfaceStage
 from ..stages.trace import TraceConfig, TraceParams, default_params, trace_radiance
 from .adaptive import allocate
@@ -422,6 +423,10 @@ class Renderer:
             rr_threshold=r.rr_threshold,
             polarized=r.polarization,
             birefringence=r.birefringence,
+            coherence_width_mm=r.coherence_width_mm,
+            coherence_cos=direction_tolerance(
+                self.environment.struct.height if self.environment.struct.kind == ENV_KINDS["latlong"] else 0
+            ),
         )
         # a camera inside a solid (in water, in a glass) starts its rays in that medium
         self._nesting = (meshes, built.parents)
@@ -459,6 +464,8 @@ class Renderer:
             # surfaces and lamps: spectral albedos, one random path per wavelength
             and not scene.surfaces
             and not scene.lamps
+            # coherent mode: the optical phases depend on the wavelength
+            and r.birefringence != "coherent"
         )
         film.shared = 1 if self.shared_spectrum else 0
         # a dispersive (or absorbing) scene of isotropic, uncoated stones in an environment light
@@ -468,6 +475,7 @@ class Renderer:
         self.spectral_bundle = (
             not self.shared_spectrum
             and spectral_bundle is not False
+            and r.birefringence != "coherent"  # the bundle tracer carries no phases
             and bundle_applies(scene, built)
             and self.camera_medium < 0  # bundles start in the ambient medium
         )

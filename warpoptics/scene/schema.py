@@ -21,6 +21,7 @@ from .. import validate as val
 from ..errors import InputError
 from ..film.views import parse_view
 from ..geometry import cuts
+from ..stages.coherence import DEFAULT_COHERENCE_WIDTH_MM
 from ..stages.environment import LATLONG_CONVENTIONS, EnvironmentConfig
 from ..stages.surfaces import BSDF_KINDS, LAMP_KINDS, MIS_MODES, LampConfig, SurfaceConfig
 from .coating import film_config
@@ -40,7 +41,7 @@ __all__ = [
 ]
 
 SPECTRAL_MODES = ("rgb3", "uniform", "importance", "stratified")
-BIREFRINGENCE_MODES = ("exact", "approx")
+BIREFRINGENCE_MODES = ("exact", "approx", "coherent")
 TONE_CURVES = ("filmic", "reinhard", "clip")
 MIS_CHOICES = tuple(MIS_MODES)
 # the largest light tint (a factor on radiance, itself <= 1e12): products stay inside float32
@@ -55,6 +56,9 @@ class RenderConfig:
     wavelengths: int = 45
     polarization: bool = True
     birefringence: str = "exact"
+    # coherent mode: leaves closer than this across their direction add as amplitudes (mm; the
+    # default and its source: stages/coherence.py)
+    coherence_width_mm: float = DEFAULT_COHERENCE_WIDTH_MM
     max_depth: int = 12
     spp: int = 1
     seed: int = 0
@@ -110,6 +114,7 @@ class RenderConfig:
             ("rr_threshold", 0.0, 1.0),
             ("exposure", -40.0, 40.0),
             ("ambient_index", 1.0, 10.0),
+            ("coherence_width_mm", 0.0, 1.0e3),
         ):
             val.number(getattr(self, k), file=file, field=f(k), lo=flo, hi=fhi)
         if self.adaptive and not 2 <= self.pilot < self.spp:

@@ -81,6 +81,7 @@ from ..optics.jones import (
 from ..optics.polarizer import sheet_polarizer_coherency
 from ..spectra import SpectralTables
 from .coated import KIND_COATED, FilmSurfaces, coating_at, empty_film_surfaces, film_surface_children
+from .coherence import DEFAULT_COHERENCE_WIDTH_MM, LeafBuffer, coherent_flush, coherent_leaf, segment_phase
 from .environment import Environment, environment_coefficients
 from .media import object_medium, segment_kappa
 from .surfaces import Surfaces, surface_radiance, surfaces_closest_hit
@@ -95,7 +96,8 @@ __all__ = [
     "BIREFRINGENCE",
 ]
 
-BIREFRINGENCE = {"exact": 0, "approx": 1}
+# "coherent": the exact events, with optical phases and the coherent leaf addition (stages/coherence.py)
+BIREFRINGENCE = {"exact": 0, "approx": 1, "coherent": 0}
 # stack rows in the ambient medium that leave the surface of solid k store inside = _LEFT - k
 _LEFT = wp.constant(-2)
 
@@ -117,6 +119,9 @@ class TraceParams:
     object_absorption_scale: wp.array(dtype=wp.float32)  # multiplier of alpha per object
     object_axis: wp.array(dtype=wp.vec3f)  # optic axis in world space; zero: isotropic
     films: FilmSurfaces  # per-object coatings, thin shells, film surfaces (stages/coated.py)
+    coherent: int  # 1: render.birefringence = "coherent" (stages/coherence.py)
+    coherence_width: float  # mm: leaves closer than this across their direction add as amplitudes
+    coherence_cos: float  # ... if the cosine between their directions is at least this
 
 
 @dataclass(frozen=True)
@@ -129,6 +134,8 @@ class TraceConfig:
     rr_threshold: float = 1.0e-4
     polarized: bool = True
     birefringence: str = "exact"
+    coherence_width_mm: float = DEFAULT_COHERENCE_WIDTH_MM
+    coherence_cos: float = 1.0
 
     def __post_init__(self) -> None:
         val.integer(self.max_depth, field="render.max_depth", lo=0, hi=256)
@@ -137,6 +144,8 @@ class TraceConfig:
         val.number(self.rr_threshold, field="render.rr_threshold", lo=0.0, hi=1.0)
         val.boolean(self.polarized, field="render.polarization")
         val.choice(self.birefringence, tuple(BIREFRINGENCE), field="render.birefringence")
+        val.number(self.coherence_width_mm, field="render.coherence_width_mm", lo=0.0, hi=1.0e3)
+        val.number(self.coherence_cos, field="coherence_cos", lo=-1.0, hi=1.0)
 
 
 @wp.func
@@ -213,6 +222,8 @@ def trace_radiance(
     ch3 = int(-1)  # rgb3 mode: the channel's eq. 9 absorbances (segments and shadow rays)
     if p.rgb3 != 0:
         ch3 = wp.clamp(channel, 0, 2)
+    leaves = LeafBuffer()  # coherent mode: the leaves of this primary ray (stages/coherence.py)
+    n_leaves = int(0)
     while n > 0:
         n -= 1
         # read the row inline (a wp.func argument is a by-value copy of the whole stack)
@@ -274,8 +285,14 @@ def trace_radiance(
                 if polarized != 0:
                     # polarized illumination hook (polariscope): the light behind env.polarizer
                     # (zero axis: unpolarized, coherency_unpolarized); frame (bx, k x bx), k = -d
-                    k_unit = coherency_transform(m, sheet_polarizer_coherency(env.polarizer, -d, bx, w))
-                    acc_x, acc_y, acc_z = _add_light(acc_x, acc_y, acc_z, k_unit, xyz)
+                    if p.coherent != 0:
+                        leaves, n_leaves, acc_x, acc_y, acc_z = coherent_leaf(
+                            leaves, n_leaves, acc_x, acc_y, acc_z, m, w, o, d, bx, xyz,
+                            env.polarizer, p.ambient[0], depth, p.epsilon, wavelength,
+                        )  # fmt: skip
+                    else:
+                        k_unit = coherency_transform(m, sheet_polarizer_coherency(env.polarizer, -d, bx, w))
+                        acc_x, acc_y, acc_z = _add_light(acc_x, acc_y, acc_z, k_unit, xyz)
                 else:
                     scalar_xyz += xyz * w
             # a segment inside a solid that finds no exit leaked through a crack: dropped
@@ -301,6 +318,8 @@ def trace_radiance(
                 p.object_absorption_scale[inside],
             )
             w = w * bouguer_lambert(kappa, hit.t)
+        if p.coherent != 0:
+            m = segment_phase(m, med_a, mode, wn, d, hit.t, depth, p.epsilon, wavelength)
         if depth >= p.max_depth or w <= 0.0:
             continue
         x = o + d * hit.t
@@ -439,6 +458,10 @@ def trace_radiance(
                 st[n, c] = cand[pick, c]
             st[n, ROW_W] = st[n, ROW_W] * scale
             n += 1
+    if n_leaves > 0:
+        acc_x, acc_y, acc_z = coherent_flush(
+            leaves, n_leaves, acc_x, acc_y, acc_z, env.polarizer, p.coherence_width, p.coherence_cos
+        )
     if polarized == 0:
         acc_x = coherency_unpolarized(scalar_xyz[0])
         acc_y = coherency_unpolarized(scalar_xyz[1])
@@ -471,6 +494,9 @@ def default_params(
     p.ambient = wp.vec2f(*ambient)
     p.rgb3 = int(rgb3)
     p.birefringence = BIREFRINGENCE[config.birefringence]
+    p.coherent = int(config.birefringence == "coherent")
+    p.coherence_width = float(config.coherence_width_mm)
+    p.coherence_cos = float(config.coherence_cos)
     p.object_axis = wp.array(
         np.asarray(object_axis, dtype=np.float32).reshape(-1, 3), dtype=wp.vec3f, device=device
     )
