@@ -159,6 +159,20 @@ def _object_medium(p: TraceParams, mats: MaterialTable, obj: int, wavelength: fl
 
 
 @wp.func
+def _start_offset(geom: SceneGeometry, inside: int, left: int):
+    """How far past its interface a child row starts (``geom.epsilon`` of the solid whose surface
+    it left: the one it runs inside, or the one it left into the ambient medium; 0 for camera rays
+    and film children, which do not record it).  The coherent mode adds it to the segment's
+    phase.  In nested scenes a segment that left an inner solid is offset by that solid's epsilon:
+    there this is an approximation."""
+    if inside >= 0:
+        return geom.epsilon[inside]
+    if left >= 0:
+        return geom.epsilon[left]
+    return 0.0
+
+
+@wp.func
 def _add_light(acc_x: Jones, acc_y: Jones, acc_z: Jones, k_unit: Jones, xyz: wp.vec3f):
     """Add light of colour ``xyz`` arriving with coherency ``k_unit`` per unit radiance."""
     return (
@@ -288,7 +302,7 @@ def trace_radiance(
                     if p.coherent != 0:
                         leaves, n_leaves, acc_x, acc_y, acc_z = coherent_leaf(
                             leaves, n_leaves, acc_x, acc_y, acc_z, m, w, o, d, bx, xyz,
-                            env.polarizer, p.ambient[0], depth, p.epsilon, wavelength,
+                            env.polarizer, p.ambient[0], depth, _start_offset(geom, inside, left), wavelength,
                         )  # fmt: skip
                     else:
                         k_unit = coherency_transform(m, sheet_polarizer_coherency(env.polarizer, -d, bx, w))
@@ -319,7 +333,9 @@ def trace_radiance(
             )
             w = w * bouguer_lambert(kappa, hit.t)
         if p.coherent != 0:
-            m = segment_phase(m, med_a, mode, wn, d, hit.t, depth, p.epsilon, wavelength)
+            m = segment_phase(
+                m, med_a, mode, wn, d, hit.t, depth, _start_offset(geom, inside, left), wavelength
+            )
         if depth >= p.max_depth or w <= 0.0:
             continue
         x = o + d * hit.t
