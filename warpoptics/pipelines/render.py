@@ -40,6 +40,12 @@ from ..stages.bundle import LaneWavelengths, LaneWeights, bundle_applies, trace_
 from ..stages.camera import Camera, CameraParams, camera_ray
 from ..stages.coated import build_film_surfaces
 from ..stages.environment import Environment, EnvironmentLight, spectral_response
+from ..stages.fluorescence import (
+    build_reemission,
+    emission_media_supported,
+    has_fluorescence,
+    scene_light_spectra,
+)
 from ..stages.surfaces import Surfaces, SurfaceStage
 from ..stages.trace import TraceConfig, TraceParams, default_params, trace_radiance
 from .adaptive import allocate
@@ -370,6 +376,8 @@ class Renderer:
         check_render_memory(scene.camera.width, scene.camera.height, file=scene.path)
         built = build_objects(scene.objects, file=scene.path)
         meshes, mats = built.meshes, built.materials
+        emission_media_supported(mats, file=scene.path)
+        self.fluorescence = has_fluorescence(mats) and r.spectral != "rgb3"
         self.geometry = GeometryScene(meshes, allow_empty=True, device=self.device)
         if mats:
             self.materials, ids = build_material_table(mats, self.device)
@@ -431,6 +439,10 @@ class Renderer:
             rgb3=r.spectral == "rgb3",
             device=self.device,
             films=films,
+            # fluorescent media re-emit (stages/fluorescence.py); off otherwise (and in rgb3)
+            reemission=build_reemission(mats, scene_light_spectra(scene), device=self.device)
+            if self.fluorescence
+            else None,
         )
         film = FilmParams()
         film.width, film.height = self.camera.width, self.camera.height
@@ -453,6 +465,8 @@ class Renderer:
             # surfaces and lamps: spectral albedos, one random path per wavelength
             and not scene.surfaces
             and not scene.lamps
+            # re-emission changes the wavelength along a path
+            and not self.fluorescence
         )
         film.shared = 1 if self.shared_spectrum else 0
         # a dispersive (or absorbing) scene of isotropic, uncoated stones in an environment light

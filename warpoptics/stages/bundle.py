@@ -73,6 +73,7 @@ from ..optics.jones import (
 from ..optics.polarizer import sheet_polarizer_coherency
 from ..spectra import SpectralTables
 from .environment import Environment, environment_basis, environment_coefficients
+from .fluorescence import has_fluorescence
 from .media import object_medium, segment_kappa
 from .trace import TraceParams
 
@@ -435,7 +436,8 @@ def trace_bundle(
 
 def bundle_applies(scene, built) -> bool:
     """Whether a camera scene can be traced in spectral bundles (``render.bundle`` and isotropic,
-    uncoated solids in an environment light: no surfaces, lamps, films or caustics; not rgb3)."""
+    uncoated, non-fluorescent solids in an environment light: no surfaces, lamps, films or
+    caustics; not rgb3)."""
     r = scene.render
     return (
         bool(getattr(r, "bundle", True))
@@ -446,4 +448,6 @@ def bundle_applies(scene, built) -> bool:
         and not any(getattr(ob, "film", None) for ob in scene.objects)
         and all(isinstance(m, Isotropic) and not m.is_uniaxial for m in built.materials)
         and len(built.materials) > 0
+        # fluorescent re-emission switches a path's wavelength (stages/fluorescence.py)
+        and not has_fluorescence(built.materials)
     )

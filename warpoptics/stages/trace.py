@@ -39,7 +39,7 @@ import warp as wp
 from .. import validate as val
 from ..geometry.query import RayHit, SceneGeometry, object_exit_hit, scene_closest_hit_leaving
 from ..materials.dispersion import MaterialTable
-from ..optics.absorption import bouguer_lambert
+from ..optics.absorption import bouguer_lambert, bouguer_lambert_integral
 from ..optics.birefringence import uniaxial_medium
 from ..optics.branches import (
     COLS,
@@ -73,7 +73,14 @@ from ..optics.jones import (
 from ..optics.polarizer import sheet_polarizer_coherency
 from ..spectra import SpectralTables
 from .coated import KIND_COATED, FilmSurfaces, coating_at, empty_film_surfaces, film_surface_children
-from .environment import Environment, environment_coefficients
+from .environment import Environment, environment_coefficients, spectral_response
+from .fluorescence import (
+    EmissionCandidate,
+    Reemission,
+    build_reemission,
+    emission_candidate_add,
+    reemission_start,
+)
 from .media import object_medium, segment_kappa
 from .surfaces import Surfaces, surface_radiance, surfaces_closest_hit
 
@@ -109,6 +116,7 @@ class TraceParams:
     object_absorption_scale: wp.array(dtype=wp.float32)  # multiplier of alpha per object
     object_axis: wp.array(dtype=wp.vec3f)  # optic axis in world space; zero: isotropic
     films: FilmSurfaces  # per-object coatings, thin shells, film surfaces (stages/coated.py)
+    reemission: Reemission  # fluorescent re-emission (stages/fluorescence.py; enabled 0: none)
 
 
 @dataclass(frozen=True)
@@ -203,7 +211,47 @@ def trace_radiance(
     ch3 = int(-1)  # rgb3 mode: the channel's eq. 9 absorbances (segments and shadow rays)
     if p.rgb3 != 0:
         ch3 = wp.clamp(channel, 0, 2)
-    while n > 0:
+    # fluorescence (stages/fluorescence.py): the camera tree keeps one segment inside a
+    # fluorescent medium (reservoir `fl`); when its stack is empty the same loop traces that
+    # segment's excitation tree at the excitation wavelength (emission = 1), whose radiance then
+    # enters the camera tree's sums as unpolarized emission.  The wavelength, the XYZ weight and
+    # the response of the tree being traced are wl, wgt and resp.
+    wl = wavelength
+    wgt = weight
+    resp = response
+    fl = EmissionCandidate()
+    emission = int(0)
+    fl_factor = float(0.0)
+    main_x = jones_zero()
+    main_y = jones_zero()
+    main_z = jones_zero()
+    main_s = wp.vec3f(0.0, 0.0, 0.0)
+    while n > 0 or fl.total > 0.0:
+        if n == 0:
+            # the camera tree is done: its re-emission, once
+            mat_f = p.object_material[fl.obj]
+            o_f, d_f, b_f, wl_x, fl_factor, rng = reemission_start(
+                fl, p.reemission, mats, mat_f, p.object_absorption_scale[fl.obj], wl, rng
+            )
+            fl.total = 0.0
+            if fl_factor <= 0.0:
+                continue
+            main_x = acc_x
+            main_y = acc_y
+            main_z = acc_z
+            main_s = scalar_xyz
+            acc_x = jones_zero()
+            acc_y = jones_zero()
+            acc_z = jones_zero()
+            scalar_xyz = wp.vec3f(0.0, 0.0, 0.0)
+            wl = wl_x
+            wgt = wp.vec3f(1.0, 1.0, 1.0)
+            resp = spectral_response(env, tables, wl, wgt)
+            c_obj = int(-1)
+            splits = int(0)
+            emission = 1
+            st = write_row(st, 0, o_f, d_f, b_f, jones_identity(), 1.0, fl.obj, 1, -1, -d_f)
+            n = 1
         n -= 1
         # read the row inline (a wp.func argument is a by-value copy of the whole stack)
         o = wp.vec3f(st[n, ROW_O], st[n, ROW_O + 1], st[n, ROW_O + 2])
@@ -245,12 +293,12 @@ def trace_radiance(
                         o,
                         d,
                         sh,
-                        wavelength,
+                        wl,
                         ch3,
                         rng,
                     )
                     # one wavelength per path here: surfaces turn the shared-spectrum path off
-                    xyz_s = weight * radiance
+                    xyz_s = wgt * radiance
                     if polarized != 0:
                         k_unit = coherency_transform(m, coherency_unpolarized(w))
                         acc_x, acc_y, acc_z = _add_light(acc_x, acc_y, acc_z, k_unit, xyz_s)
@@ -259,7 +307,7 @@ def trace_radiance(
                     continue
         if hit.object < 0:
             if inside < 0:
-                xyz = response * environment_coefficients(env, d)
+                xyz = resp * environment_coefficients(env, d)
                 if polarized != 0:
                     # polarized illumination hook (polariscope): the light behind env.polarizer
                     # (zero axis: unpolarized, coherency_unpolarized); frame (bx, k x bx), k = -d
@@ -272,7 +320,7 @@ def trace_radiance(
         if depth == 0:
             hit_any = 1
         if inside >= 0 and inside != c_obj:
-            c_med, c_n, c_alpha = _object_medium(p, mats, inside, wavelength)
+            c_med, c_n, c_alpha = _object_medium(p, mats, inside, wl)
             c_obj = inside
         med_a = ambient_med
         n_a = ambient_n
@@ -289,6 +337,22 @@ def trace_radiance(
                 med_a,
                 p.object_absorption_scale[inside],
             )
+            if p.reemission.enabled != 0 and emission == 0 and ch3 < 0:
+                if mats.fl_yield[p.object_material[inside]] > 0.0:
+                    # a segment inside a fluorescent medium: a re-emission candidate
+                    fl = emission_candidate_add(
+                        fl,
+                        m,
+                        w,
+                        o,
+                        d,
+                        hit.t,
+                        kappa,
+                        bouguer_lambert_integral(kappa, hit.t),
+                        inside,
+                        depth,
+                        wp.randf(rng),
+                    )
             w = w * bouguer_lambert(kappa, hit.t)
         if depth >= p.max_depth or w <= 0.0:
             continue
@@ -304,7 +368,7 @@ def trace_radiance(
         n_b = ambient_n
         if obj_b >= 0:
             if obj_b != c_obj:
-                c_med, c_n, c_alpha = _object_medium(p, mats, obj_b, wavelength)
+                c_med, c_n, c_alpha = _object_medium(p, mats, obj_b, wl)
                 c_obj = obj_b
             med_b = c_med
             n_b = c_n
@@ -333,7 +397,7 @@ def trace_radiance(
                 inside,
                 depth,
                 polarized,
-                wavelength,
+                wl,
                 rng,
             )
         else:
@@ -361,7 +425,7 @@ def trace_radiance(
                     polarized,
                     p.films.stack,
                     coat,
-                    wavelength,
+                    wl,
                     scale,
                     a_is_front,
                 )
@@ -427,6 +491,16 @@ def trace_radiance(
                 st[n, c] = cand[pick, c]
             st[n, ROW_W] = st[n, ROW_W] * scale
             n += 1
+    if emission != 0:
+        # the excitation tree's radiance (weight (1, 1, 1): its three sums alike) re-emitted
+        # unpolarized into the kept segment, seen with the camera sample's XYZ weight
+        l_x = scalar_xyz[1]
+        if polarized != 0:
+            l_x = acc_y.re[0, 0] + acc_y.re[1, 1]
+        a = fl_factor * l_x
+        k_fl = coherency_transform(fl.m, coherency_unpolarized(fl.w))
+        acc_x, acc_y, acc_z = _add_light(main_x, main_y, main_z, k_fl, weight * a)
+        scalar_xyz = main_s + weight * (fl.w * a)
     if polarized == 0:
         acc_x = coherency_unpolarized(scalar_xyz[0])
         acc_y = coherency_unpolarized(scalar_xyz[1])
@@ -446,6 +520,7 @@ def default_params(
     rgb3: bool = False,
     device=None,
     films: FilmSurfaces | None = None,
+    reemission: Reemission | None = None,
 ) -> TraceParams:
     """TraceParams for objects with material ids, alpha multipliers and world optic axes (zero
     rows for isotropic objects)."""
@@ -467,4 +542,5 @@ def default_params(
         np.asarray(absorption_scale, dtype=np.float32), dtype=wp.float32, device=device
     )
     p.films = films if films is not None else empty_film_surfaces(len(p.object_material), device=device)
+    p.reemission = reemission if reemission is not None else build_reemission([], None, device=device)
     return p
