@@ -91,6 +91,13 @@ __all__ = [
 ]
 
 
+#: probability of drawing l_x from alpha_x x the lights (module docstring): every light of a
+#: scene (an RGB environment: D65 x basis <= D65 x its largest coefficient; a surface: albedo x
+#: its lamps) is bounded by its light spectrum, so that strategy is near-optimal; alpha_x alone
+#: keeps every wavelength the centre absorbs reachable (defensive mixture)
+LIGHT_MIX = 0.9
+
+
 @wp.struct
 class Reemission:
     """Per-render re-emission settings (values, not compile-time constants)."""
@@ -282,7 +289,7 @@ def build_reemission(materials, light_spectra: np.ndarray | None, *, device=None
                 done[id(m)] = (np.zeros_like(ax), 0.0)
             else:
                 cdf = bin_cdf(np.maximum(ax, 0.0) * np.asarray(light_spectra, dtype=np.float64))
-                done[id(m)] = (cdf, 0.5 if cdf[-1] > 0 else 0.0)
+                done[id(m)] = (cdf, LIGHT_MIX if cdf[-1] > 0 else 0.0)
         rows.append(done[id(m)][0])
         mix.append(done[id(m)][1])
     re.enabled = 1 if has_fluorescence(materials) else 0
