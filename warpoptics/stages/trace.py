@@ -226,15 +226,27 @@ def trace_radiance(
     main_y = jones_zero()
     main_z = jones_zero()
     main_s = wp.vec3f(0.0, 0.0, 0.0)
+    # the re-emission draws its random numbers from a stream of its own, seeded by the trace's
+    # state and its camera sample (wavelength, ray: they differ from trace to trace even where the
+    # camera tree draws nothing), so the camera tree's choices -- and every later trace of the
+    # pixel -- are those of the same scene without fluorescence: the emission only adds light
+    fl_rng = rng
+    main_rng = rng
+    if p.reemission.enabled != 0:
+        h1 = int(wavelength * 16384.0) ^ int(direction[0] * 1.0e8) ^ (int(direction[1] * 1.0e8) * 3)
+        h2 = int(wp.mod(origin[0] * 1.0e5, 1.0e9)) ^ (int(wp.mod(origin[1] * 1.0e5, 1.0e9)) * 7)
+        fl_rng = wp.rand_init(h1 ^ int(rng >> wp.uint32(1)), h2 ^ int(wp.mod(origin[2] * 1.0e5, 1.0e9)))
     while n > 0 or fl.total > 0.0:
         if n == 0:
             # the camera tree is done: its re-emission, once
             mat_f = p.object_material[fl.obj]
+            main_rng = rng
             o_f, d_f, b_f, wl_x, fl_factor, rng = reemission_start(
-                fl, p.reemission, mats, mat_f, p.object_absorption_scale[fl.obj], wl, rng
+                fl, p.reemission, mats, mat_f, p.object_absorption_scale[fl.obj], wl, fl_rng
             )
             fl.total = 0.0
             if fl_factor <= 0.0:
+                rng = main_rng
                 continue
             main_x = acc_x
             main_y = acc_y
@@ -351,7 +363,7 @@ def trace_radiance(
                         bouguer_lambert_integral(kappa, hit.t),
                         inside,
                         depth,
-                        wp.randf(rng),
+                        wp.randf(fl_rng),
                     )
             w = w * bouguer_lambert(kappa, hit.t)
         if depth >= p.max_depth or w <= 0.0:
@@ -501,6 +513,7 @@ def trace_radiance(
         k_fl = coherency_transform(fl.m, coherency_unpolarized(fl.w))
         acc_x, acc_y, acc_z = _add_light(main_x, main_y, main_z, k_fl, weight * a)
         scalar_xyz = main_s + weight * (fl.w * a)
+        rng = main_rng
     if polarized == 0:
         acc_x = coherency_unpolarized(scalar_xyz[0])
         acc_y = coherency_unpolarized(scalar_xyz[1])
