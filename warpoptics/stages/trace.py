@@ -262,7 +262,22 @@ def trace_radiance(
             c_obj = int(-1)
             splits = int(0)
             emission = 1
-            st = write_row(st, 0, o_f, d_f, b_f, jones_identity(), 1.0, fl.obj, 1, -1, -d_f)
+            # the root row, element by element: reassigning the stack (st = write_row(...)) in a
+            # branch would make Warp select the whole 40 x 24 matrix at every branch of the loop
+            for c in range(3):
+                st[0, ROW_O + c] = o_f[c]
+                st[0, ROW_D + c] = d_f[c]
+                st[0, ROW_B + c] = b_f[c]
+                st[0, ROW_WN + c] = -d_f[c]
+            for c in range(4):
+                st[0, ROW_MR + c] = 0.0
+                st[0, ROW_MI + c] = 0.0
+            st[0, ROW_MR + 0] = 1.0  # the unit Jones matrix: unpolarized emission
+            st[0, ROW_MR + 3] = 1.0
+            st[0, ROW_W] = 1.0
+            st[0, ROW_IN] = float(fl.obj)
+            st[0, ROW_DEPTH] = 1.0
+            st[0, ROW_MODE] = -1.0
             n = 1
         n -= 1
         # read the row inline (a wp.func argument is a by-value copy of the whole stack)
