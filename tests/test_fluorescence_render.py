@@ -31,7 +31,9 @@ THICKNESS = 5.0
 
 def _line(centre_nm: float) -> str:
     """A 2 nm-wide triangular line (monochromatic to the 1 nm light grid), by radiant power."""
-    return register_spectrum([centre_nm - 1.0, centre_nm, centre_nm + 1.0], [0.0, 1.0, 0.0], normalize="power")
+    return register_spectrum(
+        [centre_nm - 1.0, centre_nm, centre_nm + 1.0], [0.0, 1.0, 0.0], normalize="power"
+    )
 
 
 def _slab_scene(
@@ -124,7 +126,9 @@ def test_slab_reemits_yield_times_absorbed_photons():
     g = light_grid()
     # (alpha from the material's k curve and alpha_x from the centre's table agree to 1e-5)
     alphas = [max(float(mat.alpha(w)), float(fl.excitation_alpha(w))) for w in wl_x]
-    per_photon = np.array([_normal_exit_per_photon(fl, a, THICKNESS, w) for a, w in zip(alphas, wl_x, strict=True)])
+    per_photon = np.array(
+        [_normal_exit_per_photon(fl, a, THICKNESS, w) for a, w in zip(alphas, wl_x, strict=True)]
+    )
     wl_e = g[g >= 360.0]
     # energy radiance at l_e: photons (per unit energy radiance at l_x: l_x) re-emitted at l_e
     exit_e = np.trapezoid(s_x * per_photon * wl_x, wl_x) * fl.emission_pdf(wl_e) / wl_e
@@ -186,7 +190,9 @@ def test_emission_seen_through_the_stone_has_its_transmission():
 
     direct = _direct_xyz(spectrum, mat, d)
     ref = spectrum_to_xyz(wl_e, exit_spectrum(seen)) + direct
-    no_transmission = spectrum_to_xyz(wl_e, exit_spectrum(np.repeat(clear[:, None], len(wl_e), axis=1))) + direct
+    no_transmission = (
+        spectrum_to_xyz(wl_e, exit_spectrum(np.repeat(clear[:, None], len(wl_e), axis=1))) + direct
+    )
     img = Renderer(_slab_scene(spec, spectrum, px=24, spp=16, thickness=d)).run()
     got, err = _mean_and_error(img.xyz)
 
@@ -247,3 +253,32 @@ def test_fluorescent_diamond_differs_only_in_the_blue_and_glows_under_uv():
     s_on, s_off = metrics.mean_color(uv_on.xyz, uv_on.alpha), metrics.mean_color(uv_off.xyz, uv_off.alpha)
     assert s_off["Y"] < 0.01 * s_on["Y"]
     assert sum(s_off[k] for k in "XYZ") < 0.01 * sum(s_on[k] for k in "XYZ")
+
+
+def test_strength_and_size_sweep_axes_change_the_result():
+    """scenes/sweeps/fluorescence_strength.toml: the strength axis sets the centre's alpha_x and
+    the size axis the absorption scale; under the 365 nm lamp the glow grows with both."""
+    from warpoptics import metrics
+    from warpoptics.sweep import Sweep
+    from warpoptics.sweep.spec import scene_for
+
+    sw = Sweep.load(Path(__file__).resolve().parents[1] / "scenes" / "sweeps" / "fluorescence_strength.toml")
+    jobs = sw.jobs()
+    assert len(jobs) == 16
+    data, scene_path, _ = sw.scene_source()
+    uv = {"light.0.spectrum": "UV365", "camera.width": 12, "camera.height": 12, "render.wavelengths": 8}
+
+    def glow(strength, size):
+        job = next(j for j in jobs if j.values["strength"] == strength and j.values["size_mm"] == size)
+        sc = scene_for(data, scene_path, {**job.overrides, **uv}, sw.base_dir)
+        mat = material_from_spec(sc.objects[0].material)
+        assert mat.fluorescence.excitation_alpha(394.0) == pytest.approx(
+            strength * wo.materials.get("diamond_n3").fluorescence.excitation_alpha(394.0), rel=1e-6
+        )
+        assert sc.objects[0].absorption_scale == pytest.approx(size / 6.5)
+        img = Renderer(sc).run()
+        return metrics.mean_color(img.xyz, img.alpha)["Y"]
+
+    base = glow(1.0, 6.5)
+    assert glow(4.0, 6.5) > 1.5 * base
+    assert glow(1.0, 1.0) < 0.5 * base

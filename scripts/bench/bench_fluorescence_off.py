@@ -80,7 +80,12 @@ def main(argv=None) -> int:
         _child(args.child, args.size, None)
         return 0
     trees = {"baseline": Path(args.baseline).resolve(), "candidate": ROOT}
-    out: dict = {"size": args.size, "rounds": args.rounds, "note": "CPU seconds, one render thread", "scenes": {}}
+    out: dict = {
+        "size": args.size,
+        "rounds": args.rounds,
+        "note": "CPU seconds, one render thread",
+        "scenes": {},
+    }
     for scene in args.scenes:
         runs: dict[str, list[dict]] = {"baseline": [], "candidate": []}
         for name in trees:  # warm-up (compiles each tree's kernels into the cache), not timed

@@ -151,7 +151,9 @@ def colour_change(size: int, render: dict, out: Path) -> dict:
         row, t, labs = [], [], []
         for light in ("D65", "A"):
             with Timer() as tm:
-                img = _render(SCENES / f"{stone}.toml", {"light.0.spectrum": light}, size, render, bundle=None)
+                img = _render(
+                    SCENES / f"{stone}.toml", {"light.0.spectrum": light}, size, render, bundle=None
+                )
             c = _colour(img, white=_white(light))
             labs.append(np.array([c["L"], c["a"], c["b"]]))
             res.setdefault(stone, {})[light] = {**c, "seconds": round(tm.seconds, 1)}

@@ -46,7 +46,11 @@ __all__ = [
     "bouguer_lambert",
     "bouguer_lambert_integral",
     "sample_bouguer_lambert_distance",
-    "pleochroic_kappa", "trichroic_kappa", "wave_kappa", "attenuation_oe"]
+    "pleochroic_kappa",
+    "trichroic_kappa",
+    "wave_kappa",
+    "attenuation_oe",
+]
 
 
 @wp.func
