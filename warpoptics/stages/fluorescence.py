@@ -16,8 +16,9 @@ the medium's total absorption kappa_i at l_e,
 The estimator (this module, called from ``stages.trace.trace_radiance``):
 
 1. every such segment is a candidate with weight W_i = E_i B_i, B_i =
-   ``optics.absorption.bouguer_lambert_integral(kappa_i, t_i)``; one segment of the tree is kept
-   by weighted reservoir sampling (:func:`emission_candidate_add`, probability W_i / sum W), so
+   ``optics.absorption.bouguer_lambert_integral(kappa_i, t_i)`` (:func:`emission_weight`); one
+   segment of the tree is kept by weighted reservoir sampling (a :data:`Candidate` row,
+   probability W_i / sum W, in ``stages.trace``), so
    the whole tree's emission is estimated by sum W x (the kept segment's j / ...) with one
    re-emission per camera sample;
 2. on the kept segment a point at distance s ~ exp(-kappa s) / B
@@ -69,8 +70,8 @@ from ..materials.fluorescence import (
     sample_cdf_row,
     sample_excitation,
 )
-from ..optics.absorption import sample_bouguer_lambert_distance
-from ..optics.branches import branch_energy
+from ..optics.absorption import bouguer_lambert_integral, sample_bouguer_lambert_distance
+from ..optics.branches import COLS, ROW_D, ROW_O, ROW_WN, branch_energy
 from ..optics.jones import Jones
 from ..optics.microfacet import orthonormal_basis
 from ..spectra import light_grid, light_spectrum
@@ -79,8 +80,11 @@ wp.set_module_options({"enable_backward": False})  # no adjoint code (see device
 
 __all__ = [
     "Reemission",
-    "EmissionCandidate",
-    "emission_candidate_add",
+    "Candidate",
+    "COL_LENGTH",
+    "COL_KAPPA",
+    "COL_ENERGY",
+    "emission_weight",
     "sample_excitation_wavelength",
     "excitation_wavelength_pdf",
     "reemission_start",
@@ -111,55 +115,24 @@ class Reemission:
     light_mix: wp.array(dtype=wp.float32)
 
 
-@wp.struct
-class EmissionCandidate:
-    """The segment of a camera tree kept for its re-emission (weighted reservoir sampling)."""
-
-    total: float  # sum of the candidate weights W_i = E_i B_i seen so far (mm)
-    energy: float  # E of the kept segment (its branch energy at the segment's start)
-    o: wp.vec3f  # start of the kept segment (world, mm)
-    d: wp.vec3f  # its direction (backward: from the camera)
-    length: float  # its length (mm)
-    kappa: float  # total absorption coefficient at the emission wavelength on it (1/mm)
-    m: Jones  # the branch's Jones matrix on it (camera frame <- segment frame)
-    w: float  # the branch's scalar weight at its start
-    obj: int  # the fluorescent object it runs inside
-    depth: int  # interfaces the branch crossed before it
+#: the segment of a camera tree kept for its re-emission (weighted reservoir sampling): the branch
+#: row of ``optics.branches`` it was popped as (origin, direction, Jones matrix, weight at its
+#: start, object, depth), with three columns reused: its length, the total absorption
+#: coefficient at the emission wavelength on it and its branch energy.  A matrix the tracer
+#: fills element by element (a struct reassigned in the loop would be selected at every branch)
+Candidate = wp.types.matrix(shape=(1, COLS), dtype=wp.float32)
+COL_LENGTH = ROW_WN
+COL_KAPPA = ROW_WN + 1
+COL_ENERGY = ROW_WN + 2
 
 
 @wp.func
-def emission_candidate_add(
-    c: EmissionCandidate,
-    m: Jones,
-    w: float,
-    o: wp.vec3f,
-    d: wp.vec3f,
-    length: float,
-    kappa: float,
-    bl_integral: float,
-    obj: int,
-    depth: int,
-    u: float,
-):
-    """Offer a segment inside a fluorescent medium (``bl_integral`` = its
-    ``bouguer_lambert_integral(kappa, length)``) to the reservoir ``c`` with uniform ``u``:
-    kept with probability W / (sum of W so far), W = branch energy x ``bl_integral``."""
+def emission_weight(m: Jones, w: float, kappa: float, length: float):
+    """(E, W) of a segment inside a fluorescent medium: its branch energy E
+    (``optics.branches.branch_energy``) and its reservoir weight W = E x
+    ``bouguer_lambert_integral(kappa, length)``."""
     e = branch_energy(m, w)
-    wi = e * bl_integral
-    if wi <= 0.0:
-        return c
-    c.total = c.total + wi
-    if u * c.total < wi:
-        c.energy = e
-        c.o = o
-        c.d = d
-        c.length = length
-        c.kappa = kappa
-        c.m = m
-        c.w = w
-        c.obj = obj
-        c.depth = depth
-    return c
+    return e, e * bouguer_lambert_integral(kappa, length)
 
 
 @wp.func
@@ -194,7 +167,8 @@ def sample_excitation_wavelength(re: Reemission, mats: MaterialTable, mat_id: in
 
 @wp.func
 def reemission_start(
-    c: EmissionCandidate,
+    c: Candidate,
+    total: float,
     re: Reemission,
     mats: MaterialTable,
     mat_id: int,
@@ -202,17 +176,20 @@ def reemission_start(
     emission_wavelength: float,
     rng: wp.uint32,
 ):
-    """The excitation tree of the kept segment ``c`` (module docstring, steps 2-3): (origin,
-    direction, basis x of its unpolarized root ray, excitation wavelength, factor, rng).  The
-    light L_x that tree gathers (per unit weight) reaches the camera as unpolarized radiance
-    factor x L_x through ``c.m`` with weight ``c.w``; factor 0: nothing to trace."""
+    """The excitation tree of the kept segment ``c`` (reservoir weight sum ``total``; module
+    docstring, steps 2-3): (origin, direction, basis x of its unpolarized root ray, excitation
+    wavelength, factor, rng).  The light L_x that tree gathers (per unit weight) reaches the
+    camera as unpolarized radiance factor x L_x through the row's Jones matrix with its weight;
+    factor 0: nothing to trace."""
     s = wp.randf(rng)
     u_pick = wp.randf(rng)
     u_wl = wp.randf(rng)
     u1 = wp.randf(rng)
     u2 = wp.randf(rng)
-    dist = sample_bouguer_lambert_distance(c.kappa, c.length, s)
-    origin = c.o + c.d * dist
+    dist = sample_bouguer_lambert_distance(c[0, COL_KAPPA], c[0, COL_LENGTH], s)
+    o = wp.vec3f(c[0, ROW_O], c[0, ROW_O + 1], c[0, ROW_O + 2])
+    d = wp.vec3f(c[0, ROW_D], c[0, ROW_D + 1], c[0, ROW_D + 2])
+    origin = o + d * dist
     # a uniform direction on the sphere (pdf 1 / 4 pi, which cancels the 1 / 4 pi of j)
     z = 1.0 - 2.0 * u1
     r = wp.sqrt(wp.max(0.0, 1.0 - z * z))
@@ -221,11 +198,12 @@ def reemission_start(
     bx, _by = orthonormal_basis(direction)
     wl_x, pdf = sample_excitation_wavelength(re, mats, mat_id, u_pick, u_wl)
     factor = float(0.0)
-    if pdf > 0.0 and c.energy > 0.0:
+    energy = c[0, COL_ENERGY]
+    if pdf > 0.0 and energy > 0.0:
         ax = excitation_alpha(mats, mat_id, wl_x) * absorption_scale
         em = emission_pdf(mats, mat_id, emission_wavelength)
         q = fluorescence_yield(mats, mat_id)
-        factor = (c.total / c.energy) * q * em * (wl_x / emission_wavelength) * ax / pdf
+        factor = (total / energy) * q * em * (wl_x / emission_wavelength) * ax / pdf
     return origin, direction, bx, wl_x, factor, rng
 
 
