@@ -298,3 +298,31 @@ def test_fluorescent_scenes_trace_per_wavelength_and_refuse_birefringent_hosts()
     ruby = {"base": "ruby", "fluorescence": {"centre": "Cr3+ corundum", "add_absorption": False}}
     with pytest.raises(InputError, match="isotropic stones only"):
         Renderer(_slab_scene(ruby, "D65", px=4, spp=1))
+
+
+def test_gallery_script_quick(tmp_path):
+    """scripts/reproduce/fluorescence_gallery.py --quick writes its three PNGs and the JSON with
+    the emission-dominated UV render and the colour-change numbers."""
+    import json
+    import subprocess
+    import sys
+
+    root = Path(__file__).resolve().parents[1]
+    subprocess.run(
+        [
+            sys.executable,
+            str(root / "scripts/reproduce/fluorescence_gallery.py"),
+            "--quick",
+            "--out-dir",
+            str(tmp_path),
+        ],
+        check=True,
+        capture_output=True,
+        timeout=600,
+    )
+    for name in ("diamond", "cube", "colour_change"):
+        assert (tmp_path / f"fluorescence_{name}.png").stat().st_size > 1000
+    data = json.loads((tmp_path / "fluorescence.json").read_text())
+    assert data["diamond"]["uv365"]["very_strong_vs_off"]["emission_share_Y"] > 0.99
+    assert data["cube"]["glow"]["Y"] > 0 and data["cube"]["yield_0"]["Y"] == 0
+    assert set(data["colour_change"]) == {"alexandrite", "colour_change_garnet"}

@@ -18,9 +18,8 @@ The estimator (this module, called from ``stages.trace.trace_radiance``):
 1. every such segment is a candidate with weight W_i = E_i B_i, B_i =
    ``optics.absorption.bouguer_lambert_integral(kappa_i, t_i)`` (:func:`emission_weight`); one
    segment of the tree is kept by weighted reservoir sampling (a :data:`Candidate` row,
-   probability W_i / sum W, in ``stages.trace``), so
-   the whole tree's emission is estimated by sum W x (the kept segment's j / ...) with one
-   re-emission per camera sample;
+   probability W_i / sum W, in ``stages.trace``), so that sum W / W_i x (the kept segment's
+   emission) estimates the whole tree's with one re-emission per camera sample;
 2. on the kept segment a point at distance s ~ exp(-kappa s) / B
    (``optics.absorption.sample_bouguer_lambert_distance``), an excitation wavelength l_x ~ p(l_x)
    (:func:`sample_excitation_wavelength`: a one-sample mixture of alpha_x alone and alpha_x x the

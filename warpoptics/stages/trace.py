@@ -23,6 +23,13 @@ Unpolarized light of radiance L entering the path arrives as the coherency matri
 ``L/2 M M^dagger``.  With ``polarized=False`` the branch carries the unpolarized power
 coefficients instead (a scalar renderer, for comparison with unpolarized peers).
 
+Fluorescent media (``stages/fluorescence.py``): a tree at the emission wavelength keeps one of
+its segments inside a fluorescent stone (weighted reservoir sampling) and, once its stack is
+empty, traces that segment's excitation tree at a sampled excitation wavelength from a point on
+it in a random direction, unpolarized; the emission enters the sums through the kept segment's
+Jones matrix.  Without a fluorescent medium (``TraceParams.reemission.enabled`` 0) nothing of it
+runs and every draw and sum is that of the tracer without fluorescence.
+
 Transmitted amplitudes are scaled by sqrt(Re(N_out cos t) / Re(N_in cos i)) so that |M|^2 is the
 transmitted power; radiance's n^2 factors cancel on paths that start and end in the same
 ambient medium.  Absorption follows Bouguer–Lambert, exp(-alpha l) on the intensity, with alpha
