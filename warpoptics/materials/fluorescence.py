@@ -56,6 +56,10 @@ __all__ = [
     "emission_pdf",
     "sample_emission",
     "sample_excitation",
+    "excitation_pdf",
+    "sample_cdf_row",
+    "cdf_row_pdf",
+    "bin_cdf",
     "fluorescence_values",
     "sample_emission_wavelengths",
     "CENTRES",
@@ -162,7 +166,7 @@ class Fluorescence:
         excitation CDF over the 1 nm bins), float64, each of the light grid's length."""
         g = light_grid()
         ax = self.excitation.alpha(g)
-        return ax, self._emission_nodes, _bin_cdf(self._emission_nodes), _bin_cdf(ax)
+        return ax, self._emission_nodes, bin_cdf(self._emission_nodes), bin_cdf(ax)
 
     def __repr__(self) -> str:
         return (
@@ -171,7 +175,7 @@ class Fluorescence:
         )
 
 
-def _bin_cdf(nodes: np.ndarray) -> np.ndarray:
+def bin_cdf(nodes: np.ndarray) -> np.ndarray:
     """CDF over the 1 nm bins [l_j, l_j + 1) of a piecewise-linear density given at the nodes:
     cdf[0] = 0, cdf[j + 1] - cdf[j] = the bin's trapezoid; all zero for a zero density."""
     b = 0.5 * (nodes[:-1] + nodes[1:])
@@ -276,8 +280,10 @@ def emission_pdf(t: MaterialTable, mat_id: int, wavelength: float):
 
 
 @wp.func
-def _sample_row(cdf: wp.array2d(dtype=wp.float32), row: int, u: float):
-    # bin j with cdf[j] <= u < cdf[j + 1] (binary search), uniform inside it; pdf = bin mass / 1 nm
+def sample_cdf_row(cdf: wp.array2d(dtype=wp.float32), row: int, u: float):
+    """A wavelength (nm) drawn from row ``row`` of a CDF table over the 1 nm bins of the light
+    grid (``bin_cdf``) and its pdf (1/nm): the bin j with cdf[j] <= u < cdf[j + 1] (binary
+    search), uniform inside it; pdf = the bin's mass / 1 nm."""
     lo = int(0)
     hi = _GRID_COUNT - 1
     while hi - lo > 1:
@@ -295,13 +301,23 @@ def _sample_row(cdf: wp.array2d(dtype=wp.float32), row: int, u: float):
 
 
 @wp.func
+def cdf_row_pdf(cdf: wp.array2d(dtype=wp.float32), row: int, wavelength: float):
+    """The pdf (1/nm) with which :func:`sample_cdf_row` draws ``wavelength`` from row ``row``:
+    the mass of its 1 nm bin; 0 outside the light grid."""
+    if wavelength < _GRID_MIN or wavelength > _GRID_MIN + float(_GRID_COUNT - 1):
+        return 0.0
+    j, _f = _grid_coord(wavelength)
+    return cdf[row, j + 1] - cdf[row, j]
+
+
+@wp.func
 def sample_emission(t: MaterialTable, mat_id: int, u: float):
     """A re-emitted wavelength (nm) from uniform ``u`` and its pdf (1/nm, piecewise constant on
     the 1 nm bins); (0, 0) for a material without a centre."""
     row = t.fl_row[mat_id]
     if row < 0:
         return 0.0, 0.0
-    return _sample_row(t.fl_emission_cdf, row, u)
+    return sample_cdf_row(t.fl_emission_cdf, row, u)
 
 
 @wp.func
@@ -311,7 +327,17 @@ def sample_excitation(t: MaterialTable, mat_id: int, u: float):
     row = t.fl_row[mat_id]
     if row < 0:
         return 0.0, 0.0
-    return _sample_row(t.fl_excitation_cdf, row, u)
+    return sample_cdf_row(t.fl_excitation_cdf, row, u)
+
+
+@wp.func
+def excitation_pdf(t: MaterialTable, mat_id: int, wavelength: float):
+    """The pdf (1/nm) with which :func:`sample_excitation` draws ``wavelength``; 0 without a
+    centre."""
+    row = t.fl_row[mat_id]
+    if row < 0:
+        return 0.0
+    return cdf_row_pdf(t.fl_excitation_cdf, row, wavelength)
 
 
 @wp.kernel

@@ -42,13 +42,44 @@ from .jones import jones_real
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
-__all__ = ["bouguer_lambert", "pleochroic_kappa", "trichroic_kappa", "wave_kappa", "attenuation_oe"]
+__all__ = [
+    "bouguer_lambert",
+    "bouguer_lambert_integral",
+    "sample_bouguer_lambert_distance",
+    "pleochroic_kappa",
+    "trichroic_kappa",
+    "wave_kappa",
+    "attenuation_oe",
+]
 
 
 @wp.func
 def bouguer_lambert(alpha: float, length: float):
     """Transmitted fraction exp(-alpha l) of the intensity over ``length`` mm (alpha in 1/mm)."""
     return wp.exp(-alpha * length)
+
+
+@wp.func
+def bouguer_lambert_integral(alpha: float, length: float):
+    """Integral over the path of the transmitted fraction, int_0^l exp(-alpha s) ds =
+    (1 - exp(-alpha l)) / alpha (mm; ``length`` for alpha -> 0): the weight of a source spread
+    evenly along a segment (a fluorescent emission) seen from its start."""
+    x = alpha * length
+    if wp.abs(x) < 1.0e-3:
+        return length * (1.0 - 0.5 * x + x * x / 6.0)
+    return (1.0 - wp.exp(-x)) / alpha
+
+
+@wp.func
+def sample_bouguer_lambert_distance(alpha: float, length: float, u: float):
+    """A distance s in [0, ``length``] drawn with density exp(-alpha s) /
+    :func:`bouguer_lambert_integral` (the truncated exponential, by inversion; uniform for
+    alpha -> 0) from uniform ``u`` in [0, 1)."""
+    x = alpha * length
+    if wp.abs(x) < 1.0e-3:
+        return u * length
+    s = -wp.log(1.0 - u * (1.0 - wp.exp(-x))) / alpha
+    return wp.clamp(s, 0.0, length)
 
 
 @wp.func

@@ -11,6 +11,7 @@ pass), so an image does not depend on the thread count or the tiling.
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from pathlib import Path
@@ -42,8 +43,20 @@ from ..stages.camera import Camera, CameraParams, camera_ray
 from ..stages.coated import build_film_surfaces
 from ..stages.coherence import direction_tolerance
 from ..stages.environment import ENV_KINDS, Environment, EnvironmentLight, spectral_response
+from ..stages.fluorescence import (
+    build_reemission,
+    emission_media_supported,
+    has_fluorescence,
+    scene_light_spectra,
+)
 from ..stages.surfaces import Surfaces, SurfaceStage
-from ..stages.trace import TraceConfig, TraceParams, default_params, trace_radiance
+from ..stages.trace import (
+    TraceConfig,
+    TraceParams,
+    default_params,
+    fluorescent_trace_radiance,
+    trace_radiance,
+)
 from .adaptive import allocate
 from .caustics import caustic_stage
 from .objects import build_objects, world_axes
@@ -117,111 +130,167 @@ def _add_to_film(
     stokes_xyz_out[pix, 2] = stokes_xyz_out[pix, 2] + stokes_z
 
 
-@wp.kernel
-def _render_pixels(
-    offset: int,
-    base: int,
-    cam: CameraParams,
-    film: FilmParams,
-    tp: TraceParams,
-    geom: SceneGeometry,
-    mats: MaterialTable,
-    env: Environment,
-    surf: Surfaces,
-    tables: SpectralTables,
-    polarized: int,
-    spp_end: wp.array(dtype=wp.int32),  # per pixel, when film.adaptive
-    xyz_out: wp.array(dtype=wp.vec3d),
-    sq_out: wp.array(dtype=wp.vec3d),  # sums of squares of the per-spp XYZ (noise estimate)
-    stokes_out: wp.array(dtype=wp.vec4d),
-    alpha_out: wp.array(dtype=wp.float64),
-    rays_out: wp.array(dtype=wp.int64),
-    stokes_xyz_out: wp.array2d(dtype=wp.vec4d),  # per-channel Stokes (pixel, X|Y|Z) for polarization views
-):
-    """Adds to each pixel's sums over its samples ``[spp_begin, spp_end)`` (each spp is ``count``
-    traces): the per-spp XYZ, its squares, the Stokes vectors, hits and rays; the Renderer
-    divides by the pixel's spp."""
-    pix = base + wp.tid() + offset
-    px = pix % film.width
-    py = pix / film.width
-    end = film.spp
-    if film.adaptive != 0:
-        end = spp_end[pix]
-    if end <= film.spp_begin:
-        return
-    # two streams per pixel: camera samples (wavelength, jitter, lens) and trace decisions, so the
-    # samples a pixel draws do not depend on what its paths met (an empty scene sees the same ones)
-    n_pix = film.width * film.height
-    rng = wp.rand_init(film.seed * 1000003 + film.pass_index, pix)
-    rng_trace = wp.rand_init(film.seed * 1000003 + film.pass_index, pix + n_pix * (1 + film.round))
-    xyz = wp.vec3d(0.0, 0.0, 0.0)
-    sq = wp.vec3d(0.0, 0.0, 0.0)
-    group = wp.vec3d(0.0, 0.0, 0.0)
-    stokes = wp.vec4d(0.0, 0.0, 0.0, 0.0)
-    stokes_x = wp.vec4d(0.0, 0.0, 0.0, 0.0)  # X- and Z-weighted Stokes (the Y one is `stokes`)
-    stokes_z = wp.vec4d(0.0, 0.0, 0.0, 0.0)
-    hits = float(0.0)
-    rays = int(0)
-    # a trace at one wavelength estimates XYZ / count (its weight has 1/count); a shared one the whole
-    scale = wp.float64(1.0)
-    if film.shared != 0:
-        scale = wp.float64(1.0) / wp.float64(film.count)
-    # pixel positions: the R2 low-discrepancy sequence (Roberts 2018) with a random per-pixel
-    # rotation (Cranley–Patterson): every sample is uniform over the pixel (unbiased), and the
-    # samples of a pixel cover it evenly, which is where a gem's noise comes from (facet edges)
-    rot_x = wp.randf(rng)
-    rot_y = wp.randf(rng)
-    if film.bundle != 0:
-        # spectral bundles (stages/bundle.py): each of the `groups` bundles of an spp takes every
-        # groups-th stratum of the spectrum (all of it, at one pixel position).  The strata of a
-        # bundle share one jitter that follows the golden-ratio sequence over the bundles (a
-        # rotated lattice in the sampling variable, low-discrepancy from bundle to bundle):
-        # every wavelength is still uniform within its stratum, so the estimate is unbiased.
-        rot_u = wp.randf(rng)
-        for _skip in range(film.spp_begin * film.groups * _DRAWS_PER_TRACE):
+def _make_render_pixels(trace):
+    """The pixel kernel over a camera trace (``stages.trace.trace_radiance``, or its fluorescent
+    variant for scenes with a fluorescent medium)."""
+
+    @wp.kernel
+    def _render_pixels(
+        offset: int,
+        base: int,
+        cam: CameraParams,
+        film: FilmParams,
+        tp: TraceParams,
+        geom: SceneGeometry,
+        mats: MaterialTable,
+        env: Environment,
+        surf: Surfaces,
+        tables: SpectralTables,
+        polarized: int,
+        spp_end: wp.array(dtype=wp.int32),  # per pixel, when film.adaptive
+        xyz_out: wp.array(dtype=wp.vec3d),
+        sq_out: wp.array(dtype=wp.vec3d),  # sums of squares of the per-spp XYZ (noise estimate)
+        stokes_out: wp.array(dtype=wp.vec4d),
+        alpha_out: wp.array(dtype=wp.float64),
+        rays_out: wp.array(dtype=wp.int64),
+        stokes_xyz_out: wp.array2d(
+            dtype=wp.vec4d
+        ),  # per-channel Stokes (pixel, X|Y|Z) for polarization views
+    ):
+        """Adds to each pixel's sums over its samples ``[spp_begin, spp_end)`` (each spp is ``count``
+        traces): the per-spp XYZ, its squares, the Stokes vectors, hits and rays; the Renderer
+        divides by the pixel's spp."""
+        pix = base + wp.tid() + offset
+        px = pix % film.width
+        py = pix / film.width
+        end = film.spp
+        if film.adaptive != 0:
+            end = spp_end[pix]
+        if end <= film.spp_begin:
+            return
+        # two streams per pixel: camera samples (wavelength, jitter, lens) and trace decisions, so the
+        # samples a pixel draws do not depend on what its paths met (an empty scene sees the same ones)
+        n_pix = film.width * film.height
+        rng = wp.rand_init(film.seed * 1000003 + film.pass_index, pix)
+        rng_trace = wp.rand_init(film.seed * 1000003 + film.pass_index, pix + n_pix * (1 + film.round))
+        xyz = wp.vec3d(0.0, 0.0, 0.0)
+        sq = wp.vec3d(0.0, 0.0, 0.0)
+        group = wp.vec3d(0.0, 0.0, 0.0)
+        stokes = wp.vec4d(0.0, 0.0, 0.0, 0.0)
+        stokes_x = wp.vec4d(0.0, 0.0, 0.0, 0.0)  # X- and Z-weighted Stokes (the Y one is `stokes`)
+        stokes_z = wp.vec4d(0.0, 0.0, 0.0, 0.0)
+        hits = float(0.0)
+        rays = int(0)
+        # a trace at one wavelength estimates XYZ / count (its weight has 1/count); a shared one the whole
+        scale = wp.float64(1.0)
+        if film.shared != 0:
+            scale = wp.float64(1.0) / wp.float64(film.count)
+        # pixel positions: the R2 low-discrepancy sequence (Roberts 2018) with a random per-pixel
+        # rotation (Cranley–Patterson): every sample is uniform over the pixel (unbiased), and the
+        # samples of a pixel cover it evenly, which is where a gem's noise comes from (facet edges)
+        rot_x = wp.randf(rng)
+        rot_y = wp.randf(rng)
+        if film.bundle != 0:
+            # spectral bundles (stages/bundle.py): each of the `groups` bundles of an spp takes every
+            # groups-th stratum of the spectrum (all of it, at one pixel position).  The strata of a
+            # bundle share one jitter that follows the golden-ratio sequence over the bundles (a
+            # rotated lattice in the sampling variable, low-discrepancy from bundle to bundle):
+            # every wavelength is still uniform within its stratum, so the estimate is unbiased.
+            rot_u = wp.randf(rng)
+            for _skip in range(film.spp_begin * film.groups * _DRAWS_PER_TRACE):
+                wp.randf(rng)
+            for kb in range(film.spp_begin * film.groups, end * film.groups):
+                grp = kb % film.groups
+                jx = rot_x + float(kb) * 0.7548776662466927
+                jy = rot_y + float(kb) * 0.5698402909980532
+                jx = jx - wp.floor(jx)
+                jy = jy - wp.floor(jy)
+                lu = wp.randf(rng)
+                lv = wp.randf(rng)
+                o, d, bx = camera_ray(cam, float(px) + jx, float(py) + jy, lu, lv)
+                ju = rot_u + float(kb) * 0.6180339887498949
+                ju = ju - wp.floor(ju)
+                lanes = LaneWavelengths()
+                lane_w = LaneWeights()
+                nl = int(0)
+                for stratum in range(grp, film.count, film.groups):
+                    # uniform and importance draws: a rotated lattice in u (stratified as well)
+                    uu = ju
+                    if film.strategy != STRATEGY_STRATIFIED:
+                        uu = ju + float(stratum) / float(film.count)
+                        uu = uu - wp.floor(uu)
+                    wl, w = sample_wavelength(tables, film.strategy, uu, stratum, film.count)
+                    lanes[nl] = wl
+                    lane_w[nl, 0] = w[0]
+                    lane_w[nl, 1] = w[1]
+                    lane_w[nl, 2] = w[2]
+                    nl += 1
+                wp.randf(rng)  # (reserved: keeps _DRAWS_PER_TRACE draws per bundle)
+                coh_x, coh, coh_z, hit, nr, rng_trace = trace_bundle(
+                    tp, geom, mats, env, tables, polarized, o, d, bx, lanes, lane_w, nl, rng_trace
+                )
+                s = stokes_from_coherency(coh)
+                sx = stokes_from_coherency(coh_x)
+                sz = stokes_from_coherency(coh_z)
+                gv = wp.vec3d(wp.float64(sx[0]), wp.float64(s[0]), wp.float64(sz[0]))
+                group += gv
+                if grp == film.groups - 1:
+                    xyz += group
+                    sq += wp.cw_mul(group, group)
+                    group = wp.vec3d(0.0, 0.0, 0.0)
+                stokes += _stokes_d(s)
+                stokes_x += _stokes_d(sx)
+                stokes_z += _stokes_d(sz)
+                hits += float(hit)
+                rays += nr
+            _add_to_film(
+                pix,
+                xyz,
+                sq,
+                stokes,
+                stokes_x,
+                stokes_z,
+                hits / float(film.groups),
+                rays,
+                xyz_out,
+                sq_out,
+                stokes_out,
+                alpha_out,
+                rays_out,
+                stokes_xyz_out,
+            )
+            return
+        for _skip in range(film.spp_begin * film.count * _DRAWS_PER_TRACE):
             wp.randf(rng)
-        for kb in range(film.spp_begin * film.groups, end * film.groups):
-            grp = kb % film.groups
-            jx = rot_x + float(kb) * 0.7548776662466927
-            jy = rot_y + float(kb) * 0.5698402909980532
+        for k in range(film.spp_begin * film.count, end * film.count):
+            stratum = k % film.count
+            u = wp.randf(rng)
+            wl, w = sample_wavelength(tables, film.strategy, u, stratum, film.count)
+            jx = rot_x + float(k) * 0.7548776662466927
+            jy = rot_y + float(k) * 0.5698402909980532
             jx = jx - wp.floor(jx)
             jy = jy - wp.floor(jy)
             lu = wp.randf(rng)
             lv = wp.randf(rng)
-            o, d, bx = camera_ray(cam, float(px) + jx, float(py) + jy, lu, lv)
-            ju = rot_u + float(kb) * 0.6180339887498949
-            ju = ju - wp.floor(ju)
-            lanes = LaneWavelengths()
-            lane_w = LaneWeights()
-            nl = int(0)
-            for stratum in range(grp, film.count, film.groups):
-                # uniform and importance draws: a rotated lattice in u (stratified as well)
-                uu = ju
-                if film.strategy != STRATEGY_STRATIFIED:
-                    uu = ju + float(stratum) / float(film.count)
-                    uu = uu - wp.floor(uu)
-                wl, w = sample_wavelength(tables, film.strategy, uu, stratum, film.count)
-                lanes[nl] = wl
-                lane_w[nl, 0] = w[0]
-                lane_w[nl, 1] = w[1]
-                lane_w[nl, 2] = w[2]
-                nl += 1
-            wp.randf(rng)  # (reserved: keeps _DRAWS_PER_TRACE draws per bundle)
-            coh_x, coh, coh_z, hit, nr, rng_trace = trace_bundle(
-                tp, geom, mats, env, tables, polarized, o, d, bx, lanes, lane_w, nl, rng_trace
+            o, d, b = camera_ray(cam, float(px) + jx, float(py) + jy, lu, lv)
+            response = film.response
+            if film.shared == 0:
+                response = spectral_response(env, tables, wl, w)
+            coh_x, coh, coh_z, hit, nr, rng_trace = trace(
+                tp, geom, mats, env, surf, tables, polarized, o, d, b, wl, w, response, stratum, rng_trace
             )
             s = stokes_from_coherency(coh)
             sx = stokes_from_coherency(coh_x)
             sz = stokes_from_coherency(coh_z)
-            gv = wp.vec3d(wp.float64(sx[0]), wp.float64(s[0]), wp.float64(sz[0]))
-            group += gv
-            if grp == film.groups - 1:
+            g = wp.vec3d(wp.float64(sx[0]), wp.float64(s[0]), wp.float64(sz[0])) * scale
+            group += g
+            if stratum == film.count - 1:
                 xyz += group
                 sq += wp.cw_mul(group, group)
                 group = wp.vec3d(0.0, 0.0, 0.0)
-            stokes += _stokes_d(s)
-            stokes_x += _stokes_d(sx)
-            stokes_z += _stokes_d(sz)
+            stokes += _stokes_d(s) * scale
+            stokes_x += _stokes_d(sx) * scale
+            stokes_z += _stokes_d(sz) * scale
             hits += float(hit)
             rays += nr
         _add_to_film(
@@ -231,7 +300,7 @@ def _render_pixels(
             stokes,
             stokes_x,
             stokes_z,
-            hits / float(film.groups),
+            hits / float(film.count),
             rays,
             xyz_out,
             sq_out,
@@ -240,56 +309,16 @@ def _render_pixels(
             rays_out,
             stokes_xyz_out,
         )
-        return
-    for _skip in range(film.spp_begin * film.count * _DRAWS_PER_TRACE):
-        wp.randf(rng)
-    for k in range(film.spp_begin * film.count, end * film.count):
-        stratum = k % film.count
-        u = wp.randf(rng)
-        wl, w = sample_wavelength(tables, film.strategy, u, stratum, film.count)
-        jx = rot_x + float(k) * 0.7548776662466927
-        jy = rot_y + float(k) * 0.5698402909980532
-        jx = jx - wp.floor(jx)
-        jy = jy - wp.floor(jy)
-        lu = wp.randf(rng)
-        lv = wp.randf(rng)
-        o, d, b = camera_ray(cam, float(px) + jx, float(py) + jy, lu, lv)
-        response = film.response
-        if film.shared == 0:
-            response = spectral_response(env, tables, wl, w)
-        coh_x, coh, coh_z, hit, nr, rng_trace = trace_radiance(
-            tp, geom, mats, env, surf, tables, polarized, o, d, b, wl, w, response, stratum, rng_trace
-        )
-        s = stokes_from_coherency(coh)
-        sx = stokes_from_coherency(coh_x)
-        sz = stokes_from_coherency(coh_z)
-        g = wp.vec3d(wp.float64(sx[0]), wp.float64(s[0]), wp.float64(sz[0])) * scale
-        group += g
-        if stratum == film.count - 1:
-            xyz += group
-            sq += wp.cw_mul(group, group)
-            group = wp.vec3d(0.0, 0.0, 0.0)
-        stokes += _stokes_d(s) * scale
-        stokes_x += _stokes_d(sx) * scale
-        stokes_z += _stokes_d(sz) * scale
-        hits += float(hit)
-        rays += nr
-    _add_to_film(
-        pix,
-        xyz,
-        sq,
-        stokes,
-        stokes_x,
-        stokes_z,
-        hits / float(film.count),
-        rays,
-        xyz_out,
-        sq_out,
-        stokes_out,
-        alpha_out,
-        rays_out,
-        stokes_xyz_out,
-    )
+
+    return _render_pixels
+
+
+_render_pixels = _make_render_pixels(trace_radiance)
+
+
+@functools.cache
+def _fluorescent_render_pixels():
+    return _make_render_pixels(fluorescent_trace_radiance())
 
 
 # bytes per pixel: the float64 film (xyz 24 + stokes 32 + alpha 8 + ray count 8 + per-channel stokes
@@ -372,6 +401,18 @@ class Renderer:
         check_render_memory(scene.camera.width, scene.camera.height, file=scene.path)
         built = build_objects(scene.objects, file=scene.path)
         meshes, mats = built.meshes, built.materials
+        emission_media_supported(mats, file=scene.path)
+        self.fluorescence = has_fluorescence(mats) and r.spectral != "rgb3"
+        if self.fluorescence and r.birefringence == "coherent":
+            raise InputError(
+                "the coherent mode does not trace fluorescent re-emission",
+                file=scene.path,
+                field="render.birefringence",
+                value=r.birefringence,
+                allowed='"exact" or "approx" with a fluorescent material',
+            )
+        # the pixel kernel: the fluorescent one carries the re-emission pass (stages/trace.py)
+        self._pixels = _fluorescent_render_pixels() if self.fluorescence else _render_pixels
         self.geometry = GeometryScene(meshes, allow_empty=True, parents=built.parents, device=self.device)
         if mats:
             self.materials, ids = build_material_table(mats, self.device)
@@ -442,6 +483,10 @@ class Renderer:
             rgb3=r.spectral == "rgb3",
             device=self.device,
             films=films,
+            # fluorescent media re-emit (stages/fluorescence.py); off otherwise (and in rgb3)
+            reemission=build_reemission(mats, scene_light_spectra(scene), device=self.device)
+            if self.fluorescence
+            else None,
         )
         film = FilmParams()
         film.width, film.height = self.camera.width, self.camera.height
@@ -466,6 +511,8 @@ class Renderer:
             and not scene.lamps
             # coherent mode: the optical phases depend on the wavelength
             and r.birefringence != "coherent"
+            # re-emission changes the wavelength along a path
+            and not self.fluorescence
         )
         film.shared = 1 if self.shared_spectrum else 0
         # a dispersive (or absorbing) scene of isotropic, uncoated stones in an environment light
@@ -526,7 +573,7 @@ class Renderer:
     ) -> Image:
         f = self.film
         r = self.scene.render
-        load_module(_render_pixels, self.device)  # compile (first run) outside the timed region
+        load_module(self._pixels, self.device)  # compile (first run) outside the timed region
         for arr in (self.xyz, self.sq, self.stokes, self.alpha, self.rays, self.stokes_xyz):
             arr.zero_()
         h, w = f.height, f.width
@@ -563,7 +610,7 @@ class Renderer:
                 for row0 in chunks:
                     rows = min(rows_per_chunk, f.height - row0)
                     launch_tiled(
-                        _render_pixels,
+                        self._pixels,
                         rows * f.width,
                         [row0 * f.width, *inputs],
                         device=self.device,
@@ -641,7 +688,7 @@ class Renderer:
     def load_kernels(self) -> None:
         """Load the pipeline kernel now (from the kernel cache, or compile it), so that the first
         :meth:`render_pass` or :meth:`run` does not pay for it."""
-        load_module(_render_pixels, self.device)
+        load_module(self._pixels, self.device)
 
     def render_pass(
         self,
@@ -686,7 +733,7 @@ class Renderer:
             inputs = self._kernel_inputs(cam, film)
             n = w * h
             launch_tiled(
-                _render_pixels, n, [0, *inputs], device=self.device, threads=threads, tile_size=tile_size
+                self._pixels, n, [0, *inputs], device=self.device, threads=threads, tile_size=tile_size
             )
         finally:
             f.width, f.height, f.pass_index, f.round, f.adaptive, f.spp_begin, f.spp, f.bundle, f.groups = (

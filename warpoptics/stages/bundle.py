@@ -74,6 +74,7 @@ from ..optics.jones import (
 from ..optics.polarizer import sheet_polarizer_coherency
 from ..spectra import SpectralTables
 from .environment import Environment, environment_basis, environment_coefficients
+from .fluorescence import has_fluorescence
 from .media import object_medium, segment_kappa
 from .trace import TraceParams
 
@@ -436,8 +437,8 @@ def trace_bundle(
 
 def bundle_applies(scene, built) -> bool:
     """Whether a camera scene can be traced in spectral bundles (``render.bundle`` and isotropic,
-    uncoated solids in an environment light, none inside another: no surfaces, lamps, films,
-    caustics or nesting; not rgb3)."""
+    uncoated, non-fluorescent solids in an environment light, none inside another: no surfaces,
+    lamps, films, caustics or nesting; not rgb3)."""
     r = scene.render
     return (
         bool(getattr(r, "bundle", True))
@@ -449,4 +450,6 @@ def bundle_applies(scene, built) -> bool:
         and all(isinstance(m, Isotropic) and not m.is_uniaxial for m in built.materials)
         and len(built.materials) > 0
         and not built.nested
+        # fluorescent re-emission switches a path's wavelength (stages/fluorescence.py)
+        and not has_fluorescence(built.materials)
     )

@@ -31,6 +31,13 @@ starts its rays there (``TraceParams.camera_medium``).  Children start ``geom.ep
 their direction from a hit on object k (``geometry.query.offset_epsilon``: relative to the
 object's size and position).
 
+Fluorescent media (``stages/fluorescence.py``): a tree at the emission wavelength keeps one of
+its segments inside a fluorescent stone (weighted reservoir sampling) and, once its stack is
+empty, traces that segment's excitation tree at a sampled excitation wavelength from a point on
+it in a random direction, unpolarized; the emission enters the sums through the kept segment's
+Jones matrix.  That pass is compiled only into :func:`fluorescent_trace_radiance` (scenes with a
+fluorescent medium); :data:`trace_radiance`, every other scene's, is the tracer without it.
+
 Transmitted amplitudes are scaled by sqrt(Re(N_out cos t) / Re(N_in cos i)) so that |M|^2 is the
 transmitted power; radiance's n^2 factors cancel on paths that start and end in the same
 ambient medium.  Absorption follows Bouguer–Lambert, exp(-alpha l) on the intensity, with alpha
@@ -39,6 +46,7 @@ ambient medium.  Absorption follows Bouguer–Lambert, exp(-alpha l) on the inte
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -82,7 +90,17 @@ from ..optics.polarizer import sheet_polarizer_coherency
 from ..spectra import SpectralTables
 from .coated import KIND_COATED, FilmSurfaces, coating_at, empty_film_surfaces, film_surface_children
 from .coherence import DEFAULT_COHERENCE_WIDTH_MM, LeafBuffer, coherent_flush, coherent_leaf, segment_phase
-from .environment import Environment, environment_coefficients
+from .environment import Environment, environment_coefficients, spectral_response
+from .fluorescence import (
+    COL_ENERGY,
+    COL_KAPPA,
+    COL_LENGTH,
+    Candidate,
+    Reemission,
+    build_reemission,
+    emission_weight,
+    reemission_start,
+)
 from .media import object_medium, segment_kappa
 from .surfaces import Surfaces, surface_radiance, surfaces_closest_hit
 
@@ -92,6 +110,7 @@ __all__ = [
     "TraceParams",
     "TraceConfig",
     "trace_radiance",
+    "fluorescent_trace_radiance",
     "default_params",
     "BIREFRINGENCE",
 ]
@@ -119,6 +138,7 @@ class TraceParams:
     object_absorption_scale: wp.array(dtype=wp.float32)  # multiplier of alpha per object
     object_axis: wp.array(dtype=wp.vec3f)  # optic axis in world space; zero: isotropic
     films: FilmSurfaces  # per-object coatings, thin shells, film surfaces (stages/coated.py)
+    reemission: Reemission  # fluorescent re-emission (stages/fluorescence.py; enabled 0: none)
     coherent: int  # 1: render.birefringence = "coherent" (stages/coherence.py)
     coherence_width: float  # mm: leaves closer than this across their direction add as amplitudes
     coherence_cos: float  # ... if the cosine between their directions is at least this
@@ -186,303 +206,439 @@ def _add_light(acc_x: Jones, acc_y: Jones, acc_z: Jones, k_unit: Jones, xyz: wp.
 # surface_radiance): with every function inlined into the pixel kernel, NVRTC needed 515 s to
 # build the render module for sm_90 (and > 9 min with the adjoint code Warp generated until the
 # modules set enable_backward=False); out of line, 244 s.  CPU speed: no measurable change.
-@wp.func(inline=False)
-def trace_radiance(
-    p: TraceParams,
-    geom: SceneGeometry,
-    mats: MaterialTable,
-    env: Environment,
-    surf: Surfaces,
-    tables: SpectralTables,
-    polarized: int,
-    origin: wp.vec3f,
-    direction: wp.vec3f,
-    basis_x: wp.vec3f,
-    wavelength: float,
-    weight: wp.vec3f,
-    response: wp.mat33f,
-    channel: int,
-    rng: wp.uint32,
-):
-    """The light arriving along a primary ray: (coherency matrices J_X, J_Y, J_Z in the camera
-    frame — the X-, Y- and Z-weighted light, so tr(J_Y) = Y and the Stokes vector of J_Y is the
-    Y-weighted one — hit_any, rays_traced, rng).
 
-    ``response`` turns the coefficients of the environment light that reaches a leaf into XYZ
-    (environment.spectral_response): the one-wavelength estimate at ``wavelength`` with XYZ sample
-    ``weight``, or for a path tree that does not depend on the wavelength (non-dispersive,
-    non-absorbing scenes) the exact integral over the spectrum (EnvironmentLight.exact_response).
-    ``wavelength`` and ``weight`` are still the sample's for the materials and the surfaces hook."""
-    st = Stack()
-    st = write_row(
-        st, 0, origin, direction, basis_x, jones_identity(), 1.0, p.camera_medium, 0, -1, -direction
-    )
-    n = int(1)
-    cand = Cand()
-    acc_x = jones_zero()
-    acc_y = jones_zero()
-    acc_z = jones_zero()
-    scalar_xyz = wp.vec3f(0.0, 0.0, 0.0)
-    hit_any = int(0)
-    rays = int(0)
-    splits = int(0)
-    # the medium around the objects, and the last object medium evaluated (see _object_medium)
-    ambient_med = uniaxial_medium(p.ambient[0], p.ambient[0], wp.vec3f(0.0, 0.0, 0.0))
-    ambient_n = wp.vec2f(p.ambient[0], 0.0)
-    c_obj = int(-1)
-    c_med = ambient_med
-    c_n = ambient_n
-    c_alpha = wp.vec2f(0.0, 0.0)
-    ch3 = int(-1)  # rgb3 mode: the channel's eq. 9 absorbances (segments and shadow rays)
-    if p.rgb3 != 0:
-        ch3 = wp.clamp(channel, 0, 2)
-    leaves = LeafBuffer()  # coherent mode: the leaves of this primary ray (stages/coherence.py)
-    n_leaves = int(0)
-    while n > 0:
-        n -= 1
-        # read the row inline (a wp.func argument is a by-value copy of the whole stack)
-        o = wp.vec3f(st[n, ROW_O], st[n, ROW_O + 1], st[n, ROW_O + 2])
-        d = wp.vec3f(st[n, ROW_D], st[n, ROW_D + 1], st[n, ROW_D + 2])
-        bx = wp.vec3f(st[n, ROW_B], st[n, ROW_B + 1], st[n, ROW_B + 2])
-        wn = wp.vec3f(st[n, ROW_WN], st[n, ROW_WN + 1], st[n, ROW_WN + 2])
-        m = Jones()
-        m.re = wp.mat22(st[n, ROW_MR], st[n, ROW_MR + 1], st[n, ROW_MR + 2], st[n, ROW_MR + 3])
-        m.im = wp.mat22(st[n, ROW_MI], st[n, ROW_MI + 1], st[n, ROW_MI + 2], st[n, ROW_MI + 3])
-        w = st[n, ROW_W]
-        inside = int(st[n, ROW_IN])
-        left = int(-1)
-        if inside <= _LEFT:
-            # a ray in the ambient medium leaving the surface of solid `left` (see the children below)
-            left = _LEFT - inside
-            inside = -1
-        depth = int(st[n, ROW_DEPTH])
-        mode = int(st[n, ROW_MODE])
-        rays += 1
-        hit = RayHit()
-        if inside >= 0:
-            # its own surface or that of a solid nested in it (solids nest or stay apart)
-            hit = medium_closest_hit(geom, inside, o, d, p.t_max)
-        else:
-            hit = scene_closest_hit_leaving(geom, o, d, p.t_max, left)
-            # surfaces hook (stages/surfaces.py): an opaque surface or a lamp in front of every
-            # solid ends the branch with its (unpolarized) radiance, like the environment below
-            if surf.num_surfaces + surf.num_area > 0:
-                sh = surfaces_closest_hit(surf, o, d, hit.t)
-                if sh.kind != 0:
-                    radiance, rng = surface_radiance(
-                        surf,
-                        geom,
+
+def _make_trace_radiance(fluorescence: bool):
+    """The camera trace, compiled without (the default, :data:`trace_radiance`) or with the
+    fluorescent re-emission pass (:func:`fluorescent_trace_radiance`): the re-emission code is
+    left out of the kernel of scenes without a fluorescent medium (``wp.static``), so their
+    cost does not change."""
+
+    @wp.func(inline=False)
+    def trace_radiance(
+        p: TraceParams,
+        geom: SceneGeometry,
+        mats: MaterialTable,
+        env: Environment,
+        surf: Surfaces,
+        tables: SpectralTables,
+        polarized: int,
+        origin: wp.vec3f,
+        direction: wp.vec3f,
+        basis_x: wp.vec3f,
+        wavelength: float,
+        weight: wp.vec3f,
+        response: wp.mat33f,
+        channel: int,
+        rng: wp.uint32,
+    ):
+        """The light arriving along a primary ray: (coherency matrices J_X, J_Y, J_Z in the camera
+        frame — the X-, Y- and Z-weighted light, so tr(J_Y) = Y and the Stokes vector of J_Y is the
+        Y-weighted one — hit_any, rays_traced, rng).
+
+        ``response`` turns the coefficients of the environment light that reaches a leaf into XYZ
+        (environment.spectral_response): the one-wavelength estimate at ``wavelength`` with XYZ sample
+        ``weight``, or for a path tree that does not depend on the wavelength (non-dispersive,
+        non-absorbing scenes) the exact integral over the spectrum (EnvironmentLight.exact_response).
+        ``wavelength`` and ``weight`` are still the sample's for the materials and the surfaces hook."""
+        st = Stack()
+        st = write_row(
+            st, 0, origin, direction, basis_x, jones_identity(), 1.0, p.camera_medium, 0, -1, -direction
+        )
+        n = int(1)
+        cand = Cand()
+        acc_x = jones_zero()
+        acc_y = jones_zero()
+        acc_z = jones_zero()
+        scalar_xyz = wp.vec3f(0.0, 0.0, 0.0)
+        hit_any = int(0)
+        rays = int(0)
+        splits = int(0)
+        # the medium around the objects, and the last object medium evaluated (see _object_medium)
+        ambient_med = uniaxial_medium(p.ambient[0], p.ambient[0], wp.vec3f(0.0, 0.0, 0.0))
+        ambient_n = wp.vec2f(p.ambient[0], 0.0)
+        c_obj = int(-1)
+        c_med = ambient_med
+        c_n = ambient_n
+        c_alpha = wp.vec2f(0.0, 0.0)
+        ch3 = int(-1)  # rgb3 mode: the channel's eq. 9 absorbances (segments and shadow rays)
+        if p.rgb3 != 0:
+            ch3 = wp.clamp(channel, 0, 2)
+        leaves = LeafBuffer()  # coherent mode: the leaves of this primary ray (stages/coherence.py)
+        n_leaves = int(0)
+        # fluorescence (stages/fluorescence.py): the camera tree keeps one segment inside a
+        # fluorescent medium (the reservoir row fl_row, weight sum fl_total); in a second pass of the
+        # same loop (phase 1, emission = 1) that segment's excitation tree is traced at the excitation
+        # wavelength, and its radiance enters the camera tree's sums as unpolarized emission.  The
+        # wavelength, the XYZ weight and the response of the tree being traced are wl, wgt and resp;
+        # the pass switch sits outside the branch loop, so that loop selects no more state than
+        # without fluorescence.
+        wl = wavelength
+        wgt = weight
+        resp = response
+        if wp.static(fluorescence):
+            fl_row = Candidate()
+            fl_total = float(0.0)
+            emission = int(0)
+            fl_factor = float(0.0)
+            main_x = jones_zero()
+            main_y = jones_zero()
+            main_z = jones_zero()
+            main_s = wp.vec3f(0.0, 0.0, 0.0)
+            # the re-emission draws its random numbers from a stream of its own, seeded by the trace's
+            # state and its camera sample (wavelength, ray: they differ from trace to trace even where the
+            # camera tree draws nothing), so the camera tree's choices -- and every later trace of the
+            # pixel -- are those of the same scene without fluorescence: the emission only adds light
+            fl_rng = rng
+            main_rng = rng
+            if p.reemission.enabled != 0:
+                h1 = int(wavelength * 16384.0) ^ int(direction[0] * 1.0e8) ^ (int(direction[1] * 1.0e8) * 3)
+                h2 = int(wp.mod(origin[0] * 1.0e5, 1.0e9)) ^ (int(wp.mod(origin[1] * 1.0e5, 1.0e9)) * 7)
+                fl_rng = wp.rand_init(
+                    h1 ^ int(rng >> wp.uint32(1)), h2 ^ int(wp.mod(origin[2] * 1.0e5, 1.0e9))
+                )
+        for phase in range(wp.static(2 if fluorescence else 1)):
+            if wp.static(fluorescence):
+                if phase == 1 and fl_total > 0.0:
+                    # the camera tree is done: its re-emission, once
+                    fl_obj = int(fl_row[0, ROW_IN])
+                    main_rng = rng
+                    o_f, d_f, b_f, wl_x, fl_factor, rng = reemission_start(
+                        fl_row,
+                        fl_total,
+                        p.reemission,
                         mats,
-                        env,
-                        tables,
-                        p.object_material,
-                        p.object_absorption_scale,
-                        p.ambient[0],
-                        o,
-                        d,
-                        sh,
-                        wavelength,
+                        p.object_material[fl_obj],
+                        p.object_absorption_scale[fl_obj],
+                        wl,
+                        fl_rng,
+                    )
+                    if fl_factor <= 0.0:
+                        rng = main_rng
+                    else:
+                        main_x = acc_x
+                        main_y = acc_y
+                        main_z = acc_z
+                        main_s = scalar_xyz
+                        acc_x = jones_zero()
+                        acc_y = jones_zero()
+                        acc_z = jones_zero()
+                        scalar_xyz = wp.vec3f(0.0, 0.0, 0.0)
+                        wl = wl_x
+                        wgt = wp.vec3f(1.0, 1.0, 1.0)
+                        resp = spectral_response(env, tables, wl, wgt)
+                        c_obj = int(-1)
+                        splits = int(0)
+                        emission = 1
+                        # the root row, element by element (reassigning the stack in a branch would make
+                        # Warp select the whole 40 x 24 matrix at every branch of the loop)
+                        for c in range(3):
+                            st[0, ROW_O + c] = o_f[c]
+                            st[0, ROW_D + c] = d_f[c]
+                            st[0, ROW_B + c] = b_f[c]
+                            st[0, ROW_WN + c] = -d_f[c]
+                        for c in range(4):
+                            st[0, ROW_MR + c] = 0.0
+                            st[0, ROW_MI + c] = 0.0
+                        st[0, ROW_MR + 0] = 1.0  # the unit Jones matrix: unpolarized emission
+                        st[0, ROW_MR + 3] = 1.0
+                        st[0, ROW_W] = 1.0
+                        st[0, ROW_IN] = float(fl_obj)
+                        st[0, ROW_DEPTH] = 1.0
+                        st[0, ROW_MODE] = -1.0
+                        n = 1
+            while n > 0:
+                n -= 1
+                # read the row inline (a wp.func argument is a by-value copy of the whole stack)
+                o = wp.vec3f(st[n, ROW_O], st[n, ROW_O + 1], st[n, ROW_O + 2])
+                d = wp.vec3f(st[n, ROW_D], st[n, ROW_D + 1], st[n, ROW_D + 2])
+                bx = wp.vec3f(st[n, ROW_B], st[n, ROW_B + 1], st[n, ROW_B + 2])
+                wn = wp.vec3f(st[n, ROW_WN], st[n, ROW_WN + 1], st[n, ROW_WN + 2])
+                m = Jones()
+                m.re = wp.mat22(st[n, ROW_MR], st[n, ROW_MR + 1], st[n, ROW_MR + 2], st[n, ROW_MR + 3])
+                m.im = wp.mat22(st[n, ROW_MI], st[n, ROW_MI + 1], st[n, ROW_MI + 2], st[n, ROW_MI + 3])
+                w = st[n, ROW_W]
+                inside = int(st[n, ROW_IN])
+                left = int(-1)
+                if inside <= _LEFT:
+                    # a ray in the ambient medium leaving the surface of solid `left` (see the children below)
+                    left = _LEFT - inside
+                    inside = -1
+                depth = int(st[n, ROW_DEPTH])
+                mode = int(st[n, ROW_MODE])
+                rays += 1
+                hit = RayHit()
+                if inside >= 0:
+                    # its own surface or that of a solid nested in it (solids nest or stay apart)
+                    hit = medium_closest_hit(geom, inside, o, d, p.t_max)
+                else:
+                    hit = scene_closest_hit_leaving(geom, o, d, p.t_max, left)
+                    # surfaces hook (stages/surfaces.py): an opaque surface or a lamp in front of every
+                    # solid ends the branch with its (unpolarized) radiance, like the environment below
+                    if surf.num_surfaces + surf.num_area > 0:
+                        sh = surfaces_closest_hit(surf, o, d, hit.t)
+                        if sh.kind != 0:
+                            radiance, rng = surface_radiance(
+                                surf,
+                                geom,
+                                mats,
+                                env,
+                                tables,
+                                p.object_material,
+                                p.object_absorption_scale,
+                                p.ambient[0],
+                                o,
+                                d,
+                                sh,
+                                wl,
+                                ch3,
+                                rng,
+                            )
+                            # one wavelength per path here: surfaces turn the shared-spectrum path off
+                            xyz_s = wgt * radiance
+                            if polarized != 0:
+                                k_unit = coherency_transform(m, coherency_unpolarized(w))
+                                acc_x, acc_y, acc_z = _add_light(acc_x, acc_y, acc_z, k_unit, xyz_s)
+                            else:
+                                scalar_xyz += xyz_s * w
+                            continue
+                if hit.object < 0:
+                    if inside < 0:
+                        xyz = resp * environment_coefficients(env, d)
+                        if polarized != 0:
+                            # polarized illumination hook (polariscope): the light behind env.polarizer
+                            # (zero axis: unpolarized, coherency_unpolarized); frame (bx, k x bx), k = -d
+                            if p.coherent != 0:
+                                leaves, n_leaves, acc_x, acc_y, acc_z = coherent_leaf(
+                                    leaves, n_leaves, acc_x, acc_y, acc_z, m, w, o, d, bx, xyz,
+                                    env.polarizer, p.ambient[0], depth, _start_offset(geom, inside, left), wl,
+                                )  # fmt: skip
+                            else:
+                                k_unit = coherency_transform(
+                                    m, sheet_polarizer_coherency(env.polarizer, -d, bx, w)
+                                )
+                                acc_x, acc_y, acc_z = _add_light(acc_x, acc_y, acc_z, k_unit, xyz)
+                        else:
+                            scalar_xyz += xyz * w
+                    # a segment inside a solid that finds no exit leaked through a crack: dropped
+                    continue
+                if depth == 0:
+                    hit_any = 1
+                if inside >= 0 and inside != c_obj:
+                    c_med, c_n, c_alpha = _object_medium(p, mats, inside, wl)
+                    c_obj = inside
+                med_a = ambient_med
+                n_a = ambient_n
+                if inside >= 0:
+                    med_a = c_med
+                    n_a = c_n
+                    kappa = segment_kappa(
+                        mats,
+                        p.object_material[inside],
+                        c_alpha,
                         ch3,
+                        mode,
+                        wn,
+                        med_a,
+                        p.object_absorption_scale[inside],
+                    )
+                    if wp.static(fluorescence):
+                        if p.reemission.enabled != 0 and emission == 0 and ch3 < 0:
+                            if mats.fl_yield[p.object_material[inside]] > 0.0:
+                                # a segment inside a fluorescent medium: a re-emission candidate, kept
+                                # with probability W / sum W (its row st[n] is still the popped one)
+                                e_fl, w_fl = emission_weight(m, w, kappa, hit.t)
+                                if w_fl > 0.0:
+                                    fl_total += w_fl
+                                    if wp.randf(fl_rng) * fl_total < w_fl:
+                                        for c in range(COLS):
+                                            fl_row[0, c] = st[n, c]
+                                        fl_row[0, COL_LENGTH] = hit.t
+                                        fl_row[0, COL_KAPPA] = kappa
+                                        fl_row[0, COL_ENERGY] = e_fl
+                    w = w * bouguer_lambert(kappa, hit.t)
+                if p.coherent != 0:
+                    m = segment_phase(
+                        m, med_a, mode, wn, d, hit.t, depth, _start_offset(geom, inside, left), wl
+                    )
+                if depth >= p.max_depth or w <= 0.0:
+                    continue
+                x = o + d * hit.t
+                eps = geom.epsilon[hit.object]  # origin offset of the children (query.offset_epsilon)
+                n_out = hit.normal
+                entering = wp.dot(d, n_out) < 0.0
+                nrm = n_out  # unit normal on the side the backward ray arrives from (medium A)
+                obj_b = hit.object
+                if not entering:
+                    nrm = -n_out
+                    obj_b = geom.parent[hit.object]  # leaving a solid: into the one around it (nesting)
+                med_b = ambient_med
+                n_b = ambient_n
+                if obj_b >= 0:
+                    if obj_b != c_obj:
+                        c_med, c_n, c_alpha = _object_medium(p, mats, obj_b, wl)
+                        c_obj = obj_b
+                    med_b = c_med
+                    n_b = c_n
+                count = int(0)
+                energies = wp.vec4f(0.0, 0.0, 0.0, 0.0)
+                film_kind = p.films.kind[hit.object]
+                crystal = is_uniaxial(med_a) or is_uniaxial(med_b)
+                if film_kind != 0 and film_kind != KIND_COATED and not crystal:
+                    # a thin shell or an opaque film surface (stages/coated.py)
+                    obj_f = hit.object
+                    cand, energies, count, rng = film_surface_children(
+                        cand,
+                        p.films,
+                        mats,
+                        p.object_material[obj_f],
+                        obj_f,
+                        m,
+                        w,
+                        bx,
+                        d,
+                        n_out,
+                        n_a,
+                        x,
+                        geom.world_to_object[obj_f],
+                        eps,
+                        inside,
+                        depth,
+                        polarized,
+                        wl,
                         rng,
                     )
-                    # one wavelength per path here: surfaces turn the shared-spectrum path off
-                    xyz_s = weight * radiance
-                    if polarized != 0:
-                        k_unit = coherency_transform(m, coherency_unpolarized(w))
-                        acc_x, acc_y, acc_z = _add_light(acc_x, acc_y, acc_z, k_unit, xyz_s)
-                    else:
-                        scalar_xyz += xyz_s * w
-                    continue
-        if hit.object < 0:
-            if inside < 0:
-                xyz = response * environment_coefficients(env, d)
-                if polarized != 0:
-                    # polarized illumination hook (polariscope): the light behind env.polarizer
-                    # (zero axis: unpolarized, coherency_unpolarized); frame (bx, k x bx), k = -d
-                    if p.coherent != 0:
-                        leaves, n_leaves, acc_x, acc_y, acc_z = coherent_leaf(
-                            leaves, n_leaves, acc_x, acc_y, acc_z, m, w, o, d, bx, xyz,
-                            env.polarizer, p.ambient[0], depth, _start_offset(geom, inside, left), wavelength,
-                        )  # fmt: skip
-                    else:
-                        k_unit = coherency_transform(m, sheet_polarizer_coherency(env.polarizer, -d, bx, w))
-                        acc_x, acc_y, acc_z = _add_light(acc_x, acc_y, acc_z, k_unit, xyz)
                 else:
-                    scalar_xyz += xyz * w
-            # a segment inside a solid that finds no exit leaked through a crack: dropped
-            continue
-        if depth == 0:
-            hit_any = 1
-        if inside >= 0 and inside != c_obj:
-            c_med, c_n, c_alpha = _object_medium(p, mats, inside, wavelength)
-            c_obj = inside
-        med_a = ambient_med
-        n_a = ambient_n
-        if inside >= 0:
-            med_a = c_med
-            n_a = c_n
-            kappa = segment_kappa(
-                mats,
-                p.object_material[inside],
-                c_alpha,
-                ch3,
-                mode,
-                wn,
-                med_a,
-                p.object_absorption_scale[inside],
-            )
-            w = w * bouguer_lambert(kappa, hit.t)
-        if p.coherent != 0:
-            m = segment_phase(
-                m, med_a, mode, wn, d, hit.t, depth, _start_offset(geom, inside, left), wavelength
-            )
-        if depth >= p.max_depth or w <= 0.0:
-            continue
-        x = o + d * hit.t
-        eps = geom.epsilon[hit.object]  # origin offset of the children (query.offset_epsilon)
-        n_out = hit.normal
-        entering = wp.dot(d, n_out) < 0.0
-        nrm = n_out  # unit normal on the side the backward ray arrives from (medium A)
-        obj_b = hit.object
-        if not entering:
-            nrm = -n_out
-            obj_b = geom.parent[hit.object]  # leaving a solid: into the one around it (nesting)
-        med_b = ambient_med
-        n_b = ambient_n
-        if obj_b >= 0:
-            if obj_b != c_obj:
-                c_med, c_n, c_alpha = _object_medium(p, mats, obj_b, wavelength)
-                c_obj = obj_b
-            med_b = c_med
-            n_b = c_n
-        count = int(0)
-        energies = wp.vec4f(0.0, 0.0, 0.0, 0.0)
-        film_kind = p.films.kind[hit.object]
-        crystal = is_uniaxial(med_a) or is_uniaxial(med_b)
-        if film_kind != 0 and film_kind != KIND_COATED and not crystal:
-            # a thin shell or an opaque film surface (stages/coated.py)
-            obj_f = hit.object
-            cand, energies, count, rng = film_surface_children(
-                cand,
-                p.films,
-                mats,
-                p.object_material[obj_f],
-                obj_f,
-                m,
-                w,
-                bx,
-                d,
-                n_out,
-                n_a,
-                x,
-                geom.world_to_object[obj_f],
-                eps,
-                inside,
-                depth,
-                polarized,
-                wavelength,
-                rng,
-            )
-        else:
-            # the interface event (optics/interface.py), bare or with the object's coating
-            if film_kind == KIND_COATED and not crystal:
-                coat, scale = coating_at(p.films, hit.object, x, geom.world_to_object[hit.object])
-                a_is_front = int(0)
-                if entering:
-                    a_is_front = 1
-                cand, energies, count = backward_coated(
-                    cand,
-                    m,
-                    w,
-                    bx,
-                    d,
-                    n_out,
-                    nrm,
-                    n_a,
-                    n_b,
-                    x,
-                    eps,
-                    inside,
-                    obj_b,
-                    depth,
-                    polarized,
-                    p.films.stack,
-                    coat,
-                    wavelength,
-                    scale,
-                    a_is_front,
-                )
-            elif not crystal:
-                # a bare interface between isotropic media: the hot path
-                cand, energies, count = backward_isotropic(
-                    cand, m, w, bx, d, n_out, nrm, n_a, n_b, x, eps, inside, obj_b, depth, polarized
-                )
-            else:
-                cand, energies, count = backward_crystal(
-                    cand,
-                    m,
-                    w,
-                    bx,
-                    d,
-                    wn,
-                    mode,
-                    n_out,
-                    nrm,
-                    med_a,
-                    med_b,
-                    n_a,
-                    n_b,
-                    x,
-                    eps,
-                    inside,
-                    obj_b,
-                    depth,
-                    polarized,
-                    p.birefringence,
-                )
-        if p.films.kind[hit.object] == 0:
-            # the children in the ambient medium leave the solid's surface (reflected off it from
-            # outside, or transmitted out): remember which, so their query can skip it if convex
-            # (geometry/query.py scene_closest_hit_leaving).  Not for films: a shell has air inside.
-            for k in range(count):
-                if cand[k, ROW_IN] == -1.0:
-                    cand[k, ROW_IN] = float(_LEFT - hit.object)
-        e_parent = float(0.0)
-        for k in range(count):
-            e_parent += energies[k]
-        if e_parent <= 0.0:
-            continue
-        if e_parent >= p.split_threshold and n + count <= STACK_SIZE and splits < p.max_splits:
-            # deterministic split: every child (pushed in reverse so the first is traced first)
-            splits += count - 1
-            for k in range(count):
-                kk = count - 1 - k
-                for c in range(COLS):  # inline: a wp.func would copy the whole stack by value
-                    st[n, c] = cand[kk, c]
-                n += 1
-        else:
-            # stochastic continuation: one child chosen by energy, weighted by 1/probability
-            pick = pick_child(energies, count, wp.randf(rng) * e_parent)
-            scale = e_parent / energies[pick]
-            # Russian roulette on weak paths (the energy after the choice is e_parent)
-            if e_parent < p.rr_threshold:
-                alive, boost = roulette(e_parent, p.rr_threshold, wp.randf(rng))
-                if alive == 0:
+                    # the interface event (optics/interface.py), bare or with the object's coating
+                    if film_kind == KIND_COATED and not crystal:
+                        coat, scale = coating_at(p.films, hit.object, x, geom.world_to_object[hit.object])
+                        a_is_front = int(0)
+                        if entering:
+                            a_is_front = 1
+                        cand, energies, count = backward_coated(
+                            cand,
+                            m,
+                            w,
+                            bx,
+                            d,
+                            n_out,
+                            nrm,
+                            n_a,
+                            n_b,
+                            x,
+                            eps,
+                            inside,
+                            obj_b,
+                            depth,
+                            polarized,
+                            p.films.stack,
+                            coat,
+                            wl,
+                            scale,
+                            a_is_front,
+                        )
+                    elif not crystal:
+                        # a bare interface between isotropic media: the hot path
+                        cand, energies, count = backward_isotropic(
+                            cand, m, w, bx, d, n_out, nrm, n_a, n_b, x, eps, inside, obj_b, depth, polarized
+                        )
+                    else:
+                        cand, energies, count = backward_crystal(
+                            cand,
+                            m,
+                            w,
+                            bx,
+                            d,
+                            wn,
+                            mode,
+                            n_out,
+                            nrm,
+                            med_a,
+                            med_b,
+                            n_a,
+                            n_b,
+                            x,
+                            eps,
+                            inside,
+                            obj_b,
+                            depth,
+                            polarized,
+                            p.birefringence,
+                        )
+                if p.films.kind[hit.object] == 0:
+                    # the children in the ambient medium leave the solid's surface (reflected off it from
+                    # outside, or transmitted out): remember which, so their query can skip it if convex
+                    # (geometry/query.py scene_closest_hit_leaving).  Not for films: a shell has air inside.
+                    for k in range(count):
+                        if cand[k, ROW_IN] == -1.0:
+                            cand[k, ROW_IN] = float(_LEFT - hit.object)
+                e_parent = float(0.0)
+                for k in range(count):
+                    e_parent += energies[k]
+                if e_parent <= 0.0:
                     continue
-                scale = scale * boost
-            for c in range(COLS):
-                st[n, c] = cand[pick, c]
-            st[n, ROW_W] = st[n, ROW_W] * scale
-            n += 1
-    if n_leaves > 0:
-        acc_x, acc_y, acc_z = coherent_flush(
-            leaves, n_leaves, acc_x, acc_y, acc_z, env.polarizer, p.coherence_width, p.coherence_cos
-        )
-    if polarized == 0:
-        acc_x = coherency_unpolarized(scalar_xyz[0])
-        acc_y = coherency_unpolarized(scalar_xyz[1])
-        acc_z = coherency_unpolarized(scalar_xyz[2])
-    return acc_x, acc_y, acc_z, hit_any, rays, rng
+                if e_parent >= p.split_threshold and n + count <= STACK_SIZE and splits < p.max_splits:
+                    # deterministic split: every child (pushed in reverse so the first is traced first)
+                    splits += count - 1
+                    for k in range(count):
+                        kk = count - 1 - k
+                        for c in range(COLS):  # inline: a wp.func would copy the whole stack by value
+                            st[n, c] = cand[kk, c]
+                        n += 1
+                else:
+                    # stochastic continuation: one child chosen by energy, weighted by 1/probability
+                    pick = pick_child(energies, count, wp.randf(rng) * e_parent)
+                    scale = e_parent / energies[pick]
+                    # Russian roulette on weak paths (the energy after the choice is e_parent)
+                    if e_parent < p.rr_threshold:
+                        alive, boost = roulette(e_parent, p.rr_threshold, wp.randf(rng))
+                        if alive == 0:
+                            continue
+                        scale = scale * boost
+                    for c in range(COLS):
+                        st[n, c] = cand[pick, c]
+                    st[n, ROW_W] = st[n, ROW_W] * scale
+                    n += 1
+        if n_leaves > 0:
+            acc_x, acc_y, acc_z = coherent_flush(
+                leaves, n_leaves, acc_x, acc_y, acc_z, env.polarizer, p.coherence_width, p.coherence_cos
+            )
+        if wp.static(fluorescence):
+            if emission != 0:
+                # the excitation tree's radiance (weight (1, 1, 1): its three sums alike) re-emitted
+                # unpolarized into the kept segment, seen with the camera sample's XYZ weight
+                l_x = scalar_xyz[1]
+                if polarized != 0:
+                    l_x = acc_y.re[0, 0] + acc_y.re[1, 1]
+                a = fl_factor * l_x
+                m_fl = Jones()
+                m_fl.re = wp.mat22(
+                    fl_row[0, ROW_MR], fl_row[0, ROW_MR + 1], fl_row[0, ROW_MR + 2], fl_row[0, ROW_MR + 3]
+                )
+                m_fl.im = wp.mat22(
+                    fl_row[0, ROW_MI], fl_row[0, ROW_MI + 1], fl_row[0, ROW_MI + 2], fl_row[0, ROW_MI + 3]
+                )
+                w_fl = fl_row[0, ROW_W]
+                k_fl = coherency_transform(m_fl, coherency_unpolarized(w_fl))
+                acc_x, acc_y, acc_z = _add_light(main_x, main_y, main_z, k_fl, weight * a)
+                scalar_xyz = main_s + weight * (w_fl * a)
+                rng = main_rng
+        if polarized == 0:
+            acc_x = coherency_unpolarized(scalar_xyz[0])
+            acc_y = coherency_unpolarized(scalar_xyz[1])
+            acc_z = coherency_unpolarized(scalar_xyz[2])
+        return acc_x, acc_y, acc_z, hit_any, rays, rng
+
+    return trace_radiance
+
+
+trace_radiance = _make_trace_radiance(False)
+
+
+@functools.cache
+def fluorescent_trace_radiance():
+    """The camera trace with the re-emission pass (built, and compiled, on first use)."""
+    return _make_trace_radiance(True)
 
 
 def default_params(
@@ -497,6 +653,7 @@ def default_params(
     rgb3: bool = False,
     device=None,
     films: FilmSurfaces | None = None,
+    reemission: Reemission | None = None,
 ) -> TraceParams:
     """TraceParams for objects with material ids, alpha multipliers and world optic axes (zero
     rows for isotropic objects); ``camera_medium``: the object the camera is inside (-1: none)."""
@@ -521,4 +678,5 @@ def default_params(
         np.asarray(absorption_scale, dtype=np.float32), dtype=wp.float32, device=device
     )
     p.films = films if films is not None else empty_film_surfaces(len(p.object_material), device=device)
+    p.reemission = reemission if reemission is not None else build_reemission([], None, device=device)
     return p
