@@ -75,7 +75,9 @@ def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -
                     allowed=exc.allowed,
                 )
             elif exc.field is None:  # a mesh or GemCAD file's error: name the object too
-                exc = InputError(exc.message, file=exc.file, field=where, value=exc.value, allowed=exc.allowed)
+                exc = InputError(
+                    exc.message, file=exc.file, field=where, value=exc.value, allowed=exc.allowed
+                )
             raise exc from None
         except (ValueError, TypeError) as exc:
             raise InputError(str(exc), file=file, field=f"{where}.shape", value=ob.shape) from None
