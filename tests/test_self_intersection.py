@@ -195,3 +195,14 @@ def test_a_large_mesh_is_checked_in_about_a_cpu_second():
     other.apply_translation([0.3, 0.2, 0.1])
     assert self_intersection(_merged(sphere, other)) is not None
     assert one < 4.0, one
+
+
+def test_mirror_image_parts_crossing_only_at_edges_are_refused():
+    """Two copies of a symmetric mesh shifted along a symmetry axis cross only where an edge of
+    one meets an edge of the other (the intersection lies in their mirror plane, x = 0.25):
+    no edge pierces a triangle's interior, yet the parts interpenetrate (a volume overlap)."""
+    a = trimesh.creation.icosphere(subdivisions=1)
+    b = a.copy()
+    b.apply_translation([0.5, 0.0, 0.0])
+    cross = self_intersection(_merged(a, b))
+    assert cross is not None and cross.point[0] == pytest.approx(0.25, abs=1e-9)
