@@ -373,3 +373,32 @@ def test_caustics_scene_renders_from_the_cli(tmp_path):
 
     data = read_image(out)
     assert np.isfinite(np.asarray(data[0] if isinstance(data, tuple) else data)).all()
+
+
+def test_light_path_counts_stay_inside_int32():
+    """``caustic_paths = 2^34`` was inside the validated range, but the kernels number light paths
+    (and seed their random streams) in int32: past 2^31 the index wraps negative.  The range is
+    now what one run can index, rounding up to the wavelength strata included; a count past it,
+    given or the default (one path per pixel sample), is one clear line (issue 22, family 7)."""
+    from warpoptics.errors import InputError
+    from warpoptics.stages.caustics import MAX_PATHS
+
+    assert MAX_PATHS + 4095 < 2**31  # the largest count rounded up to 4096 strata still fits
+    for paths in (1 << 34, MAX_PATHS + 1):
+        with pytest.raises(InputError) as info:
+            Scene.from_dict(_slab_scene(paths=paths), path="/s/slab.toml")
+        msg = str(info.value)
+        assert msg.startswith(f"/s/slab.toml: render.caustic_paths = {paths}: ") and "int32" in msg
+        assert "2,147,479,552" in msg and "\n" not in msg
+    d = _slab_scene(paths=MAX_PATHS)
+    d["render"]["wavelengths"] = 4096  # the most strata: the count is rounded up to a multiple
+    r = Renderer(Scene.from_dict(d, path="/s/slab.toml"))
+    assert r.caustics is not None and MAX_PATHS <= r.caustics.paths < 2**31
+    assert r.caustics.paths % 4096 == 0
+    d = _slab_scene(paths=0)  # one light path per pixel sample: 4096 x 4096 x 256 = 2^32
+    d["camera"].update(width=4096, height=4096)
+    d["render"]["spp"] = 256
+    with pytest.raises(InputError) as info:
+        Renderer(Scene.from_dict(d, path="/s/slab.toml"))
+    msg = str(info.value)
+    assert msg.startswith("/s/slab.toml: render.caustic_paths = 0: ") and "4,294,967,296 paths" in msg

@@ -115,3 +115,64 @@ def test_no_cuda_driver_warning_on_cpu():
         env={**env, "PYTHONPATH": str(ROOT)},
     )
     assert r.stdout.strip() == "ok" and "CUDA driver" not in r.stderr, r.stderr
+
+
+def test_sigint_stops_a_long_caustic_pass(tmp_path):
+    """``caustic_paths`` at its largest (2^31 - 4096: hours of light tracing) runs in launches of
+    65,536 paths with a progress bar; Ctrl-C during it ends the command in seconds with status 130
+    and one line, the old file kept and no temporary file left (issue 22, family 7)."""
+    import threading
+
+    from warpoptics.stages.caustics import MAX_PATHS
+
+    out = tmp_path / "keep.png"
+    out.write_bytes(b"the user's file")
+    sets = {
+        "render.caustic_paths": MAX_PATHS,
+        "render.spp": 1,
+        "render.wavelengths": 4,
+        "render.max_depth": 6,
+        "render.diffuse_depth": 1,
+    }
+    cmd = [sys.executable, "-m", "warpoptics.cli", "render", "scenes/caustics.toml", "-o", str(out)]
+    cmd += ["--width", "8", "--height", "8", "--progress"]
+    for k, v in sets.items():
+        cmd += ["--set", f"{k}={v}"]
+    p = subprocess.Popen(
+        cmd,
+        cwd=ROOT,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        stderr=subprocess.PIPE,
+        stdout=subprocess.DEVNULL,
+    )
+    assert p.stderr is not None
+    err = bytearray()
+
+    def pump() -> None:
+        while chunk := p.stderr.read1(4096):  # type: ignore[union-attr]
+            err.extend(chunk)
+
+    reader = threading.Thread(target=pump, daemon=True)
+    reader.start()
+    t0 = time.monotonic()
+    while b"caustics:" not in err and p.poll() is None and time.monotonic() - t0 < 240:
+        time.sleep(0.2)
+    assert b"caustics:" in err, (p.poll(), err.decode(errors="replace"))
+    time.sleep(1.0)  # in the middle of the light tracing
+    assert p.poll() is None
+    p.send_signal(signal.SIGINT)
+    t1 = time.monotonic()
+    try:
+        p.wait(timeout=90)
+    except subprocess.TimeoutExpired:
+        p.kill()
+        p.wait()
+        pytest.fail("the caustic pass did not stop within 90 s of Ctrl-C")
+    waited = time.monotonic() - t1
+    reader.join(timeout=10)
+    stderr = err.decode(errors="replace")
+    assert p.returncode == 130, (p.returncode, stderr)
+    assert "Traceback" not in stderr and stderr.strip().endswith("interrupted"), stderr
+    assert out.read_bytes() == b"the user's file"
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["keep.png"]
+    assert waited < 60  # the launch in flight finishes (65,536 paths), then it exits

@@ -8,7 +8,10 @@ rejects, with an :class:`~warpoptics.errors.InputError` naming the file and what
 - inconsistent winding (adjacent faces oriented oppositely);
 - not watertight (open boundary edges or non-manifold edges);
 - inverted (consistent winding, but the normals point inwards: negative volume);
-- an absurd scale (largest extent outside ``[min_size, max_size]`` mm, e.g. a model in metres).
+- a surface that passes through itself (two triangles that cross, with a witness;
+  :mod:`warpoptics.geometry.self_intersection`);
+- a size outside the one size rule of every object (:func:`size_problem`: largest extent in
+  ``[SIZE_MIN, SIZE_MAX]`` mm; e.g. a model in metres).
 
 ``repair=True`` opts in to fixes (merge duplicate vertices, drop degenerate faces, make the
 winding consistent, fan-fill boundary loops, invert an inside-out mesh); anything still wrong is
@@ -27,15 +30,18 @@ import numpy as np
 import trimesh
 
 from ..errors import InputError
+from .self_intersection import self_intersection
 
 __all__ = [
     "SUPPORTED_EXTENSIONS",
     "SIZE_MIN",
     "SIZE_MAX",
+    "SIZE_ALLOWED",
     "load_mesh",
     "validate_mesh",
     "facet_planes",
     "scale_problem",
+    "size_problem",
 ]
 
 #: the range of object sizes (largest world extent, mm) the tracers serve: below 0.1 um, a
@@ -47,17 +53,31 @@ SIZE_MAX = 1.0e5
 SPACING_MAX = 2.0e-3
 
 
+#: the ``allowed`` part of every size error (InputError), for meshes, cuts and GemCAD designs alike
+SIZE_ALLOWED = f"largest extent in [{SIZE_MIN:g}, {SIZE_MAX:g}] mm"
+
+
+def size_problem(size: float) -> str | None:
+    """Why an object of largest extent ``size`` (mm) is out of the tracers' range, or None: the one
+    size rule; callers raise it as an InputError with the field that sets the size, its value and
+    ``allowed=SIZE_ALLOWED``."""
+    if SIZE_MIN <= size <= SIZE_MAX:
+        return None
+    return (
+        f"object size {size:.4g} mm (largest extent) out of range: below 0.1 um geometric optics does "
+        "not apply; lengths are in mm (a model in metres needs scale = 1000, in cm scale = 10)"
+    )
+
+
 def scale_problem(size: float, far: float) -> str | None:
     """Why an object of largest world extent ``size`` (mm) whose farthest coordinate is ``far``
-    (max |x|, mm) cannot be traced accurately in float32, or None.  The one rule for every shape
-    (cuts, meshes, GemCAD designs) and placement; within it the tracers offset ray origins
-    relative to the object (``geometry.query.offset_epsilon``) and a stone renders as the same
-    stone at reference size."""
-    if not SIZE_MIN <= size <= SIZE_MAX:
-        return (
-            f"object size {size:.4g} mm out of range [{SIZE_MIN:g}, {SIZE_MAX:g}] mm (below 0.1 um "
-            "geometric optics does not apply; lengths are in mm)"
-        )
+    (max |x|, mm) cannot be traced accurately in float32, or None: :func:`size_problem`, then the
+    placement.  The one rule for every shape (cuts, meshes, GemCAD designs) and placement; within
+    it the tracers offset ray origins relative to the object (``geometry.query.offset_epsilon``)
+    and a stone renders as the same stone at reference size."""
+    why = size_problem(size)
+    if why is not None:
+        return why
     spacing = far * float(np.finfo(np.float32).eps)
     if spacing > SPACING_MAX * size:
         return (
@@ -76,11 +96,12 @@ def load_mesh(
     *,
     scale: float = 1.0,
     repair: bool = False,
-    min_size: float = SIZE_MIN,
-    max_size: float = SIZE_MAX,
+    check_size: bool = True,
     closed: bool = True,
 ) -> trimesh.Trimesh:
     """Load a triangle mesh (mm after multiplying by ``scale``) and validate it (see module doc).
+    ``check_size=False`` leaves the size rule to the caller (a scene checks it on the object's world
+    size, after its ``scale``: ``pipelines.objects``).
 
     Scenes with several meshes (GLB) are concatenated into one solid in world coordinates.
     ``closed=False`` accepts open surfaces (thin shells and film surfaces, ``stages.coated``):
@@ -117,9 +138,12 @@ def load_mesh(
         if not np.isfinite(scale) or scale <= 0:
             raise InputError("scale must be a positive number", field="scale", value=scale)
         loaded.apply_scale(float(scale))
-    return validate_mesh(
-        loaded, name=path, repair=repair, min_size=min_size, max_size=max_size, closed=closed
-    )
+    if check_size:
+        size = float(np.max(loaded.extents))
+        why = size_problem(size)
+        if why is not None:
+            raise InputError(why, file=path, field="scale", value=scale, allowed=SIZE_ALLOWED)
+    return validate_mesh(loaded, name=path, repair=repair, check_size=False, closed=closed)
 
 
 def validate_mesh(
@@ -127,12 +151,12 @@ def validate_mesh(
     *,
     name: str | None = None,
     repair: bool = False,
-    min_size: float = SIZE_MIN,
-    max_size: float = SIZE_MAX,
+    check_size: bool = True,
     closed: bool = True,
 ) -> trimesh.Trimesh:
     """Check (and with ``repair`` fix, on a copy) a mesh for ray tracing; return the mesh to use.
-    ``closed=False``: an open surface (no watertightness or volume check)."""
+    ``closed=False``: an open surface (no watertightness or volume check); ``check_size=False``:
+    the caller applies the size rule (:func:`size_problem`)."""
     if not isinstance(mesh, trimesh.Trimesh):
         raise InputError("not a triangle mesh", file=name, value=type(mesh).__name__)
     if len(mesh.faces) == 0:
@@ -140,14 +164,11 @@ def validate_mesh(
     if not np.all(np.isfinite(mesh.vertices)):
         raise InputError("the mesh has non-finite vertex coordinates", file=name)
     size = float(np.max(mesh.extents))
-    if not min_size <= size <= max_size:
-        raise InputError(
-            f"absurd scale: largest extent {size:.4g} mm (lengths are in mm; pass scale=1000 for metres, "
-            "scale=10 for cm)",
-            file=name,
-            field="scale",
-            allowed=f"[{min_size:g}, {max_size:g}] mm",
-        )
+    why = size_problem(size) if check_size else None
+    if why is not None:
+        raise InputError(why, file=name, field="size", value=size, allowed=SIZE_ALLOWED)
+    if not size > 0.0:
+        raise InputError("the mesh has no extent (all vertices coincide)", file=name)
     if repair:
         mesh = mesh.copy()
         mesh.merge_vertices()
@@ -169,6 +190,7 @@ def validate_mesh(
             )
         mesh = _fix_winding(mesh)
     if not closed:
+        _refuse_self_intersection(mesh, name)
         return mesh
     if not mesh.is_watertight:
         if not repair:
@@ -190,7 +212,23 @@ def validate_mesh(
         mesh.invert()
     if not repair and not mesh.is_winding_consistent:  # pragma: no cover - defensive
         raise InputError("inconsistent winding", file=name)
+    _refuse_self_intersection(mesh, name)
     return mesh
+
+
+def _refuse_self_intersection(mesh: trimesh.Trimesh, name: str | None) -> None:
+    """InputError with a witness (two triangles and a point they share) when the surface of
+    ``mesh`` passes through itself (``self_intersection``; repair does not fix it)."""
+    cross = self_intersection(mesh)
+    if cross is None:
+        return
+    x = ", ".join(f"{v:.6g}" for v in cross.point)
+    raise InputError(
+        f"the surface intersects itself: triangles {cross.edge_face} and {cross.face} cross at "
+        f"({x}) mm; a refracting solid must not pass through itself (split it into separate objects, "
+        "nested or apart)",
+        file=name,
+    )
 
 
 def _edge_direction(face: np.ndarray, a: int, b: int) -> int:

@@ -22,7 +22,7 @@ and the index ratio at every interface is that of the two media on its sides.
    solids (each inside the other: a stone given twice) contain neither; the light meets one.
 
 Surfaces that only touch (a vertex or an edge on the other surface) do not count as crossing.
-A mesh that intersects itself is not detected here.
+A mesh that intersects itself is refused when it is loaded (``geometry.self_intersection``).
 
 References:
     van Oosterom, A., Strackee, J. 1983. The solid angle of a plane triangle. IEEE Trans. Biomed.

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from ..errors import InputError
 from ..scene import Scene
-from ..stages.caustics import CausticConfig, CausticStage
+from ..stages.caustics import MAX_PATHS, CausticConfig, CausticStage
 from .objects import SceneObjects, world_axes
 
 __all__ = ["check_caustic_scene", "caustic_stage"]
@@ -41,8 +41,18 @@ def caustic_stage(
     table, spectral tables); ``caustic_paths`` 0 takes one light path per pixel sample."""
     check_caustic_scene(scene)
     r, cam = scene.render, scene.camera
+    paths = r.caustic_paths or cam.width * cam.height * r.spp
+    if paths > MAX_PATHS:  # the default, one path per pixel sample, of a large image
+        raise InputError(
+            f"caustic_paths = 0 takes one light path per pixel sample: {cam.width} x {cam.height} x "
+            f"spp {r.spp} = {paths:,} paths, more than one run can index",
+            file=scene.path,
+            field="render.caustic_paths",
+            value=r.caustic_paths,
+            allowed=f"1 to {MAX_PATHS:,} paths (int32 path indices)",
+        )
     config = CausticConfig(
-        paths=r.caustic_paths or cam.width * cam.height * r.spp,
+        paths=paths,
         spectral=r.spectral,
         wavelengths=r.wavelengths,
         max_depth=r.max_depth,

@@ -11,7 +11,7 @@ import numpy as np
 from ..errors import InputError
 from ..geometry import cuts
 from ..geometry.gemcad import read as read_gemcad
-from ..geometry.mesh import SIZE_MAX, SIZE_MIN, load_mesh, scale_problem
+from ..geometry.mesh import SIZE_ALLOWED, SIZE_MAX, SIZE_MIN, load_mesh, scale_problem, size_problem
 from ..geometry.nesting import OverlapError, object_parents, world_boxes
 from ..materials import material_from_spec
 from ..materials.dispersion import Biaxial, Uniaxial
@@ -54,6 +54,7 @@ def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -
                 mesh = load_mesh(
                     str(ob.path),
                     repair=bool(ob.params.get("repair", False)),
+                    check_size=False,  # the size rule applies to the world size (_check_scale)
                     closed=film is None or film.surface == "solid",
                 )
             elif ob.shape == "gemcad":
@@ -72,6 +73,10 @@ def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -
                     field=f"{where}.{exc.field or 'shape'}",
                     value=exc.value,
                     allowed=exc.allowed,
+                )
+            elif exc.field is None:  # a mesh or GemCAD file's error: name the object too
+                exc = InputError(
+                    exc.message, file=exc.file, field=where, value=exc.value, allowed=exc.allowed
                 )
             raise exc from None
         except (ValueError, TypeError) as exc:
@@ -125,15 +130,21 @@ def _check_scale(objects: Sequence[ObjectConfig], meshes: list, file: str | None
     suspect = (sizes < 2.0 * SIZE_MIN) | (sizes > 0.5 * SIZE_MAX) | (far > 1.0e3 * sizes)
     for i in np.flatnonzero(suspect):
         ob = objects[int(i)]
-        why = scale_problem(float(sizes[i]), float(far[i]))
-        if why is None:
-            continue
-        if why.startswith("object size"):
+        why = size_problem(float(sizes[i]))
+        if why is not None:
             key = next((k for k in ("diameter", "size") if k in ob.params and ob.scale == 1.0), "scale")
             value = ob.params[key] if key != "scale" else ob.scale
-        else:
-            key, value = "position", list(ob.position)
-        raise InputError(why, file=file, field=f"object.{i}.{key}", value=value)
+            mesh = f"{ob.shape} file {ob.path}: " if ob.path is not None else ""
+            raise InputError(
+                mesh + why,
+                file=file,
+                field=f"object.{i}.{key}",
+                value=value,
+                allowed=SIZE_ALLOWED,
+            )
+        why = scale_problem(float(sizes[i]), float(far[i]))
+        if why is not None:
+            raise InputError(why, file=file, field=f"object.{i}.position", value=list(ob.position))
 
 
 def crystal_axes_of(

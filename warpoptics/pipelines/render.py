@@ -632,7 +632,9 @@ class Renderer:
         caustic_stats = {}
         if self.caustics is not None:
             # caustics hook: add the light tracer's film (unpolarized: S0 only) to the camera's
-            cxyz = self.caustics.run(self.caustic_film, threads=threads, tile_size=tile_size).reshape(h, w, 3)
+            cxyz = self.caustics.run(
+                self.caustic_film, threads=threads, tile_size=tile_size, progress=progress
+            ).reshape(h, w, 3)
             xyz = xyz + cxyz
             stokes[..., 0] += cxyz[..., 1]
             stokes_xyz[..., 0] += cxyz  # the S0 of each of X, Y, Z

@@ -21,6 +21,7 @@ from .. import validate as val
 from ..errors import InputError
 from ..film.views import parse_view
 from ..geometry import cuts
+from ..stages.caustics import MAX_PATHS as _CAUSTIC_PATHS_MAX
 from ..stages.coherence import DEFAULT_COHERENCE_WIDTH_MM
 from ..stages.environment import LATLONG_CONVENTIONS, EnvironmentConfig
 from ..stages.surfaces import BSDF_KINDS, LAMP_KINDS, MIS_MODES, LampConfig, SurfaceConfig
@@ -97,6 +98,16 @@ class RenderConfig:
         val.choice(self.mis, MIS_CHOICES, file=file, field=f("mis"))
         for k in ("polarization", "stone_shadows", "caustics", "adaptive", "bundle"):
             val.boolean(getattr(self, k), file=file, field=f(k))
+        cp = self.caustic_paths
+        if isinstance(cp, int) and not isinstance(cp, bool) and cp > _CAUSTIC_PATHS_MAX:
+            raise InputError(
+                "more light paths than one run can index (the kernels number paths in int32); "
+                "for more light, add runs with other seeds",
+                file=file,
+                field=f("caustic_paths"),
+                value=cp,
+                allowed=f"0 to {_CAUSTIC_PATHS_MAX:,} (2^31 - 4096)",
+            )
         for k, lo, hi in (
             ("wavelengths", 1, 4096),
             ("max_depth", 0, 256),
@@ -104,7 +115,7 @@ class RenderConfig:
             ("spp", 1, 1 << 20),
             ("seed", 0, 2**31 - 1),
             ("diffuse_depth", 1, 8),
-            ("caustic_paths", 0, 1 << 34),
+            ("caustic_paths", 0, _CAUSTIC_PATHS_MAX),  # int32 path indices (stages/caustics.py)
             ("pilot_spp", 0, 1 << 20),
             ("bundle_lanes", 1, 16),
         ):

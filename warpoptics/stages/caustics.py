@@ -100,6 +100,7 @@ from dataclasses import dataclass
 import numpy as np
 import warp as wp
 
+from .. import interrupt
 from .. import validate as val
 from ..color import SRGB_TO_XYZ
 from ..device import get_device, launch_tiled, load_module
@@ -142,6 +143,10 @@ _ORTHO = wp.constant(1)
 _HIT_SURFACE = wp.constant(1)
 _EPS_SURF = 1.0e-3  # mm, shadow-ray origin offset off a surface (as stages.surfaces)
 _CHUNK = 1 << 16  # light paths per launch (deposit buffers: CHUNK x max_deposits slots)
+#: the most light paths of one run: the kernels index paths (and seed their random streams) in
+#: int32, and the count is rounded up to a multiple of the wavelength strata (<= 4096), so it
+#: stays below 2^31 (past it the index wraps negative: wrong wavelengths and streams, silently)
+MAX_PATHS = 2**31 - 4096
 
 
 @wp.struct
@@ -462,7 +467,7 @@ class CausticConfig:
 
     def __post_init__(self) -> None:
         f = "caustics."
-        val.integer(self.paths, field=f + "paths", lo=1)
+        val.integer(self.paths, field=f + "paths", lo=1, hi=MAX_PATHS)
         val.choice(self.spectral, ("rgb3", "uniform", "importance", "stratified"), field=f + "spectral")
         val.integer(self.wavelengths, field=f + "wavelengths", lo=1, hi=4096)
         val.integer(self.max_depth, field=f + "max_depth", lo=0, hi=256)
@@ -588,10 +593,17 @@ class CausticStage:
         self._ledger = wp.zeros((self._chunk, len(CAUSTIC_LEDGER)), dtype=wp.float64, device=dev)
 
     def run(
-        self, film: np.ndarray, *, threads: int | None = None, tile_size: int | None = None
+        self,
+        film: np.ndarray,
+        *,
+        threads: int | None = None,
+        tile_size: int | None = None,
+        progress: bool = False,
     ) -> np.ndarray:
         """Trace the light paths and write the caustic film into the caller's ``film`` ((H*W, 3)
-        float64, overwritten); returns it."""
+        float64, overwritten); returns it.  The paths run in launches of ``_CHUNK`` (65,536): a
+        progress bar (``progress``) counts them, and Ctrl-C stops the run between two launches
+        (``interrupt.check``)."""
         cam = self.camera.params
         npix = cam.width * cam.height
         if film.shape != (npix, 3) or film.dtype != np.float64:
@@ -606,35 +618,47 @@ class CausticStage:
         chunk = self._chunk
         md = self.params.max_deposits
         dep_pix, dep_xyz, ledger = self._dep_pix, self._dep_xyz, self._ledger
-        for base in range(0, self.paths, chunk):
-            nb = min(chunk, self.paths - base)
-            launch_tiled(
-                _caustic_kernel,
-                nb,
-                [
-                    base,
-                    self.params,
-                    self.forward,
-                    self.geometry,
-                    self.materials,
-                    self.coatings,
-                    self.surfaces,
-                    cam,
-                    self.tables,
-                    dep_pix,
-                    dep_xyz,
-                    ledger,
-                ],
-                device=dev,
-                threads=threads,
-                tile_size=tile_size,
-            )
-            pix = dep_pix.numpy()[: nb * md]
-            xyz = dep_xyz.numpy()[: nb * md]
-            keep = pix >= 0
-            # fixed-order reduction on the host: deterministic for any thread count
-            np.add.at(film, pix[keep], xyz[keep].astype(np.float64))
-            self.ledger += ledger.numpy()[:nb].sum(axis=0)
+        bar = None
+        if progress:
+            from tqdm.auto import tqdm  # as the camera pass's bar (pipelines.render)
+
+            bar = tqdm(total=self.paths, unit="path", unit_scale=True, desc="caustics", leave=False)
+        try:
+            for base in range(0, self.paths, chunk):
+                interrupt.check()  # Ctrl-C that a library swallowed: stop between launches
+                nb = min(chunk, self.paths - base)
+                launch_tiled(
+                    _caustic_kernel,
+                    nb,
+                    [
+                        base,
+                        self.params,
+                        self.forward,
+                        self.geometry,
+                        self.materials,
+                        self.coatings,
+                        self.surfaces,
+                        cam,
+                        self.tables,
+                        dep_pix,
+                        dep_xyz,
+                        ledger,
+                    ],
+                    device=dev,
+                    threads=threads,
+                    tile_size=tile_size,
+                )
+                pix = dep_pix.numpy()[: nb * md]
+                xyz = dep_xyz.numpy()[: nb * md]
+                keep = pix >= 0
+                # fixed-order reduction on the host: deterministic for any thread count
+                np.add.at(film, pix[keep], xyz[keep].astype(np.float64))
+                self.ledger += ledger.numpy()[:nb].sum(axis=0)
+                if bar is not None:
+                    bar.update(nb)
+        finally:
+            if bar is not None:
+                bar.close()
         self.seconds = time.perf_counter() - t0
         if not np.isfinite(film).all():
             raise FloatingPointError("caustic film is not finite: this is a bug, please report the scene")
