@@ -110,7 +110,9 @@ def main(argv=None) -> int:
             f"ratio {s['ratio']:.3f} (median of {2 * args.rounds}), images identical: {s['images_identical']}"
         )
     if args.json:
-        Path(args.json).write_text(json.dumps(out, indent=2) + "\n", encoding="utf-8")
+        from warpoptics.sweep.results import write_text_atomic
+
+        write_text_atomic(Path(args.json), json.dumps(out, indent=2) + "\n")
     return 0
 
 

@@ -41,9 +41,8 @@ from pathlib import Path
 
 import numpy as np
 
-from warpoptics.atomic import atomic_path
 from warpoptics.color import encode_srgb
-from warpoptics.film.image import write_png
+from warpoptics.film.image import save_figure, write_png
 from warpoptics.grading.performance import PROTOCOL, brightness_map, tilted_light_return, windowing
 from warpoptics.grading.presets import face_up_scene
 from warpoptics.grading.scopes import (
@@ -282,8 +281,7 @@ def main(argv=None) -> int:
             mesh = _plot_lp_map(a2, table, list(map_proto.tilts), map_azimuths)
             f2.colorbar(mesh, ax=a2, fraction=0.046, pad=0.1, label="light return")
             a2.set_title(f"{label}: light return vs tilt", fontsize=8)
-            with atomic_path(looks_dir / f"{key}_lp_map.png") as p:
-                f2.savefig(p, dpi=80)
+            save_figure(f2, looks_dir / f"{key}_lp_map.png", dpi=80)
             plt.close(f2)
             print(
                 f"{label}: ASET leak {zones['leak']:.3f} (centre {zones['leak_centre']:.3f}), red "
@@ -293,8 +291,7 @@ def main(argv=None) -> int:
                 flush=True,
             )
     fig.tight_layout()
-    with atomic_path(out / "grading_looks.png") as p:
-        fig.savefig(p, dpi=90)
+    save_figure(fig, out / "grading_looks.png", dpi=90)
     plt.close(fig)
     fig, axs = plt.subplots(len(strips), 1, figsize=(9, 3.0 * len(strips)), squeeze=False)
     for ax, (label, strip) in zip(axs[:, 0], strips, strict=True):
@@ -302,8 +299,7 @@ def main(argv=None) -> int:
         ax.set_axis_off()
         ax.set_title(f"{label}: tilt 0-{strip_tilts[-1]:g}° (ISO + head above, spots below)", fontsize=8)
     fig.tight_layout()
-    with atomic_path(out / "grading_tilt_strips.png") as p:
-        fig.savefig(p, dpi=90)
+    save_figure(fig, out / "grading_tilt_strips.png", dpi=90)
     plt.close(fig)
     write_text_atomic(out / "grading_gallery.json", json.dumps(readout, indent=1) + "\n")
     print(f"wrote {out / 'grading_looks.png'}, {out / 'grading_tilt_strips.png'}, {looks_dir}/, and .json")
