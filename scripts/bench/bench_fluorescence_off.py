@@ -1,17 +1,17 @@
 """Cost of the re-emission code with fluorescence off: this checkout against a baseline checkout.
 
-The camera trace (``stages/trace.py``) carries the re-emission estimator of
-``stages/fluorescence.py``; in a scene without a fluorescent medium it is never entered (one flag
-per segment inside a stone, one comparison per popped branch).  This benchmark renders the same
-non-fluorescent scenes with this checkout and with a baseline checkout (default ``/work/main``,
-any tree of warpoptics without the change) in alternating child processes (A B B A ...), one
+The re-emission estimator of ``stages/fluorescence.py`` is compiled only into the fluorescent
+variant of the camera trace (``stages/trace.py``, ``wp.static``); a scene without a fluorescent
+medium runs the tracer without it.  This benchmark renders the same non-fluorescent scenes with
+this checkout and with a baseline checkout (``--baseline``: any tree of warpoptics without the
+change, e.g. ``git worktree add ../before <commit>``) in alternating child processes (A B B A ...), one
 render thread each, and reports the CPU seconds of the render itself (kernels loaded before the
 clock starts) and the ratio candidate / baseline per scene, with the images compared for
 equality.  The default scenes use one path tree per wavelength, where the code lives: the
 sapphire (a uniaxial stone) and the diamond with ``render.bundle = false``.
 
-    python scripts/bench/bench_fluorescence_off.py [--baseline /work/main] [--size 48] [--rounds 3]
-    python scripts/bench/bench_fluorescence_off.py --size 16 --rounds 1     # a smoke run
+    python scripts/bench/bench_fluorescence_off.py --baseline ../before [--size 48] [--rounds 3]
+    python scripts/bench/bench_fluorescence_off.py --baseline ../before --size 16 --rounds 1  # smoke
 """
 
 from __future__ import annotations
@@ -69,7 +69,7 @@ def _run(tree: Path, scene: str, size: int) -> dict:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--baseline", default="/work/main", help="a warpoptics checkout without the change")
+    ap.add_argument("--baseline", required=True, help="a warpoptics checkout without the change")
     ap.add_argument("--size", type=int, default=48, help="image width and height")
     ap.add_argument("--rounds", type=int, default=3, help="A B B A rounds per scene")
     ap.add_argument("--scenes", nargs="+", default=list(SCENES), choices=list(SCENES))
