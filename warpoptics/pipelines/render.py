@@ -54,8 +54,8 @@ from ..stages.trace import (
     TraceConfig,
     TraceParams,
     default_params,
-    fluorescent_trace_radiance,
     trace_radiance,
+    trace_variant,
 )
 from .adaptive import allocate
 from .caustics import caustic_stage
@@ -131,8 +131,8 @@ def _add_to_film(
 
 
 def _make_render_pixels(trace):
-    """The pixel kernel over a camera trace (``stages.trace.trace_radiance``, or its fluorescent
-    variant for scenes with a fluorescent medium)."""
+    """The pixel kernel over a camera trace (``stages.trace.trace_radiance``, or a variant with
+    the fluorescent re-emission pass or the coherent mode, ``stages.trace.trace_variant``)."""
 
     @wp.kernel
     def _render_pixels(
@@ -317,8 +317,11 @@ _render_pixels = _make_render_pixels(trace_radiance)
 
 
 @functools.cache
-def _fluorescent_render_pixels():
-    return _make_render_pixels(fluorescent_trace_radiance())
+def _render_pixels_variant(fluorescence: bool, coherent: bool):
+    """The pixel kernel over ``stages.trace.trace_variant`` (the default: ``_render_pixels``)."""
+    if not fluorescence and not coherent:
+        return _render_pixels
+    return _make_render_pixels(trace_variant(fluorescence, coherent))
 
 
 # bytes per pixel: the float64 film (xyz 24 + stokes 32 + alpha 8 + ray count 8 + per-channel stokes
@@ -412,7 +415,7 @@ class Renderer:
                 allowed='"exact" or "approx" with a fluorescent material',
             )
         # the pixel kernel: the fluorescent one carries the re-emission pass (stages/trace.py)
-        self._pixels = _fluorescent_render_pixels() if self.fluorescence else _render_pixels
+        self._pixels = _render_pixels_variant(self.fluorescence, r.birefringence == "coherent")
         self.geometry = GeometryScene(meshes, allow_empty=True, parents=built.parents, device=self.device)
         if mats:
             self.materials, ids = build_material_table(mats, self.device)

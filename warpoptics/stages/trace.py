@@ -35,8 +35,9 @@ Fluorescent media (``stages/fluorescence.py``): a tree at the emission wavelengt
 its segments inside a fluorescent stone (weighted reservoir sampling) and, once its stack is
 empty, traces that segment's excitation tree at a sampled excitation wavelength from a point on
 it in a random direction, unpolarized; the emission enters the sums through the kept segment's
-Jones matrix.  That pass is compiled only into :func:`fluorescent_trace_radiance` (scenes with a
-fluorescent medium); :data:`trace_radiance`, every other scene's, is the tracer without it.
+Jones matrix.  That pass, like the coherent mode's phases and leaf buffer, is compiled only into a
+variant of the tracer (:func:`trace_variant`, ``wp.static``) for the scenes that use it;
+:data:`trace_radiance`, every other scene's, is the tracer without them.
 
 Transmitted amplitudes are scaled by sqrt(Re(N_out cos t) / Re(N_in cos i)) so that |M|^2 is the
 transmitted power; radiance's n^2 factors cancel on paths that start and end in the same
@@ -110,7 +111,7 @@ __all__ = [
     "TraceParams",
     "TraceConfig",
     "trace_radiance",
-    "fluorescent_trace_radiance",
+    "trace_variant",
     "default_params",
     "BIREFRINGENCE",
 ]
@@ -139,7 +140,6 @@ class TraceParams:
     object_axis: wp.array(dtype=wp.vec3f)  # optic axis in world space; zero: isotropic
     films: FilmSurfaces  # per-object coatings, thin shells, film surfaces (stages/coated.py)
     reemission: Reemission  # fluorescent re-emission (stages/fluorescence.py; enabled 0: none)
-    coherent: int  # 1: render.birefringence = "coherent" (stages/coherence.py)
     coherence_width: float  # mm: leaves closer than this across their direction add as amplitudes
     coherence_cos: float  # ... if the cosine between their directions is at least this
 
@@ -208,11 +208,10 @@ def _add_light(acc_x: Jones, acc_y: Jones, acc_z: Jones, k_unit: Jones, xyz: wp.
 # modules set enable_backward=False); out of line, 244 s.  CPU speed: no measurable change.
 
 
-def _make_trace_radiance(fluorescence: bool):
+def _make_trace_radiance(fluorescence: bool, coherent: bool):
     """The camera trace, compiled without (the default, :data:`trace_radiance`) or with the
-    fluorescent re-emission pass (:func:`fluorescent_trace_radiance`): the re-emission code is
-    left out of the kernel of scenes without a fluorescent medium (``wp.static``), so their
-    cost does not change."""
+    fluorescent re-emission pass and the coherent mode (:func:`trace_variant`): their code is left
+    out of the kernel of scenes that do not use them (``wp.static``), so those cost nothing."""
 
     @wp.func(inline=False)
     def trace_radiance(
@@ -264,8 +263,9 @@ def _make_trace_radiance(fluorescence: bool):
         ch3 = int(-1)  # rgb3 mode: the channel's eq. 9 absorbances (segments and shadow rays)
         if p.rgb3 != 0:
             ch3 = wp.clamp(channel, 0, 2)
-        leaves = LeafBuffer()  # coherent mode: the leaves of this primary ray (stages/coherence.py)
-        n_leaves = int(0)
+        if wp.static(coherent):
+            leaves = LeafBuffer()  # coherent mode: the leaves of this primary ray (stages/coherence.py)
+            n_leaves = int(0)
         # fluorescence (stages/fluorescence.py): the camera tree keeps one segment inside a
         # fluorescent medium (the reservoir row fl_row, weight sum fl_total); in a second pass of the
         # same loop (phase 1, emission = 1) that segment's excitation tree is traced at the excitation
@@ -408,7 +408,7 @@ def _make_trace_radiance(fluorescence: bool):
                         if polarized != 0:
                             # polarized illumination hook (polariscope): the light behind env.polarizer
                             # (zero axis: unpolarized, coherency_unpolarized); frame (bx, k x bx), k = -d
-                            if p.coherent != 0:
+                            if wp.static(coherent):
                                 leaves, n_leaves, acc_x, acc_y, acc_z = coherent_leaf(
                                     leaves, n_leaves, acc_x, acc_y, acc_z, m, w, o, d, bx, xyz,
                                     env.polarizer, p.ambient[0], depth, _start_offset(geom, inside, left), wl,
@@ -457,7 +457,7 @@ def _make_trace_radiance(fluorescence: bool):
                                         fl_row[0, COL_KAPPA] = kappa
                                         fl_row[0, COL_ENERGY] = e_fl
                     w = w * bouguer_lambert(kappa, hit.t)
-                if p.coherent != 0:
+                if wp.static(coherent):
                     m = segment_phase(
                         m, med_a, mode, wn, d, hit.t, depth, _start_offset(geom, inside, left), wl
                     )
@@ -599,10 +599,11 @@ def _make_trace_radiance(fluorescence: bool):
                         st[n, c] = cand[pick, c]
                     st[n, ROW_W] = st[n, ROW_W] * scale
                     n += 1
-        if n_leaves > 0:
-            acc_x, acc_y, acc_z = coherent_flush(
-                leaves, n_leaves, acc_x, acc_y, acc_z, env.polarizer, p.coherence_width, p.coherence_cos
-            )
+        if wp.static(coherent):
+            if n_leaves > 0:
+                acc_x, acc_y, acc_z = coherent_flush(
+                    leaves, n_leaves, acc_x, acc_y, acc_z, env.polarizer, p.coherence_width, p.coherence_cos
+                )
         if wp.static(fluorescence):
             if emission != 0:
                 # the excitation tree's radiance (weight (1, 1, 1): its three sums alike) re-emitted
@@ -632,13 +633,16 @@ def _make_trace_radiance(fluorescence: bool):
     return trace_radiance
 
 
-trace_radiance = _make_trace_radiance(False)
+trace_radiance = _make_trace_radiance(False, False)
 
 
 @functools.cache
-def fluorescent_trace_radiance():
-    """The camera trace with the re-emission pass (built, and compiled, on first use)."""
-    return _make_trace_radiance(True)
+def trace_variant(fluorescence: bool, coherent: bool):
+    """The camera trace with the re-emission pass and/or the coherent mode's phases and leaf
+    buffer (built, and compiled, on first use); :data:`trace_radiance` has neither."""
+    if not fluorescence and not coherent:
+        return trace_radiance
+    return _make_trace_radiance(fluorescence, coherent)
 
 
 def default_params(
@@ -667,7 +671,6 @@ def default_params(
     p.ambient = wp.vec2f(*ambient)
     p.rgb3 = int(rgb3)
     p.birefringence = BIREFRINGENCE[config.birefringence]
-    p.coherent = int(config.birefringence == "coherent")
     p.coherence_width = float(config.coherence_width_mm)
     p.coherence_cos = float(config.coherence_cos)
     p.object_axis = wp.array(
