@@ -130,11 +130,13 @@ def _add_to_film(
     stokes_xyz_out[pix, 2] = stokes_xyz_out[pix, 2] + stokes_z
 
 
-def _make_render_pixels(trace):
+def _make_render_pixels(trace, module=None):
     """The pixel kernel over a camera trace (``stages.trace.trace_radiance``, or a variant with
-    the fluorescent re-emission pass or the coherent mode, ``stages.trace.trace_variant``)."""
+    the fluorescent re-emission pass or the coherent mode, ``stages.trace.trace_variant``).  A
+    variant gets a Warp module of its own (``module="unique"``): built on first use, it does not
+    change this module's hash, so the default kernel is not compiled again."""
 
-    @wp.kernel
+    @wp.kernel(module=module, enable_backward=False)
     def _render_pixels(
         offset: int,
         base: int,
@@ -321,7 +323,7 @@ def _render_pixels_variant(fluorescence: bool, coherent: bool):
     """The pixel kernel over ``stages.trace.trace_variant`` (the default: ``_render_pixels``)."""
     if not fluorescence and not coherent:
         return _render_pixels
-    return _make_render_pixels(trace_variant(fluorescence, coherent))
+    return _make_render_pixels(trace_variant(fluorescence, coherent), module="unique")
 
 
 # bytes per pixel: the float64 film (xyz 24 + stokes 32 + alpha 8 + ray count 8 + per-channel stokes
