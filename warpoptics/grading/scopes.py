@@ -36,9 +36,9 @@ a clear stone then conserves energy per pixel: sum_k Y_k + Y_leak = Y_constant =
 
   Deep pavilions (the same script, the renderer agreeing within 0.02): the axial ray of a 43 deg
   stone leaves the table 19.7 deg from the zenith (red), so its centre has no leakage area; its
-  extra leakage (0.126 of its light vs the Tolkowsky's 0.076 face-up) comes through the crown,
-  leak-dominated area 0.13 vs 0.05 there, and, tilted 10 deg, under the table ring (0.17 vs
-  0.01).  The centre darkens by the head's reflection (blue, the "nailhead") for 44.0-46.0 deg
+  extra leakage (0.116 of its light vs the Tolkowsky's 0.065 face-up, 48 px) comes through the
+  crown, leak-dominated area 0.11 vs 0.03 there, and, tilted 10 deg, under the table ring (0.17
+  vs 0.01).  The centre darkens by the head's reflection (blue, the "nailhead") for 44.0-46.0 deg
   and leaks only above 55.5 deg, where the second main's transmitted light comes from below the
   girdle plane (it transmits from 51.9 deg, but from above the plane: green).
 - **Ideal Scope** (G. Holloway's red-reflector viewer): light from the red reflector around the
@@ -99,7 +99,9 @@ ASET_COLORS = {
 class Bands:
     """Face-up luminance per direction band: ``bands[..., k]`` (H, W, K) from the zenith-angle band
     [edges[k], edges[k+1]) in degrees (edges end at 90), ``leak`` (H, W) from below the girdle
-    plane, ``alpha`` (H, W) the stone's coverage, ``renders`` the number of renders spent."""
+    plane, ``alpha`` (H, W) the stone's coverage, ``renders`` the number of renders spent.  The
+    values are the stone's light only, coverage included (a pixel half on the stone holds half its
+    mean radiance there; the background the other half sees is removed)."""
 
     edges: tuple[float, ...]
     bands: np.ndarray
@@ -108,9 +110,13 @@ class Bands:
     renders: int
 
     def fractions(self, mask=None) -> dict[str, float]:
-        """Alpha-weighted share of each band and of leakage in the stone's light (within ``mask``,
-        a boolean (H, W) region, default the whole stone): ``band0..``, ``leak``; they sum to 1."""
-        w = self.alpha if mask is None else self.alpha * np.asarray(mask, dtype=np.float64)
+        """Share of each band and of leakage in the stone's light (within ``mask``, a boolean
+        (H, W) region, default the whole stone): ``band0..``, ``leak``; they sum to 1.  The values
+        already carry each pixel's coverage (alpha x the stone's mean radiance in the pixel), so
+        the pixels are summed unweighted."""
+        w = (self.alpha > 0).astype(np.float64)
+        if mask is not None:
+            w = w * np.asarray(mask, dtype=np.float64)
         parts = [(w * self.bands[..., k]).sum() for k in range(self.bands.shape[-1])]
         parts.append((w * self.leak).sum())
         tot = float(sum(parts))
@@ -203,11 +209,17 @@ def direction_bands(
         img = render(Scene.from_dict(data), device=device)
         ys.append(np.maximum(np.asarray(img.xyz[..., 1], dtype=np.float64), 0.0))
         alpha = np.asarray(img.alpha, dtype=np.float64)
+    assert alpha is not None
+    # A pixel's value is the mean over its sub-rays, which are jittered within the pixel: at the
+    # girdle outline (alpha < 1) the rays that miss the stone see the environment straight below
+    # the camera, Y = 1 under the constant light and 0 under the dome (black below the horizon).
+    # That background is not light through the stone: remove it from the constant render, so
+    # that every band and the leakage hold the stone's light alone (alpha x its mean radiance).
+    ys[-1] = ys[-1] - (1.0 - alpha)
     # Y(e_k) - Y(e_k+1); the last band ends at the horizon (Y beyond 90 deg from a dome is 0)
     cum = ys[:-1] + [np.zeros_like(ys[0])]
     bands = np.stack([np.maximum(cum[k] - cum[k + 1], 0.0) for k in range(len(e))], axis=-1)
     leak = np.maximum(ys[-1] - ys[0], 0.0)
-    assert alpha is not None
     return Bands(edges=tuple(e), bands=bands, leak=leak, alpha=alpha, renders=len(ys))
 
 
