@@ -255,10 +255,10 @@ def main(argv=None) -> int:
                 "seconds": round(seconds, 1),
             }
             captions = [
-                f"leak {zones['leak']:.2f}, red {zones['red']:.2f}",
+                f"leak {zones['leak']:.2f} (crown {zones['leak_crown']:.2f}), red {zones['red']:.2f}",
                 f"leak {ifr['leak']:.2f}",
-                f"{n_arrows} arrows" if n_arrows is not None else arrows_verdict,
-                f"{n_hearts} hearts" if n_hearts is not None else hearts_verdict,
+                f"{n_arrows} arrows" if n_arrows is not None else "arrows: pattern broken",
+                f"{n_hearts} hearts" if n_hearts is not None else "hearts: pattern broken",
                 f"bright {b_fr['bright']:.2f}, dark {b_fr['dark']:.2f}",
                 f"mean {lr_mean:.3f}",
             ]
