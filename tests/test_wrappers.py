@@ -1164,6 +1164,13 @@ def _wave_plate_ref(angle, gamma, lam):
     return [r.T @ np.diag([np.exp(2j * np.pi * gamma / lam), 1.0]) @ r]
 
 
+def _active_retarder_ref(delta, tau):
+    # exp of the coupled-wave generator [[-i d/2, -t], [t, i d/2]] (Jones 1948), by scipy
+    from scipy.linalg import expm
+
+    return [expm(np.array([[-0.5j * delta, -tau], [tau, 0.5j * delta]]))]
+
+
 WRAPPERS += [
     W(
         "optics.plate.slab_phases",
@@ -1202,6 +1209,40 @@ WRAPPERS += [
             ("thickness_mm", [0.01, 0.03, 0.002]),
         ],
         None,  # tests/test_plate.py holds the closed forms and the Berreman reference
+    ),
+    W(
+        "optics.plate.active_retarders",
+        lambda d, t, **k: wo.optics.plate.active_retarders(d, t, **k),
+        [("retardation_rad", [2.5, 0.0, -7.0]), ("rotation_rad", [0.6, 0.7, 0.0])],
+        _active_retarder_ref,
+        atol=2e-6,
+    ),
+    W(
+        "optics.plate.rotatory_powers",
+        lambda c, r, g, **k: wo.optics.plate.rotatory_powers(c, r, g, **k),
+        [
+            ("cos_axis", [1.0, 0.5, 0.0]),
+            ("rho_axis", [0.379, -0.2, 0.1]),
+            ("perpendicular_ratio", [-0.5, 0.0, 0.3]),
+        ],
+        lambda c, r, g: [r * (c**2 + g * (1 - c**2))],
+    ),
+    W(
+        "optics.plate.active_plate_jones",
+        lambda k, lam, n3, d, rho, **kw: wo.optics.plate.active_plate_jones(
+            k, lam, n3, d, rho, optic_axis=(1.0, 1.0, 0.2), **kw
+        ),
+        [
+            ("direction", [_unit([0.1, 0.2, 1.0]), _unit([0.0, 0.0, 1.0]), _unit([-0.4, 0.1, 0.9])]),
+            ("wavelength_nm", [589.0, 450.0, 700.0]),
+            (
+                "indices",
+                [np.array([1.544, 0.0, 1.553]), np.array([1.658, 0.0, 1.486]), np.array([1.5, 0.0, 1.5])],
+            ),
+            ("thickness_mm", [0.01, 0.03, 0.002]),
+            ("rho_axis_rad_mm", [0.379, -0.379, 0.0]),
+        ],
+        None,  # tests/test_activity.py holds the N-slice and closed-form references
     ),
 ]
 
