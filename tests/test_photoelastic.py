@@ -128,7 +128,8 @@ def test_dark_fringes_along_the_loaded_diameter(device):
         a, b, c = i[j - 1], i[j], i[j + 1]
         found.append(y[j] + 0.5 * (a - c) / (a - 2 * b + c) * (y[1] - y[0]))
     assert len(found) >= 5
-    np.testing.assert_allclose(found[:5], want, rtol=1e-2)
+    # 1 % asked; the positions agree to 4e-7 (float32 stresses, parabola on a 2.5 µm grid)
+    np.testing.assert_allclose(found[:5], want, rtol=1e-4)
 
 
 def test_isoclinics_of_the_plane_polariscope(device):
