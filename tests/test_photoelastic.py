@@ -172,6 +172,31 @@ def test_quenched_plate_profile():
     assert np.all(quenched_plate(z, thickness_mm=4.0, surface_mpa=0.0) == 0.0)
 
 
+def test_quenched_plate_edge_on(device):
+    # circular polariscope: dark where sigma(z) = 0, z = +-h / (2 sqrt 3), and where
+    # C L sigma(z) = k lambda; annealed glass is black in both polariscopes
+    h, length, s0 = 6.0, 20.0, 100.0
+    z0 = h / (2 * np.sqrt(3))
+    i = pe.polariscope_transmission(
+        quenched_plate(np.array([z0, -z0, 0.0]), thickness_mm=h, surface_mpa=s0),
+        0.0,
+        0.0,
+        [LAM],
+        c_tpa=C,
+        thickness_mm=length,
+        polariscope="circular",
+        device=device,
+    )[:, 0]
+    assert np.max(i[:2]) < 1e-7
+    assert abs(i[2] - np.sin(np.pi * C * length * 0.5 * s0 / LAM) ** 2) < 1e-5
+    for pol in ("plane", "circular"):
+        im = pe.quenched_plate_image(surface_mpa=0.0, polariscope=pol, width=16, height=16, device=device)
+        assert np.max(im.intensity) < 1e-7
+    # the plane polariscope with the polarizer along the plate sees nothing: the isoclinic
+    im = pe.quenched_plate_image(polarizer_deg=0.0, width=16, height=16, device=device)
+    assert np.max(im.intensity) < 1e-7
+
+
 def test_bad_inputs():
     with pytest.raises(InputError, match="polariscope"):
         pe.polariscope_transmission(1.0, 0.0, 0.0, [LAM], c_tpa=C, thickness_mm=T, polariscope="round")

@@ -10,7 +10,10 @@ Writes into the output directory (default docs/gallery):
   the same at 589.3 nm;
 - ``strained_glass.png``: a BK7 disc 20 mm across, 5 mm thick, under diametral compression of
   4 kN (the Brazilian disc, fringe order 2.4 at the centre), plane (top) and circular (bottom)
-  polariscope: strain-free glass (black) | strained, white light | strained, 589.3 nm.
+  polariscope: strain-free glass (black) | strained, white light | strained, 589.3 nm; below,
+  a 6 mm BK7 plate seen edge-on through 20 mm of glass in the plane polariscope at 45 degrees:
+  annealed (black) | quenched (parabolic residual stress, 30 MPa surface compression), white
+  light | 589.3 nm.
 
 Prints the fringe order at the disc centre and the centre transmission of the quartz plate
 against the closed forms.
@@ -59,14 +62,24 @@ def _disc_grid(images, titles, out: Path) -> None:
     from warpoptics.film.image import save_figure
 
     rows, cols = len(images), len(images[0])
-    fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 3.1 * rows))
+    ratios = [row[0].mask.shape[0] / row[0].mask.shape[1] for row in images]
+    fig, axes = plt.subplots(
+        rows,
+        cols,
+        figsize=(3.0 * cols, sum(3.0 * r + 0.25 for r in ratios)),
+        gridspec_kw={"height_ratios": [3.0 * r + 0.25 for r in ratios]},
+        squeeze=False,
+    )
     for r in range(rows):
         for c in range(cols):
             ax = axes[r][c]
             im = images[r][c]
             ax.imshow(im.srgb, interpolation="bilinear")
-            n = im.mask.shape[0]  # the disc's rim, so that black glass shows against the field
-            ax.add_patch(plt.Circle(((n - 1) / 2, (n - 1) / 2), n / 2, fill=False, color="0.45", lw=0.6))
+            n, m = im.mask.shape
+            if n == m:  # the disc's rim, so that black glass shows against the field
+                ax.add_patch(plt.Circle(((n - 1) / 2, (n - 1) / 2), n / 2, fill=False, color="0.45", lw=0.6))
+            else:  # the plate's faces
+                ax.add_patch(plt.Rectangle((-0.5, -0.5), m, n, fill=False, color="0.45", lw=0.6))
             ax.set_xticks([])
             ax.set_yticks([])
             ax.set_title(titles[r][c], fontsize=7)
@@ -140,6 +153,22 @@ def main(argv: list[str] | None = None) -> int:
                 f"4 kN, {lam} nm",
             ]
         )
+    plate = dict(thickness_mm=6.0, path_mm=20.0, glass="bk7", device=dev)
+    plate.update(dict(width=40, height=12) if args.quick else dict(width=240, height=72))
+    images.append(
+        [
+            pe.quenched_plate_image(surface_mpa=0.0, wavelength_nm=None, **plate),
+            pe.quenched_plate_image(surface_mpa=30.0, wavelength_nm=None, **plate),
+            pe.quenched_plate_image(surface_mpa=30.0, wavelength_nm=lam, **plate),
+        ]
+    )
+    titles.append(
+        [
+            "6 mm plate edge-on, 20 mm path, 45°: annealed",
+            "quenched: 30 MPa surface compression, white light",
+            f"quenched, {lam} nm",
+        ]
+    )
     _disc_grid(images, titles, out / "strained_glass.png")
     c = STRESS_OPTIC_TPA["bk7"]
     s1, s2, _ = principal_stresses(

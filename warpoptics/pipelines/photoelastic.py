@@ -15,7 +15,9 @@ sigma_1).  Light along the plate normal passes
 Monochromatic (intensity) or white light (CIE XYZ under an illuminant, the light behind the
 polarizer normalised so that parallel polarizers without a plate give Y = 1; colours as in
 ``pipelines/microscope.py``).  :func:`brazilian_disc_image` puts the disc under diametral
-compression of ``materials.stress`` (strain-free: ``load_n = 0``) on a square image.
+compression of ``materials.stress`` (strain-free: ``load_n = 0``) on a square image;
+:func:`quenched_plate_image` a tempered (or, ``surface_mpa = 0``, annealed) glass plate seen
+edge-on, the light crossing ``path_mm`` of glass parallel to its faces.
 
 Image frame: x = image right, y = image up, the loads along y (top and bottom of the disc).
 """
@@ -29,7 +31,7 @@ import numpy as np
 from .. import spectra
 from ..color import encode_srgb, gamut_clip
 from ..errors import InputError
-from ..materials.stress import STRESS_OPTIC_TPA, brazilian_disc
+from ..materials.stress import STRESS_OPTIC_TPA, brazilian_disc, quenched_plate
 from ..optics.photoelastic import photoelastic_plates
 from ..optics.plate import wave_plates
 
@@ -182,3 +184,38 @@ def brazilian_disc_image(
     xx, yy = np.meshgrid(u, -u)  # row 0 at the top: image up = +y
     sxx, syy, txy = brazilian_disc(xx, yy, diameter_mm=diameter_mm, thickness_mm=thickness_mm, load_n=load_n)
     return photoelastic_image(sxx, syy, txy, c_tpa=c, thickness_mm=thickness_mm, **image)
+
+
+def quenched_plate_image(
+    *,
+    thickness_mm: float = 6.0,
+    path_mm: float = 20.0,
+    surface_mpa: float = 100.0,
+    glass: str = "bk7",
+    c_tpa: float | None = None,
+    width: int = 160,
+    height: int = 48,
+    polarizer_deg: float = 45.0,
+    **image,
+) -> PhotoelasticImage:
+    """A glass plate of ``thickness_mm`` seen edge-on through ``path_mm`` of glass (the light
+    parallel to its faces): image x along the plate, y across its thickness (``height`` pixels
+    over it).  The residual stress of ``materials.stress.quenched_plate`` acts along x (and
+    along the light, which does not change the retardation); across the thickness it is zero,
+    so each row is a retarder C L sigma(z) with its axes along x and y.  The plane polariscope
+    therefore needs the polarizer away from those axes (default 45 degrees); ``surface_mpa = 0``
+    is an annealed plate (black).  Keywords of :func:`photoelastic_image` pass through."""
+    if not (
+        isinstance(width, int) and 8 <= width <= 4096 and isinstance(height, int) and 8 <= height <= 4096
+    ):
+        raise InputError("must be integers in [8, 4096]", field="width, height", value=(width, height))
+    if not (isinstance(path_mm, (int, float)) and np.isfinite(path_mm) and path_mm > 0):
+        raise InputError("must be a number > 0", field="path_mm", value=path_mm, allowed="> 0")
+    c = _c_of(glass, c_tpa)
+    z = -((np.arange(height) + 0.5) / height - 0.5) * thickness_mm  # row 0 at the top face
+    sig = quenched_plate(z, thickness_mm=thickness_mm, surface_mpa=surface_mpa)
+    sxx = np.repeat(sig[:, None], width, axis=1)
+    zero = np.zeros_like(sxx)
+    return photoelastic_image(
+        sxx, zero, zero, c_tpa=c, thickness_mm=path_mm, polarizer_deg=polarizer_deg, **image
+    )
