@@ -15,7 +15,7 @@ References, independent of the code under test:
   F 32.72 degrees;
 - the conoscopic figure: the closed form of an elliptic retarder between crossed polarizers,
   I = sin^2(Omega) / Omega^2 ((delta / 2)^2 sin^2(2 alpha) + tau^2) with
-  Omega^2 = (delta / 2)^2 + tau^2 (Born & Wolf §15.5; it is the N-slice limit), delta(theta)
+  Omega^2 = (delta / 2)^2 + tau^2 (the N-slice limit, worked out here for crossed polarizers), delta(theta)
   from the closed-form normal wave-vector components of a plate cut across its axis,
   q_o = sqrt(n_o^2 - s^2), q_e = (n_o / n_e) sqrt(n_e^2 - s^2), s = NA r.
 """

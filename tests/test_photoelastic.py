@@ -6,7 +6,7 @@ References, independent of the code under test:
 - the disc's stress field checked as a solution of plane elasticity, numerically here:
   equilibrium (div sigma = 0 by central differences), a traction-free rim, and the load it
   carries (the integral of sigma_yy t across the horizontal diameter is -P);
-- the closed forms of Frocht (Photoelasticity vol. 2, ch. 4): sigma_1 - sigma_2 = 8P / (pi D t)
+- the closed forms of Frocht (Photoelasticity vol. 2): sigma_1 - sigma_2 = 8P / (pi D t)
   at the centre and 8 P D / (pi t (D^2 - 4 y^2)) along the loaded diameter, so that the dark
   fringes of the circular polariscope lie at y_k = sqrt(D^2 - 8 C P D / (pi lambda k)) / 2;
 - the polariscope laws I = sin^2(2 (theta - p)) sin^2(pi Delta / lambda) (plane) and

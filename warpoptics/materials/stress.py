@@ -2,7 +2,7 @@
 
 - :func:`brazilian_disc`: a disc of diameter D and thickness t compressed by two equal and
   opposite forces P along a diameter (the "Brazilian" test; H. Hertz 1883, A. Föppl; Frocht
-  1948, Photoelasticity vol. 2, ch. 4; Timoshenko & Goodier 1970, Theory of Elasticity §41):
+  1948, Photoelasticity vol. 2; Timoshenko & Goodier 1970, Theory of Elasticity §41):
   the superposition of two Flamant radial fields from the load points and a uniform tension
   2P / (pi D t) that frees the rim of traction,
       sigma_xx = -(2P / pi t) [x^2 (R - y) / r1^4 + x^2 (R + y) / r2^4 - 1 / D]

@@ -2,7 +2,7 @@
 
 A transparent isotropic plate under a plane stress state (sigma_xx, sigma_yy, tau_xy in its
 plane, light along its normal) becomes a linear retarder at each point (Brewster 1816; the
-stress-optic law, Frocht 1941, Photoelasticity vol. 1, ch. 6; Timoshenko & Goodier §9 for the
+stress-optic law, Frocht 1941, Photoelasticity vol. 1; Timoshenko & Goodier §9 for the
 principal stresses):
 
 - :func:`principal_stresses_2d`: the principal stresses sigma_1 >= sigma_2 and the direction
@@ -58,7 +58,7 @@ def principal_stresses_2d(sxx: float, syy: float, txy: float):
 @wp.func
 def stress_optic_retardation(c_tpa: float, thickness_mm: float, sigma_1: float, sigma_2: float):
     """Delta = C d (sigma_1 - sigma_2) in nm (C in TPa^-1, d in mm, stresses in MPa): the
-    stress-optic law (Brewster; Frocht vol. 1 eq. 6.9), slow wave along sigma_1 for C > 0."""
+    stress-optic law (Brewster; Frocht, Photoelasticity vol. 1), slow wave along sigma_1 for C > 0."""
     return c_tpa * thickness_mm * (sigma_1 - sigma_2)
 
 

@@ -267,8 +267,8 @@ def gyration_rotatory_power(cos_axis: float, rho_axis: float, perpendicular_rati
     for a wave normal at angle theta to the optic axis (``cos_axis`` = cos theta):
     rho(theta) = rho_axis (cos^2 theta + r sin^2 theta), r = G11 / G33.  The rotation per unit
     path is pi G / (lambda n) with the gyration scalar G = G33 cos^2 theta + G11 sin^2 theta of
-    a crystal of class 32 (Nye 1985, Physical Properties of Crystals, ch. XIV, eq. 14.8-14.11;
-    Born & Wolf §15.5), so that its direction dependence is that of G (the small difference of
+    a crystal of class 32 (Nye 1985, Physical Properties of Crystals, ch. XIV;
+    Born & Wolf ch. XV), so that its direction dependence is that of G (the small difference of
     the two waves' indices in pi / (lambda n) is neglected)."""
     c2 = cos_axis * cos_axis
     return rho_axis * (c2 + perpendicular_ratio * (1.0 - c2))
@@ -285,9 +285,9 @@ def active_retarder_jones(retardation: wp.float64, rotation: wp.float64):
     from wave 0 toward wave 1).  The generator is traceless with square -Omega^2 I, so that
     exp(A d) = cos(Omega) I + sin(Omega) / Omega A d, Omega = sqrt(delta^2 / 4 + tau^2): the
     elliptic retarder (Jones 1948, "A new calculus for the treatment of optical systems VII",
-    JOSA 38, 671, the N-matrix of a medium with both linear and circular birefringence;
-    Yariv & Yeh 1984 §4.7).  tau = 0: diag(exp(-i delta / 2), exp(i delta / 2)); delta = 0: a
-    rotation by tau.  Computed in float64: delta reaches 1e4 rad in a millimetre plate."""
+    JOSA 38, 671, the N-matrix of a medium with both linear and circular birefringence).
+    tau = 0: diag(exp(-i delta / 2), exp(i delta / 2)); delta = 0: a rotation by tau.
+    Computed in float64: delta reaches 1e4 rad in a millimetre plate."""
     half = retardation * wp.float64(0.5)
     omega = wp.sqrt(half * half + rotation * rotation)
     c = wp.cos(omega)
@@ -320,7 +320,7 @@ def plate_active_jones(
     toward y for light along +z; seen by an observer facing the light source this is to the
     left: laevorotatory); ``perpendicular_ratio`` = G11 / G33 (:func:`gyration_rotatory_power`).
 
-    Approximations (the coupled-wave model of a weakly active crystal, Yariv & Yeh §4.7): the
+    Approximations (the coupled-wave model of a weakly active crystal): the
     two waves' small difference in direction (walk-off, refraction) is kept in their own
     Fresnel factors and phases but not in the coupling, which uses their mean normal
     wave-vector component; absorption is split symmetrically around the coupling

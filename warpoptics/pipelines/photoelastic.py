@@ -8,9 +8,9 @@ sigma_1).  Light along the plate normal passes
   (+90 degrees): I = sin^2(2 (theta_1 - p)) sin^2(pi Delta / lambda), dark where a principal
   stress is along the polarizer (isoclinics) and where Delta = k lambda (isochromatics);
 - the circular polariscope (dark field): polarizer, quarter-wave plate with its slow axis at
-  p + 45, the plate, quarter-wave plate at p - 45, analyzer at p + 90 (Frocht 1941, vol. 1
-  ch. 9): I = sin^2(pi Delta / lambda), isochromatics only.  The quarter-wave plates are ideal
-  (achromatic: lambda / 4 at every wavelength, ``optics.plate.wave_plate_jones``).
+  p + 45, the plate, quarter-wave plate at p - 45, analyzer at p + 90 (Frocht 1941,
+  Photoelasticity vol. 1): I = sin^2(pi Delta / lambda), isochromatics only.  The quarter-wave
+  plates are ideal (achromatic: lambda / 4 at every wavelength, ``optics.plate.wave_plate_jones``).
 
 Monochromatic (intensity) or white light (CIE XYZ under an illuminant, the light behind the
 polarizer normalised so that parallel polarizers without a plate give Y = 1; colours as in

@@ -8,18 +8,20 @@ that along it, used by ``optics.plate.gyration_rotatory_power``.
 
 Provenance
 ----------
-- quartz: P. Drude, *Lehrbuch der Optik* (1900; *The Theory of Optics*, 1902, ch. VI "Natural
-  rotation"): rho = 12.200 / (lambda^2 - 0.010627) - 5.046 / lambda^2, fitted to the
+- quartz: P. Drude, *Lehrbuch der Optik* (1900; *The Theory of Optics*, 1902, natural
+  rotation): rho = 12.200 / (lambda^2 - 0.010627) - 5.046 / lambda^2, fitted to the
   measurements of Soret & Sarasin (1882) over the visible and near UV; the constant
   lambda_1^2 = 0.010627 um^2 and the second ("unknown", at lambda^2 = 0) term are the ones
   T. M. Lowry and W. R. Coode-Adams, Phil. Trans. R. Soc. A 226, 391 (1927) start from.  It
-  gives 21.71 deg/mm at the sodium D line (measured 21.72, Soret & Sarasin), 17.32 at C
-  (656.3 nm; measured 17.31) and 32.71 at F (486.1 nm; measured 32.72); tests hold it to those.
+  gives 21.71 deg/mm at the sodium D line, 17.33 at C (656.3 nm) and 32.71 at F (486.1 nm),
+  against 21.72, 17.31 and 32.72 measured (Soret & Sarasin and others, as tabulated in
+  Winkelmann, Handbuch der Physik); tests hold it to those within 0.2 %.
   Right-handed (dextrorotatory) and left-handed quartz rotate by the same amount in opposite
-  senses.  Perpendicular to the axis the gyration of quartz is of opposite sign and about half
-  as large, but its measured values scatter between sources; the default ratio is 0, the usual
-  approximation rho(theta) = rho_axis cos^2 theta, which changes the conoscopic figure only
-  near the centre where cos^2 theta ~ 1 (off the axis the linear birefringence dominates).
+  senses.  Perpendicular to the axis the gyration of quartz is reported of opposite sign and
+  roughly half as large, but the values scatter between sources and none is used here; the
+  default ratio is 0, the usual approximation rho(theta) = rho_axis cos^2 theta.  The G11
+  term grows as sin^2 theta, away from the axis, where the linear birefringence dominates
+  the coupling (tau / (delta / 2) < 0.1 beyond the third ring of a 2 mm plate).
 """
 
 from __future__ import annotations
