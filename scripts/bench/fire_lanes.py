@@ -93,7 +93,10 @@ def main(argv=None) -> int:
         )
     print(f"load average after {os.getloadavg()[0]:.2f}")
     if args.json:
-        args.json.write_text(json.dumps({"res": res, "rows": rows}, indent=1))
+        from warpoptics.atomic import atomic_path
+
+        with atomic_path(args.json) as tmp, open(tmp, "w") as f:
+            json.dump({"res": res, "rows": rows}, f, indent=1)
     return 0
 
 
