@@ -193,7 +193,12 @@ def coherent_leaf(
     """A leaf (a branch of Jones ``m``, weight ``w``, origin ``o``, direction ``d`` toward the
     environment, frame ``bx``, environment colour ``xyz``) into the buffer with its incident-wave
     reference phase; a full buffer adds it incoherently at once.  (buf, count, acc_x, acc_y,
-    acc_z)."""
+    acc_z).  A leaf of a black direction (``xyz`` zero: below a dome's horizon, a black sky)
+    adds nothing coherent or not (a group takes its first leaf's colour, and leaves of one
+    direction see one colour) and is not stored, so that it does not take a row from the lit
+    leaves after it (a conoscope sphere's reflections toward the floor fill the buffer)."""
+    if xyz[0] == 0.0 and xyz[1] == 0.0 and xyz[2] == 0.0:
+        return buf, count, acc_x, acc_y, acc_z
     if count >= _LEAVES:
         k_unit = coherency_transform(m, sheet_polarizer_coherency(polarizer, -d, bx, w))
         acc_x, acc_y, acc_z = _add_xyz(acc_x, acc_y, acc_z, k_unit, xyz)
