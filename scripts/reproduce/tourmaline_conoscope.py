@@ -41,7 +41,7 @@ def cross_ratio(y: np.ndarray) -> float:
 
 def main(argv: list[str] | None = None) -> int:
     args = sp.parser(__doc__, "docs/gallery/tourmaline_conoscope.png").parse_args(argv)
-    size, wl = sp.sizes(args, 160, 16)
+    size, wl = sp.sizes(args, 224, 16)
     base = wo.Scene.load(SCENE).with_overrides(width=size, height=size, wavelengths=wl)
     views, ys = {}, {}
     for mode in ("coherent", "exact"):
@@ -58,12 +58,10 @@ def main(argv: list[str] | None = None) -> int:
         f"coherent vs exact: {int((d > 0.05 * ys['exact'].max()).sum())} pixels differ by > 5 % of the peak"
     )
     panels = [
-        ("coherent: isogyres + rings (through the culet)", views["coherent"].display()),
-        ("exact (o, e as powers): isogyres only", views["exact"].display()),
+        ("coherent", views["coherent"].display()),
+        ("exact (o + e powers)", views["exact"].display()),
     ]
-    sp.montage(
-        args.output, panels, title="tourmaline brilliant, optic axis along the view, BK7 conoscope sphere"
-    )
+    sp.montage(args.output, panels, title="tourmaline, axis along the view, BK7 sphere")
     print(f"wrote {args.output}")
     return 0
 

@@ -602,18 +602,18 @@ def microscope_view(scene, *, device=None) -> MicroscopeView:
             f"{sample.material_name} {d:g} mm, conoscopic, NA {mic.numerical_aperture:g}, {light}; {where}"
         )
         if mic.wavelength is not None:
-            y = sum(f.intensity for f in figs)
+            y = np.sum([np.asarray(f.intensity) for f in figs], axis=0)
             xyz = np.repeat(y[..., None], 3, axis=-1)  # monochromatic: grey
             srgb = np.repeat(
                 np.asarray(encode_srgb(np.clip(y / max(float(y.max()), 1e-12), 0, 1)))[..., None], 3, -1
             )
             return MicroscopeView(xyz=xyz, srgb=srgb, title=title)
-        xyz = sum(f.xyz for f in figs)
+        xyz = np.sum([np.asarray(f.xyz) for f in figs], axis=0)
         exposure = 1.0 / max(float(np.max(xyz[..., 1])), 1e-12)
         _, srgb = _display(xyz.reshape(-1, 3), exposure)
         return MicroscopeView(xyz=xyz, srgb=srgb.reshape(size, size, 3), title=title)
     # orthoscopic
-    col, ret = _wedge_columns(size, mic.wedge_max_nm) if wedge else (None, None)
+    col, ret = _wedge_columns(size, mic.wedge_max_nm)  # used with the quartz wedge only
     if sample.kind == "plate":
         axes = _sample_axes(sample, None)
         axes_w = None if axes is None else axes @ turn.T

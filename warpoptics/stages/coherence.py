@@ -35,7 +35,8 @@ gives 0.019 mm, a stopped-down microscope condenser (alpha ~ 0.01-0.05) 0.002-0.
 
 Leaf buffer.  The leaves of a primary ray wait in a per-thread buffer of ``LEAVES`` rows, flushed
 at the end of ``trace_radiance``; a leaf that finds the buffer full is added incoherently at once
-(documented overflow: it loses only its interference with the others).  The cross terms are
+(documented overflow: it loses only its interference with the others); a leaf toward a black
+direction (below a dome's horizon) adds nothing and is not stored.  The cross terms are
 weighted sqrt(w_i w_j): exact for deterministically split branches.  A branch continued
 stochastically (below ``split_threshold``, weight 1/probability) keeps its own term unbiased, but
 its cross terms carry sqrt(1/probability): an approximation, on branches of < 0.2 % of the
