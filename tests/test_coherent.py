@@ -282,12 +282,15 @@ def test_conoscope_sphere_shows_isogyre_cross(device):
     polarizers through the centre) and peak at 45 degrees.  So in both modes the image along the
     horizontal and vertical lines through the centre (within 10 degrees of azimuth, 0.15-0.7 of
     the half-image: the sphere's disk is 0.74) is much darker than along the diagonals
-    (measured ratio 0.067 in both; bound 0.2, the refractions at the sphere and the facets
-    turning the vibration directions by a few degrees).  The isochromes (rings) need the two
-    waves to leave in one direction (the table and the culet, parallel): the coherent image
-    differs from ``exact`` there only (measured 13 pixels by > 5 % of the peak, all within 0.5
-    of the half-image), so ``exact`` shows the same cross without rings.  The sphere and the
-    stone are separate solids by the nesting rules (no container, no crossing)."""
+    (measured ratio 0.071 coherent, 0.068 exact; bound 0.2, the refractions at the sphere and the
+    facets turning the vibration directions by a few degrees).  The isochromes (rings) need the
+    two waves to leave in one direction; through the table and a pavilion facet their exit
+    directions differ by about (n_o - n_e) sin^2(theta) times a few (theta from the axis inside),
+    within the renderer's 1 mrad only near the axis (the first ring or two).  So the coherent
+    image differs from ``exact`` near the centre only (measured: 53 pixels by > 5 % of the peak,
+    all within 0.36 of the half-image; bounds >= 20 and < 0.45), and ``exact`` shows the same
+    cross without rings.  The sphere and the stone are separate solids by the nesting rules (no
+    container, no crossing)."""
     from warpoptics.pipelines.objects import build_objects
 
     base = wo.Scene.load(Path(__file__).resolve().parents[1] / "scenes" / "tourmaline_conoscope.toml")
@@ -313,5 +316,5 @@ def test_conoscope_sphere_shows_isogyre_cross(device):
     d = np.abs(ys["coherent"] - ys["exact"])
     changed = d > 0.05 * ys["exact"].max()
     print(f"coherent vs exact: {int(changed.sum())} pixels by > 5 % of the peak, r <= {r[changed].max():.2f}")
-    assert changed.sum() >= 5
-    assert r[changed].max() < 0.55
+    assert changed.sum() >= 20
+    assert r[changed].max() < 0.45

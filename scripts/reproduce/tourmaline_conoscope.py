@@ -4,8 +4,8 @@ Renders scenes/tourmaline_conoscope.toml (a BK7 sphere over the table of a 5 mm 
 brilliant, optic axis along the view, crossed polarizers) in the coherent mode and in the
 incoherent ``exact`` mode and writes them side by side.  Prints, for both, the mean crossed
 image along the polarizer directions through the centre over the mean along the diagonals (the
-isogyre cross: much below 1) and the pixels where the two modes differ (the isochromes, seen
-only through the parallel table and culet).
+isogyre cross: much below 1) and the pixels where the two modes differ (the first isochromes,
+near the axis, where the o and e waves leave the pavilion in one direction).
 
 Usage:
     python scripts/reproduce/tourmaline_conoscope.py [-o docs/gallery/tourmaline_conoscope.png]
@@ -41,7 +41,7 @@ def cross_ratio(y: np.ndarray) -> float:
 
 def main(argv: list[str] | None = None) -> int:
     args = sp.parser(__doc__, "docs/gallery/tourmaline_conoscope.png").parse_args(argv)
-    size, wl = sp.sizes(args, 224, 16)
+    size, wl = sp.sizes(args, 192, 16)
     base = wo.Scene.load(SCENE).with_overrides(width=size, height=size, wavelengths=wl)
     views, ys = {}, {}
     for mode in ("coherent", "exact"):
