@@ -292,9 +292,9 @@ def test_fluorescent_scenes_trace_per_wavelength_and_refuse_birefringent_hosts()
     sc = Scene.load(SCENES / "diamond_daylight.toml").with_overrides(width=4, height=4)
     r = Renderer(sc)
     assert r.fluorescence and not r.spectral_bundle and not r.shared_spectrum
-    assert r.trace_params.reemission.enabled == 1
+    assert r.trace.params.reemission.enabled == 1
     off = Renderer(sc.with_overrides({"object.0.material.fluorescence.quantum_yield": 0.0}))
-    assert not off.fluorescence and off.spectral_bundle and off.trace_params.reemission.enabled == 0
+    assert not off.fluorescence and off.spectral_bundle and off.trace.params.reemission.enabled == 0
     ruby = {"base": "ruby", "fluorescence": {"centre": "Cr3+ corundum", "add_absorption": False}}
     with pytest.raises(InputError, match="isotropic stones only"):
         Renderer(_slab_scene(ruby, "D65", px=4, spp=1))

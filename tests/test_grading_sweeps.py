@@ -225,6 +225,13 @@ def test_grade_cli_scopes_and_errors(tmp_path, capsys):
     z = json.loads((tmp_path / "a.json").read_text())["zones"]
     assert sum(z[k] for k in ("blue", "red", "green", "leak")) == pytest.approx(1.0)
     assert f"leak {z['leak']:.3f}" in out
+    assert 0.0 <= z["area_leak_crown"] <= 1.0 and "area_leak_centre" in z
+    code, out, err = main_(
+        capsys, "grade", "hearts", "round_brilliant", "--face-down", "--size", "32", "-o", tmp_path / "h.png",
+    )  # fmt: skip
+    assert code == 0, err
+    h = json.loads((tmp_path / "h.json").read_text())
+    assert h["hearts"] in (8, None) and len(h["per_ring"]) == 7 and h["verdict"] in out
     srb = ROOT / "tests/data/gemcad/SRB.asc"
     code, out, err = main_(capsys, "grade", "retarget", srb, "--index", "1.544", "-o", tmp_path / "q.asc")
     assert code == 0, err

@@ -1164,6 +1164,30 @@ def _wave_plate_ref(angle, gamma, lam):
     return [r.T @ np.diag([np.exp(2j * np.pi * gamma / lam), 1.0]) @ r]
 
 
+def _active_retarder_ref(delta, tau):
+    # exp of the coupled-wave generator [[-i d/2, -t], [t, i d/2]] (Jones 1948), by scipy
+    from scipy.linalg import expm
+
+    return [expm(np.array([[-0.5j * delta, -tau], [tau, 0.5j * delta]]))]
+
+
+def _principal_ref(sxx, syy, txy):
+    # Mohr's circle by an eigen-decomposition of the stress tensor
+    w, v = np.linalg.eigh(np.array([[sxx, txy], [txy, syy]]))
+    t = np.degrees(np.arctan2(v[1, 1], v[0, 1]))
+    t = (t + 90.0) % 180.0 - 90.0  # the direction modulo 180, in (-90, 90]
+    return [w[1], w[0], t if sxx != syy or txy != 0 else 0.0]
+
+
+def _photoelastic_ref(sxx, syy, txy, c, d, lam):
+    # a retarder of C d (s1 - s2) with its slow axis along sigma_1 (Brewster's law), as
+    # _wave_plate_ref: R(-t) diag(exp(i 2 pi Delta / lambda), 1) R(t)
+    w, v = np.linalg.eigh(np.array([[sxx, txy], [txy, syy]]))
+    t = np.arctan2(v[1, 1], v[0, 1])
+    r = np.array([[np.cos(t), np.sin(t)], [-np.sin(t), np.cos(t)]])
+    return [r.T @ np.diag([np.exp(2j * np.pi * c * d * (w[1] - w[0]) / lam), 1.0]) @ r]
+
+
 WRAPPERS += [
     W(
         "optics.plate.slab_phases",
@@ -1202,6 +1226,74 @@ WRAPPERS += [
             ("thickness_mm", [0.01, 0.03, 0.002]),
         ],
         None,  # tests/test_plate.py holds the closed forms and the Berreman reference
+    ),
+    W(
+        "optics.plate.active_retarders",
+        lambda d, t, **k: wo.optics.plate.active_retarders(d, t, **k),
+        [("retardation_rad", [2.5, 0.0, -7.0]), ("rotation_rad", [0.6, 0.7, 0.0])],
+        _active_retarder_ref,
+        atol=2e-6,
+    ),
+    W(
+        "optics.plate.rotatory_powers",
+        lambda c, r, g, **k: wo.optics.plate.rotatory_powers(c, r, g, **k),
+        [
+            ("cos_axis", [1.0, 0.5, 0.0]),
+            ("rho_axis", [0.379, -0.2, 0.1]),
+            ("perpendicular_ratio", [-0.5, 0.0, 0.3]),
+        ],
+        lambda c, r, g: [r * (c**2 + g * (1 - c**2))],
+    ),
+    W(
+        "optics.plate.active_plate_jones",
+        lambda k, lam, n3, d, rho, **kw: wo.optics.plate.active_plate_jones(
+            k, lam, n3, d, rho, optic_axis=(1.0, 1.0, 0.2), **kw
+        ),
+        [
+            ("direction", [_unit([0.1, 0.2, 1.0]), _unit([0.0, 0.0, 1.0]), _unit([-0.4, 0.1, 0.9])]),
+            ("wavelength_nm", [589.0, 450.0, 700.0]),
+            (
+                "indices",
+                [np.array([1.544, 0.0, 1.553]), np.array([1.658, 0.0, 1.486]), np.array([1.5, 0.0, 1.5])],
+            ),
+            ("thickness_mm", [0.01, 0.03, 0.002]),
+            ("rho_axis_rad_mm", [0.379, -0.379, 0.0]),
+        ],
+        None,  # tests/test_activity.py holds the N-slice and closed-form references
+    ),
+    W(
+        "optics.photoelastic.principal_stresses",
+        lambda a, b, c, **k: wo.optics.photoelastic.principal_stresses(a, b, c, **k),
+        [("sxx_mpa", [10.0, -3.0, 5.0]), ("syy_mpa", [-5.0, 4.0, 5.0]), ("txy_mpa", [3.0, -2.0, 0.0])],
+        _principal_ref,
+        rtol=2e-6,
+        atol=2e-5,  # stresses ~10 MPa in float32
+    ),
+    W(
+        "optics.photoelastic.stress_retardations",
+        lambda c, d, s1, s2, **k: wo.optics.photoelastic.stress_retardations(c, d, s1, s2, **k),
+        [
+            ("c_tpa", [2.77, 3.5, -1.0]),
+            ("thickness_mm", [5.0, 1.0, 2.0]),
+            ("sigma_1_mpa", [20.0, 3.0, 0.0]),
+            ("sigma_2_mpa", [-5.0, 3.0, -4.0]),
+        ],
+        lambda c, d, s1, s2: [c * d * (s1 - s2)],
+        atol=2e-5,
+    ),
+    W(
+        "optics.photoelastic.photoelastic_plates",
+        lambda a, b, c, k, d, lam, **kw: wo.optics.photoelastic.photoelastic_plates(a, b, c, k, d, lam, **kw),
+        [
+            ("sxx_mpa", [10.0, -3.0, 5.0]),
+            ("syy_mpa", [-5.0, 4.0, 5.0]),
+            ("txy_mpa", [3.0, -2.0, 0.0]),
+            ("c_tpa", [2.77, 3.5, 2.77]),
+            ("thickness_mm", [5.0, 1.0, 2.0]),
+            ("wavelength_nm", [589.0, 450.0, 700.0]),
+        ],
+        _photoelastic_ref,
+        atol=1e-5,  # phases of a few rad from float32 inputs
     ),
 ]
 

@@ -29,10 +29,11 @@ import warpoptics as wo  # noqa: E402
 SCENE = Path(__file__).resolve().parents[2] / "scenes" / "tourmaline_polariscope.toml"
 
 
-def _run(sc) -> tuple[float, int]:
-    t = time.process_time()
+def _run(sc) -> tuple[float, float, int]:
+    """(CPU seconds, wall seconds, rays) of one render."""
+    t, w = time.process_time(), time.perf_counter()
     img = wo.render(sc)
-    return time.process_time() - t, int(img.stats["rays"])
+    return time.process_time() - t, time.perf_counter() - w, int(img.stats["rays"])
 
 
 def main(argv=None) -> dict:
@@ -54,12 +55,15 @@ def main(argv=None) -> dict:
     over = {} if args.width_mm is None else {"render.coherence_width_mm": args.width_mm}
     sc = {m: base.with_overrides({"render.birefringence": m, **over}) for m in ("exact", "coherent")}
     _run(sc["exact"]), _run(sc["coherent"])  # warm-up: kernel cache, material tables
-    t = {"exact": [], "coherent": []}
-    rays = {"exact": [], "coherent": []}
+    t: dict[str, list] = {"exact": [], "coherent": []}
+    wall: dict[str, list] = {"exact": [], "coherent": []}
+    rays: dict[str, list] = {"exact": [], "coherent": []}
+    load_before = os.getloadavg()[0]
     for _ in range(args.repeat):
         for m in ("exact", "coherent"):
-            a, r = _run(sc[m])
+            a, w, r = _run(sc[m])
             t[m].append(a)
+            wall[m].append(w)
             rays[m].append(r)
     out = {
         "scene": SCENE.name,
@@ -72,8 +76,14 @@ def main(argv=None) -> dict:
         "rays_exact": int(np.median(rays["exact"])),
         "rays_coherent": int(np.median(rays["coherent"])),
         "ratio_cpu": float(np.median(t["coherent"]) / np.median(t["exact"])),
+        "wall_s_exact_median": float(np.median(wall["exact"])),
+        "wall_s_coherent_median": float(np.median(wall["coherent"])),
+        "ratio_wall": float(np.median(wall["coherent"]) / np.median(wall["exact"])),
+        "cpu_s_exact": [round(x, 3) for x in t["exact"]],
+        "cpu_s_coherent": [round(x, 3) for x in t["coherent"]],
         "target": 1.3,
-        "note": "CPU seconds measured on a loaded machine",
+        # the machine's 1-minute load average around the passes (this benchmark itself adds 1)
+        "load_average": [round(load_before, 2), round(os.getloadavg()[0], 2)],
     }
     for k, v in out.items():
         print(f"{k:24s} {v}")

@@ -5,11 +5,14 @@ The stones (6.5 mm round brilliant diamonds): a Tolkowsky (table 53 %, crown 34.
 (55 %, 34.5°, 43°).  Per stone, into ``OUT/grading/<stone>_<look>.png``:
 
 - ``aset`` — ASET (AGS zones: blue = the observer's obstruction, 10°; red = light from 45-90°
-  above the girdle plane; green = 0-45°; white = leakage), :func:`warpoptics.grading.aset`;
+  above the girdle plane; green = 0-45°; white = leakage), :func:`warpoptics.grading.aset`: the
+  energy share of each zone and the area share of the pixels it dominates, for the stone, its
+  centre (r < 0.3 girdle radii) and the crown (outside the table);
 - ``idealscope`` — Ideal Scope (red reflector, 5° hole; leakage white);
 - ``arrows`` / ``hearts`` — the Hearts & Arrows viewer face-up and face-down (30° dark cone),
-  with the dark lobes counted on rings of the image (:func:`~warpoptics.grading.count_dark_lobes`)
-  and the 8-fold asymmetry (:func:`~warpoptics.grading.rotational_asymmetry`);
+  with the dark lobes counted on rings of the image (:func:`~warpoptics.grading.count_pattern`:
+  8 hearts/arrows when 8 lobes is the count on two thirds of the rings, else the pattern is
+  reported broken) and the 8-fold asymmetry (:func:`~warpoptics.grading.rotational_asymmetry`);
 - ``brightness_map`` — the classified brightness/contrast map of the face-up view under ISO light
   with the 10° head (:func:`~warpoptics.grading.brightness_map`: bright >= 0.5, dark < 0.15 of
   the dome's white);
@@ -47,10 +50,9 @@ from warpoptics.grading.performance import PROTOCOL, brightness_map, tilted_ligh
 from warpoptics.grading.presets import face_up_scene
 from warpoptics.grading.scopes import (
     aset,
-    count_dark_lobes,
+    count_pattern,
     hearts_and_arrows,
     ideal_scope,
-    ring_profile,
     rotational_asymmetry,
 )
 from warpoptics.sweep.grading import tilt_series_sweep, write_tilt_series
@@ -68,13 +70,11 @@ STONES = {
 LOOKS = ("aset", "idealscope", "arrows", "hearts", "brightness_map", "lp_map")
 
 
-def _lobes(img, size, face_down):
-    """The most frequent dark-lobe count over rings of the H&A image (as `warpoptics grade hearts`)."""
-    half = size / 2 / 1.08  # the girdle radius in pixels (face_up_scene frames it with 8 % margin)
-    radii = np.linspace(0.12, 0.3, 7) if face_down else np.linspace(0.15, 0.45, 9)
-    counts = [count_dark_lobes(ring_profile(img, r * half)) for r in radii]
-    vals, n = np.unique(counts, return_counts=True)
-    return int(vals[np.argmax(n)]), [int(c) for c in counts]
+def _lobes(img, face_down):
+    """The hearts/arrows count (None when the pattern is broken), its verdict and the dark-lobe
+    count per ring (as `warpoptics grade hearts`)."""
+    lc = count_pattern(img, face_down=face_down)
+    return lc.count, lc.verdict, list(lc.per_ring)
 
 
 def _fold(psi):
@@ -207,8 +207,8 @@ def main(argv=None) -> int:
             i_img, ifr, i_bands = ideal_scope(stone, size=size)
             arrows, ar_b = hearts_and_arrows(stone, size=size)
             hearts, he_b = hearts_and_arrows(stone, size=size, face_down=True)
-            n_arrows, arrow_rings = _lobes(arrows, size, False)
-            n_hearts, heart_rings = _lobes(hearts, size, True)
+            n_arrows, arrows_verdict, arrow_rings = _lobes(arrows, False)
+            n_hearts, hearts_verdict, heart_rings = _lobes(hearts, True)
             from warpoptics.pipelines.render import render
             from warpoptics.scene.load import Scene
 
@@ -240,8 +240,10 @@ def main(argv=None) -> int:
                 "ideal_scope": ifr,
                 "windowing": windowing(a_bands),
                 "arrows": n_arrows,
+                "arrows_verdict": arrows_verdict,
                 "arrows_per_ring": arrow_rings,
                 "hearts": n_hearts,
+                "hearts_verdict": hearts_verdict,
                 "hearts_per_ring": heart_rings,
                 "asymmetry_arrows": rotational_asymmetry(arrows),
                 "asymmetry_hearts": rotational_asymmetry(hearts),
@@ -253,10 +255,10 @@ def main(argv=None) -> int:
                 "seconds": round(seconds, 1),
             }
             captions = [
-                f"leak {zones['leak']:.2f}, red {zones['red']:.2f}",
+                f"leak {zones['leak']:.2f} (crown {zones['leak_crown']:.2f}), red {zones['red']:.2f}",
                 f"leak {ifr['leak']:.2f}",
-                f"{n_arrows} arrows",
-                f"{n_hearts} hearts",
+                f"{n_arrows} arrows" if n_arrows is not None else "arrows: pattern broken",
+                f"{n_hearts} hearts" if n_hearts is not None else "hearts: pattern broken",
                 f"bright {b_fr['bright']:.2f}, dark {b_fr['dark']:.2f}",
                 f"mean {lr_mean:.3f}",
             ]
@@ -284,10 +286,13 @@ def main(argv=None) -> int:
             save_figure(f2, looks_dir / f"{key}_lp_map.png", dpi=80)
             plt.close(f2)
             print(
-                f"{label}: ASET leak {zones['leak']:.3f} (centre {zones['leak_centre']:.3f}), red "
-                f"{zones['red']:.3f}; Ideal Scope leak {ifr['leak']:.3f}; arrows {n_arrows}, hearts "
-                f"{n_hearts}; bright {b_fr['bright']:.3f} dark {b_fr['dark']:.3f}; light return over "
-                f"the map {lr_mean:.3f}; {renders} renders, {seconds:.0f} s",
+                f"{label}: ASET leak {zones['leak']:.3f} (centre {zones['leak_centre']:.3f}, crown "
+                f"{zones['leak_crown']:.3f}; leak-dominated area {zones['area_leak']:.3f}, centre "
+                f"{zones['area_leak_centre']:.3f}, crown {zones['area_leak_crown']:.3f}), red "
+                f"{zones['red']:.3f}; Ideal Scope leak {ifr['leak']:.3f}; arrows "
+                f"{n_arrows or arrows_verdict}, hearts {n_hearts or hearts_verdict}; bright "
+                f"{b_fr['bright']:.3f} dark {b_fr['dark']:.3f}; light return over the map {lr_mean:.3f}; "
+                f"{renders} renders, {seconds:.0f} s",
                 flush=True,
             )
     fig.tight_layout()

@@ -12,7 +12,7 @@ Writes into the output directory (default docs/gallery):
   degrees (isogyres through the two melatopes).
 
 Prints the isochrome radii of the calcite figure against the analytic Delta(theta) = k lambda.
-Optical activity is not modelled (a quartz basal plate would show the uniaxial figure).
+Optical activity (the quartz "bull's eye") and strained glass: scripts/reproduce/quartz_and_strained_glass.py.
 
 Usage:
     python scripts/reproduce/polarizing_microscope.py [-o docs/gallery] [--quick]

@@ -165,18 +165,18 @@ def run(args) -> int:
     elif sub == "hearts":
         import numpy as np
 
-        from ..grading.scopes import count_dark_lobes, hearts_and_arrows, ring_profile
+        from ..grading.scopes import count_pattern, hearts_and_arrows
 
         img, _b = hearts_and_arrows(stone, face_down=args.face_down, size=args.size, **kw)
-        half = args.size / 2 / 1.08
-        radii = np.linspace(0.12, 0.3, 7) if args.face_down else np.linspace(0.15, 0.45, 9)
-        lobes = [count_dark_lobes(ring_profile(img, r * half)) for r in radii]
-        vals, counts = np.unique(lobes, return_counts=True)
-        n = int(vals[np.argmax(counts)])
+        lc = count_pattern(img, face_down=args.face_down)
         _png(args.output, np.repeat(np.clip(img, 0, 1)[..., None], 3, axis=-1))
         what = "hearts" if args.face_down else "arrows"
-        _write_json(Path(args.output).with_suffix(".json"), {"stone": stone, what: n, "per_ring": lobes})
-        print(f"{what}: {n} (dark lobes per ring: {lobes})")
+        _write_json(
+            Path(args.output).with_suffix(".json"),
+            {"stone": stone, what: lc.count, "verdict": lc.verdict, "per_ring": list(lc.per_ring)},
+        )
+        shown = lc.count if lc.count is not None else "none"
+        print(f"{what}: {shown}, {lc.verdict} (dark lobes per ring: {list(lc.per_ring)})")
     elif sub == "map":
         from ..grading.performance import brightness_map
         from ..grading.presets import face_up_scene

@@ -38,6 +38,7 @@ from .presets import (
 from .scopes import (
     aset,
     count_dark_lobes,
+    count_pattern,
     direction_bands,
     hearts_and_arrows,
     ideal_scope,
@@ -59,6 +60,7 @@ __all__ = [
     "hearts_and_arrows",
     "ring_profile",
     "count_dark_lobes",
+    "count_pattern",
     "rotational_asymmetry",
     "Protocol",
     "PROTOCOL",

@@ -20,14 +20,36 @@ a clear stone then conserves energy per pixel: sum_k Y_k + Y_leak = Y_constant =
   below the girdle plane, which in the instrument passes through the stone).  Zone angles from
   the zenith: blue [0, r_head), red [r_head, 45), green [45, 90), leakage beyond 90.  Pixels are
   shown as the mix of the zone colours weighted by each zone's share, leakage white.
+
+  Two kinds of zone fraction (:func:`aset`): the *energy* share of each zone in the stone's light
+  (``blue``, ``red``, ``green``, ``leak``: every path order, the additive mix the instrument's
+  image forms, Fresnel partial reflections included), and the *area* share of the pixels that a
+  zone dominates (``area_*``: the zone with the largest energy in the pixel, which is the colour a
+  grader reads off the image, where leakage shows as white/black *areas*).  They differ
+  where a weak higher-order path adds a little leakage to a pixel that another zone dominates: the
+  centre of a Tolkowsky brilliant has a 0.116 leakage energy share and no leakage area, because
+  the table's internal Fresnel reflection (R ~ 0.17) of the first-order ray returning at 17 deg
+  sends it to a pavilion main at 40.75 - 17 = 23.75 deg, below the critical angle 24.4 deg
+  (``scripts/reproduce/aset_hand_trace.py`` traces it independently of the renderer).
+  Regions in girdle radii r of the face-up image: ``centre`` r < 0.3 (the pavilion centre seen
+  through the table), ``crown`` r >= the table's corner radius (seen through the crown facets).
+
+  Deep pavilions (the same script, the renderer agreeing within 0.02): the axial ray of a 43 deg
+  stone leaves the table 19.7 deg from the zenith (red), so its centre has no leakage area; its
+  extra leakage (0.116 of its light vs the Tolkowsky's 0.065 face-up, 48 px) comes through the
+  crown, leak-dominated area 0.11 vs 0.03 there, and, tilted 10 deg, under the table ring (0.17
+  vs 0.01).  The centre darkens by the head's reflection (blue, the "nailhead") for 44.0-46.0 deg
+  and leaks only above 55.5 deg, where the second main's transmitted light comes from below the
+  girdle plane (it transmits from 51.9 deg, but from above the plane: green).
 - **Ideal Scope** (G. Holloway's red-reflector viewer): light from the red reflector around the
   viewing hole, [r_hole, 45 deg) from the axis, shows red, the hole black, light from lower angles
   [45, 90) dark grey (the scope's sides), and leakage white (the back-lit stone lets it through).
 - **Hearts & Arrows** viewer: a dark cone of ``viewer_radius_deg`` about the axis (the viewer's
   dark top) over a bright surround; the pavilion mains of a well-made brilliant reflect the dark
   cone as 8 arrows face-up and, seen from the pavilion side (:func:`hearts_and_arrows` with
-  ``face_down=True``), as 8 hearts.  :func:`count_dark_lobes` counts them on a ring of the image
-  and :func:`rotational_asymmetry` measures how far the pattern is from 8-fold symmetry.
+  ``face_down=True``), as 8 hearts.  :func:`count_dark_lobes` counts them on a ring of the image,
+  :func:`count_pattern` over a set of rings (8, or a broken pattern), and
+  :func:`rotational_asymmetry` measures how far the pattern is from 8-fold symmetry.
 
 References:
     J. Sasian, J. Quick, J. Sheffield, J. Caudill, P. Yantzer, "Evaluation of brilliance, fire,
@@ -57,6 +79,8 @@ __all__ = [
     "hearts_and_arrows",
     "ring_profile",
     "count_dark_lobes",
+    "LobeCount",
+    "count_pattern",
     "rotational_asymmetry",
 ]
 
@@ -75,7 +99,9 @@ ASET_COLORS = {
 class Bands:
     """Face-up luminance per direction band: ``bands[..., k]`` (H, W, K) from the zenith-angle band
     [edges[k], edges[k+1]) in degrees (edges end at 90), ``leak`` (H, W) from below the girdle
-    plane, ``alpha`` (H, W) the stone's coverage, ``renders`` the number of renders spent."""
+    plane, ``alpha`` (H, W) the stone's coverage, ``renders`` the number of renders spent.  The
+    values are the stone's light only, coverage included (a pixel half on the stone holds half its
+    mean radiance there; the background the other half sees is removed)."""
 
     edges: tuple[float, ...]
     bands: np.ndarray
@@ -84,9 +110,13 @@ class Bands:
     renders: int
 
     def fractions(self, mask=None) -> dict[str, float]:
-        """Alpha-weighted share of each band and of leakage in the stone's light (within ``mask``,
-        a boolean (H, W) region, default the whole stone): ``band0..``, ``leak``; they sum to 1."""
-        w = self.alpha if mask is None else self.alpha * np.asarray(mask, dtype=np.float64)
+        """Share of each band and of leakage in the stone's light (within ``mask``, a boolean
+        (H, W) region, default the whole stone): ``band0..``, ``leak``; they sum to 1.  The values
+        already carry each pixel's coverage (alpha x the stone's mean radiance in the pixel), so
+        the pixels are summed unweighted."""
+        w = (self.alpha > 0).astype(np.float64)
+        if mask is not None:
+            w = w * np.asarray(mask, dtype=np.float64)
         parts = [(w * self.bands[..., k]).sum() for k in range(self.bands.shape[-1])]
         parts.append((w * self.leak).sum())
         tot = float(sum(parts))
@@ -95,6 +125,33 @@ class Bands:
         out = {f"band{k}": float(v / tot) for k, v in enumerate(parts[:-1])}
         out["leak"] = float(parts[-1] / tot)
         return out
+
+    def dominant(self) -> np.ndarray:
+        """Per pixel, the index of the zone with the largest energy: 0..K-1 the bands, K the
+        leakage; -1 where the pixel gets no light (off the stone)."""
+        e = np.concatenate([self.bands, self.leak[..., None]], axis=-1)
+        return np.where(e.sum(axis=-1) > 0, np.argmax(e, axis=-1), -1)
+
+    def areas(self, mask=None) -> dict[str, float]:
+        """Alpha-weighted share of the stone's area (within ``mask``) that each band and the
+        leakage dominate (:meth:`dominant`): ``band0..``, ``leak``; they sum to 1."""
+        w = self.alpha if mask is None else self.alpha * np.asarray(mask, dtype=np.float64)
+        dom = self.dominant()
+        k = self.bands.shape[-1]
+        tot = float((w * (dom >= 0)).sum())
+        if tot <= 0:
+            return {**{f"band{i}": 0.0 for i in range(k)}, "leak": 0.0}
+        out = {f"band{i}": float((w * (dom == i)).sum() / tot) for i in range(k)}
+        out["leak"] = float((w * (dom == k)).sum() / tot)
+        return out
+
+    def radius(self) -> np.ndarray:
+        """Distance (H, W) of each pixel centre from the image centre in girdle radii, for the
+        framing of :func:`~warpoptics.grading.presets.face_up_scene` (the half-width is 1.08 girdle
+        radii at the girdle plane; the table, ~1 mm nearer the observer at 250 mm, is 0.4 % larger)."""
+        h, w = self.alpha.shape
+        yy, xx = np.mgrid[0:h, 0:w]
+        return np.hypot(xx - (w - 1) / 2, yy - (h - 1) / 2) / (0.5 * w / 1.08)
 
 
 def _stone_scene(stone, *, dispersive: bool) -> dict:
@@ -152,11 +209,17 @@ def direction_bands(
         img = render(Scene.from_dict(data), device=device)
         ys.append(np.maximum(np.asarray(img.xyz[..., 1], dtype=np.float64), 0.0))
         alpha = np.asarray(img.alpha, dtype=np.float64)
+    assert alpha is not None
+    # A pixel's value is the mean over its sub-rays, which are jittered within the pixel: at the
+    # girdle outline (alpha < 1) the rays that miss the stone see the environment straight below
+    # the camera, Y = 1 under the constant light and 0 under the dome (black below the horizon).
+    # That background is not light through the stone: remove it from the constant render, so
+    # that every band and the leakage hold the stone's light alone (alpha x its mean radiance).
+    ys[-1] = ys[-1] - (1.0 - alpha)
     # Y(e_k) - Y(e_k+1); the last band ends at the horizon (Y beyond 90 deg from a dome is 0)
     cum = ys[:-1] + [np.zeros_like(ys[0])]
     bands = np.stack([np.maximum(cum[k] - cum[k + 1], 0.0) for k in range(len(e))], axis=-1)
     leak = np.maximum(ys[-1] - ys[0], 0.0)
-    assert alpha is not None
     return Bands(edges=tuple(e), bands=bands, leak=leak, alpha=alpha, renders=len(ys))
 
 
@@ -171,26 +234,30 @@ def _compose(bands: Bands, colors: Sequence[Sequence[float]], leak_color) -> np.
 
 
 def aset(stone: dict, *, head_radius_deg: float = HEAD_RADIUS_DEG, size: int = 96, **kw):
-    """ASET image (H, W, 3) display sRGB-linear in [0, 1] and the zone fractions ``{"blue",
-    "red", "green", "leak"}`` of the whole stone, plus ``"leak_centre"``: the leakage share within
-    the central 30 % of the diameter (under the table, the pavilion centre), and the
-    :class:`Bands` (module docstring: zones and source)."""
+    """ASET image (H, W, 3) display sRGB-linear in [0, 1], the zone fractions and the
+    :class:`Bands` (module docstring: zones, energy and area fractions, regions, sources).
+
+    Fractions: energy shares ``blue``, ``red``, ``green``, ``leak`` of the whole stone and their
+    area shares ``area_blue`` .. ``area_leak``; for the ``centre`` region (r < 0.3 girdle radii)
+    ``leak_centre`` and ``area_leak_centre``, and, for stones whose table is known (the
+    ``table`` key, default 0.53 for ``round_brilliant``), the ``crown`` region (r >= table)
+    ``leak_crown`` and ``area_leak_crown``.  The regions are image regions about the image centre
+    (a tilted stone's table centre moves by crown height x sin(tilt): 0.1 girdle radii at 20 deg)."""
     if not 0.0 < head_radius_deg < ASET_EDGES_DEG[0]:
         raise InputError("must be in (0, 45) degrees", field="head_radius", value=head_radius_deg)
     b = direction_bands(stone, (0.0, head_radius_deg, ASET_EDGES_DEG[0]), size=size, **kw)
     img = _compose(b, [ASET_COLORS["blue"], ASET_COLORS["red"], ASET_COLORS["green"]], ASET_COLORS["leak"])
-    f = b.fractions()
-    h, w = b.alpha.shape
-    yy, xx = np.mgrid[0:h, 0:w]
-    r = np.hypot(xx - (w - 1) / 2, yy - (h - 1) / 2) / (0.5 * w / 1.08)  # in units of the girdle radius
-    centre = b.fractions(r < 0.3)
-    zones = {
-        "blue": f["band0"],
-        "red": f["band1"],
-        "green": f["band2"],
-        "leak": f["leak"],
-        "leak_centre": centre["leak"],
-    }
+    names = {"band0": "blue", "band1": "red", "band2": "green", "leak": "leak"}
+    f, a = b.fractions(), b.areas()
+    zones = {names[k]: v for k, v in f.items()} | {f"area_{names[k]}": v for k, v in a.items()}
+    r = b.radius()
+    zones["leak_centre"] = b.fractions(r < 0.3)["leak"]
+    zones["area_leak_centre"] = b.areas(r < 0.3)["leak"]
+    table = stone.get("table", 0.53 if stone.get("shape") == "round_brilliant" else None)
+    if table is not None:
+        # the table's corners lie at r = table (table width corner to corner / diameter)
+        zones["leak_crown"] = b.fractions(r >= float(table))["leak"]
+        zones["area_leak_crown"] = b.areas(r >= float(table))["leak"]
     return img, zones, b
 
 
@@ -230,16 +297,75 @@ def ring_profile(image, radius: float, *, samples: int = 720, centre=None) -> np
     return map_coordinates(a, [rows, cols], order=1, mode="nearest")
 
 
-def count_dark_lobes(profile, *, threshold: float | None = None) -> int:
+def count_dark_lobes(profile, *, threshold: float | None = None, max_harmonic: int | None = None) -> int:
     """Number of dark runs on a closed ring profile (:func:`ring_profile`): maximal circular runs
-    below ``threshold`` (default halfway between the profile's 10th and 90th percentiles)."""
+    below ``threshold`` (default halfway between the profile's 10th and 90th percentiles).  With
+    ``max_harmonic`` the profile is first low-passed to its angular harmonics 0..max_harmonic
+    (features narrower than about 360 / (2 max_harmonic) deg, such as a facet edge a pixel wide
+    or the one-sample-per-pixel jitter, then neither split a lobe nor count as one)."""
     p = np.asarray(profile, dtype=np.float64)
+    if max_harmonic is not None:
+        c = np.fft.rfft(p)
+        c[int(max_harmonic) + 1 :] = 0.0
+        p = np.fft.irfft(c, n=len(p))
     t = 0.5 * (np.percentile(p, 10) + np.percentile(p, 90)) if threshold is None else threshold
     dark = p < t
     if dark.all() or not dark.any():
         return 0
     # runs on a circle: count dark samples whose predecessor (circularly) is bright
     return int(np.sum(dark & ~np.roll(dark, 1)))
+
+
+@dataclass(frozen=True)
+class LobeCount:
+    """The Hearts & Arrows count of :func:`count_pattern`: ``count`` the number of hearts or
+    arrows (``fold``, e.g. 8) when the pattern is intact, else None; ``per_ring`` the dark-lobe
+    counts of the rings; ``mode`` their most frequent value; ``agreement`` the share of rings at
+    ``mode``; ``verdict`` ``"intact"`` or why the pattern is broken."""
+
+    count: int | None
+    per_ring: tuple[int, ...]
+    mode: int
+    agreement: float
+    verdict: str
+
+
+#: ring radii (girdle radii) on which hearts (face-down) and arrows (face-up) are counted: the
+#: hearts lie in the inner pavilion around the culet, the arrows' shafts run from the table out
+HEART_RINGS = tuple(float(x) for x in np.linspace(0.12, 0.3, 7))
+ARROW_RINGS = tuple(float(x) for x in np.linspace(0.15, 0.45, 9))
+
+
+def count_pattern(image, *, face_down: bool, fold: int = 8, min_agreement: float = 2.0 / 3.0) -> LobeCount:
+    """Count the hearts (``face_down``) or arrows of a Hearts & Arrows image (:func:`hearts_and_arrows`,
+    framed by :func:`~warpoptics.grading.presets.face_up_scene`): the dark lobes on each of
+    :data:`HEART_RINGS` / :data:`ARROW_RINGS` (:func:`count_dark_lobes`).  A Hearts & Arrows
+    pattern is ``fold`` lobes, one per pavilion main: the count is reported only when ``fold`` is
+    the lobe count on at least ``min_agreement`` of the rings (default a two-thirds majority).
+    Anything else is a broken pattern, reported with ``count`` None rather than as that many hearts
+    (the deep 43 deg stone's outer heart rings read 16 lobes, two per main: 8 lobes on 3-4 of the
+    7 rings at 96-256 px, where the symmetric Tolkowsky and GIA-reference stones have 5-7).  Each
+    ring profile is low-passed to its harmonics up to 3 x ``fold`` (:func:`count_dark_lobes`), so
+    that pixel-wide features do not change the count with the image size."""
+    if fold < 1 or not 0.0 < min_agreement <= 1.0:
+        raise InputError(
+            "needs fold >= 1 and 0 < min_agreement <= 1", field="fold", value=(fold, min_agreement)
+        )
+    a = np.asarray(image, dtype=np.float64)
+    half = a.shape[1] / 2 / 1.08  # the girdle radius in pixels (face_up_scene's 8 % margin)
+    rings = HEART_RINGS if face_down else ARROW_RINGS
+    # harmonics up to 3 x fold: a pattern of fold or 2 fold lobes keeps its shape, features
+    # narrower than ~1/6 of the period (facet edges, pixel jitter) do not count
+    per = tuple(count_dark_lobes(ring_profile(a, r * half), max_harmonic=3 * fold) for r in rings)
+    vals, n = np.unique(per, return_counts=True)
+    mode = int(vals[np.argmax(n)])
+    agree = float(n.max() / len(per))
+    if mode == fold and agree >= min_agreement:
+        return LobeCount(fold, per, mode, agree, "intact")
+    n_fold = sum(c == fold for c in per)
+    others = sorted(c for c in per if c != fold)
+    why = f"broken: {fold} lobes on {n_fold} of {len(per)} rings (others {others})"
+    return LobeCount(None, per, mode, agree, why)
 
 
 def rotational_asymmetry(image, *, fold: int = 8, radii: Sequence[float] | None = None, samples: int = 720):

@@ -18,6 +18,7 @@ from .absorption import (
     spectrum_from_rgb,
     with_absorption,
 )
+from .activity import OpticalActivity, optical_activity
 from .datasets.seed002 import GUY_SOLER_2004_ALPHA_PER_MM, GUY_SOLER_2004_GEMS
 from .dispersion import (
     CIE_RGB_PRIMARIES_NM,
@@ -46,6 +47,8 @@ from .spec import material_from_spec
 from .units import absorbance_per_cm_from_alpha, alpha_from_absorbance_per_cm, alpha_from_k, k_from_alpha
 
 __all__ = [
+    "OpticalActivity",
+    "optical_activity",
     "GUY_SOLER_2004_ALPHA_PER_MM",
     "material_from_spec",
     "get",

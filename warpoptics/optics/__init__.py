@@ -6,7 +6,7 @@ called per ray by the renderer's kernels; the NumPy wrappers re-exported here la
 those functions.
 """
 
-from . import biaxial, birefringence, complex, jones, plate, polarizer  # noqa: F401
+from . import biaxial, birefringence, complex, jones, photoelastic, plate, polarizer  # noqa: F401
 from .biaxial import biaxial_absorption, biaxial_fresnel_coefficients, biaxial_waves, optic_axial_angle
 from .birefringence import (
     GeneralizedFresnelResult,
@@ -38,6 +38,7 @@ __all__ = [
     "birefringence",
     "complex",
     "jones",
+    "photoelastic",
     "plate",
     "polarizer",
     # Fresnel (isotropic)

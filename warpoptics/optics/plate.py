@@ -29,9 +29,16 @@ The laws composed, each from its own place:
 
 Only the directly transmitted light is kept (one pass: light reflected back and forth between
 the faces, 0.2 % of the power for quartz in air, 1e-5 in a mounting medium of index 1.54, is
-dropped; it would add Fabry-Perot fringes of that relative size).  Optical activity (the
-rotation of quartz along its axis) is not modelled: a quartz plate cut across its axis shows
-the uniaxial cross and rings, not the "bull's eye" of its optical activity.
+dropped; it would add Fabry-Perot fringes of that relative size).
+
+Optical activity (quartz): :func:`plate_active_jones` couples the plate's two linear waves by
+the crystal's gyration inside the plate (:func:`active_retarder_jones`, the elliptic retarder of
+the coupled-wave equations, with the rotatory power of the wave's direction from
+:func:`gyration_rotatory_power`); entrance and exit faces are those of :func:`plate_mode_jones`.
+Along the optic axis the plate turns the plane of vibration by rho d, so that a plate cut
+across its axis shows the "bull's eye" (a bright centre between crossed polarizers) instead of
+the uniaxial cross there; off the axis the linear birefringence dominates and the cross and
+rings return.  Without activity (rho = 0) it is :func:`plate_mode_jones`'s coherent sum.
 
 Frames: every Jones matrix here maps field components in the frame ``(x, k x x)`` of the
 incident direction ``k`` with ``x = jones.s_vector(k, normal)`` (the s-direction of the plate
@@ -44,6 +51,9 @@ References:
     Born, M., Wolf, E. 1999. Principles of Optics, 7th ed., §15.4 (interference with crystal
         plates), §15.4.2 (convergent light).
     Guy, S., Soler, C. 2004. Graphics Gems Revisited. ACM TOG 23(3). eq. 5, 7.
+    Jones, R. C. 1948. A new calculus for the treatment of optical systems. VII. Properties of
+        the N-matrices. JOSA 38(8), 671-685 (a medium with linear and circular birefringence).
+    Nye, J. F. 1985. Physical Properties of Crystals, ch. XIV (optical activity, gyration).
     Yariv, A., Yeh, P. 1984. Optical Waves in Crystals, §5.1 (Jones calculus of wave plates).
 """
 
@@ -58,10 +68,10 @@ from ..device import device_function, elementwise
 from ..errors import InputError
 from .absorption import bouguer_lambert, wave_kappa
 from .biaxial import biaxial_kappa, biaxial_medium, crystal_fresnel, crystal_fresnel_both, is_biaxial
-from .birefringence import PlaneWave, UniaxialMedium, uniaxial_medium
+from .birefringence import InterfaceSolution, PlaneWave, UniaxialMedium, uniaxial_medium
 from .complex import c_mul
 from .fresnel import flux_ratio
-from .jones import Jones, jones, jones_mul, jones_real, jones_zero, s_vector
+from .jones import Jones, jones, jones_add, jones_mul, jones_real, jones_zero, s_vector
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -70,7 +80,13 @@ __all__ = [
     "wave_plate_jones",
     "plate_medium",
     "plate_mode_jones",
+    "gyration_rotatory_power",
+    "active_retarder_jones",
+    "plate_active_jones",
     # NumPy wrappers
+    "active_plate_jones",
+    "active_retarders",
+    "rotatory_powers",
     "plate_jones",
     "slab_phases",
     "wave_plates",
@@ -144,6 +160,63 @@ def _scale_c(c: wp.vec2f, s: float):
 
 
 @wp.func
+def _incident_basis(sol0: InterfaceSolution, sol1: InterfaceSolution, s: wp.vec3, y: wp.vec3):
+    # field components along the two incident polarizations of the solutions, from (s, y)
+    x0 = sol0.incident.e_re
+    x1 = sol1.incident.e_re
+    return jones_real(wp.mat22(wp.dot(x0, s), wp.dot(x0, y), wp.dot(x1, s), wp.dot(x1, y)))
+
+
+@wp.func
+def _plate_wave(
+    mode: int,
+    sol0: InterfaceSolution,
+    sol1: InterfaceSolution,
+    normal: wp.vec3,
+    ambient: UniaxialMedium,
+    plate: UniaxialMedium,
+    thickness: float,
+    alpha3: wp.vec3,
+    s: wp.vec3,
+    y: wp.vec3,
+):
+    """The parts of the plate's wave ``mode`` (0: o / fast / s, 1: e / slow / p):
+    (ok, a0, a1, ux, uy, q, att, sign): ``ok`` 0 when it does not propagate; its entrance
+    amplitudes (power-normalised) from the two incident polarizations of the solutions; the
+    outgoing field components (along s and k x s) of a unit amplitude of it at the exit face,
+    before ``sign``; its normal wave-vector component ``q`` (units of k0); the field
+    attenuation ``att`` along its ray; ``sign`` = e_exit . e_wave, the sign of its field at the
+    exit face relative to its own (the exit solution recomputes it)."""
+    m = -normal
+    wave = sol0.to
+    c0 = sol0.t_o
+    c1 = sol1.t_o
+    if mode == 1:
+        wave = sol0.te
+        c0 = sol0.t_e
+        c1 = sol1.t_e
+    zero = wp.vec2f(0.0, 0.0)
+    if wave.propagating == 0 or sol0.solved == 0 or sol1.solved == 0:
+        return 0, zero, zero, zero, zero, 0.0, 0.0, 0.0
+    # entrance: power amplitudes of this wave from the two incident polarizations
+    a0 = _scale_c(c0, wp.sqrt(flux_ratio(sol0.incident.flux, wave.flux)))
+    a1 = _scale_c(c1, wp.sqrt(flux_ratio(sol1.incident.flux, wave.flux)))
+    # across the plate: absorption along the wave's ray
+    cos_ray = wp.max(wp.dot(wave.ray, m), 1.0e-6)
+    kappa = _wave_kappa(wave, mode, plate, alpha3)
+    att = wp.sqrt(bouguer_lambert(kappa, thickness / cos_ray))
+    # exit: the same wave incident on the exit face from inside (its field recomputed there
+    # with the same sign convention; the dot product guards the sign)
+    ex = crystal_fresnel(wave.wave_normal, mode, normal, plate, ambient)
+    sign = wp.dot(ex.incident.e_re, wave.e_re)
+    bo = _scale_c(ex.t_o, wp.sqrt(flux_ratio(ex.incident.flux, ex.to.flux)))
+    be = _scale_c(ex.t_e, wp.sqrt(flux_ratio(ex.incident.flux, ex.te.flux)))
+    ux = _scale_c(bo, wp.dot(ex.to.e_re, s)) + _scale_c(be, wp.dot(ex.te.e_re, s))
+    uy = _scale_c(bo, wp.dot(ex.to.e_re, y)) + _scale_c(be, wp.dot(ex.te.e_re, y))
+    return 1, a0, a1, ux, uy, wp.dot(wave.k_re, m), att, sign
+
+
+@wp.func
 def plate_mode_jones(
     k: wp.vec3,
     normal: wp.vec3,
@@ -165,39 +238,17 @@ def plate_mode_jones(
     s = s_vector(k, normal)
     y = wp.cross(k, s)
     sol0, sol1 = crystal_fresnel_both(k, normal, ambient, plate)
-    # field components along the two incident polarizations of the solutions, from (s, y)
-    x0 = sol0.incident.e_re
-    x1 = sol1.incident.e_re
-    b_in = jones_real(wp.mat22(wp.dot(x0, s), wp.dot(x0, y), wp.dot(x1, s), wp.dot(x1, y)))
+    b_in = _incident_basis(sol0, sol1, s, y)
     q_amb = wp.dot(sol0.incident.k_re, m)
     out0 = jones_zero()
     out1 = jones_zero()
     for mode in range(2):
-        wave = sol0.to
-        c0 = sol0.t_o
-        c1 = sol1.t_o
-        if mode == 1:
-            wave = sol0.te
-            c0 = sol0.t_e
-            c1 = sol1.t_e
-        if wave.propagating == 0 or sol0.solved == 0 or sol1.solved == 0:
+        ok, a0, a1, ux, uy, q, att, sign = _plate_wave(
+            mode, sol0, sol1, normal, ambient, plate, thickness, alpha3, s, y
+        )
+        if ok == 0:
             continue
-        # entrance: power amplitudes of this wave from the two incident polarizations
-        a0 = _scale_c(c0, wp.sqrt(flux_ratio(sol0.incident.flux, wave.flux)))
-        a1 = _scale_c(c1, wp.sqrt(flux_ratio(sol1.incident.flux, wave.flux)))
-        # across the plate: phase and absorption along the wave's ray
-        cos_ray = wp.max(wp.dot(wave.ray, m), 1.0e-6)
-        kappa = _wave_kappa(wave, mode, plate, alpha3)
-        att = wp.sqrt(bouguer_lambert(kappa, thickness / cos_ray))
-        ph = slab_phase(wp.dot(wave.k_re, m), q_amb, thickness, wavelength)
-        # exit: the same wave incident on the exit face from inside (its field recomputed there
-        # with the same sign convention; the dot product guards the sign)
-        ex = crystal_fresnel(wave.wave_normal, mode, normal, plate, ambient)
-        sign = wp.dot(ex.incident.e_re, wave.e_re)
-        bo = _scale_c(ex.t_o, wp.sqrt(flux_ratio(ex.incident.flux, ex.to.flux)))
-        be = _scale_c(ex.t_e, wp.sqrt(flux_ratio(ex.incident.flux, ex.te.flux)))
-        ux = _scale_c(bo, wp.dot(ex.to.e_re, s)) + _scale_c(be, wp.dot(ex.te.e_re, s))
-        uy = _scale_c(bo, wp.dot(ex.to.e_re, y)) + _scale_c(be, wp.dot(ex.te.e_re, y))
+        ph = slab_phase(q, q_amb, thickness, wavelength)
         f = _scale_c(ph, att * sign)
         ux = c_mul(ux, f)
         uy = c_mul(uy, f)
@@ -208,6 +259,126 @@ def plate_mode_jones(
         else:
             out1 = jm
     return out0, out1
+
+
+@wp.func
+def gyration_rotatory_power(cos_axis: float, rho_axis: float, perpendicular_ratio: float):
+    """Rotatory power (rad/mm, the sign of ``rho_axis``) of a uniaxial optically active crystal
+    for a wave normal at angle theta to the optic axis (``cos_axis`` = cos theta):
+    rho(theta) = rho_axis (cos^2 theta + r sin^2 theta), r = G11 / G33.  The rotation per unit
+    path is pi G / (lambda n) with the gyration scalar G = G33 cos^2 theta + G11 sin^2 theta of
+    a crystal of class 32 (Nye 1985, Physical Properties of Crystals, ch. XIV;
+    Born & Wolf ch. XV), so that its direction dependence is that of G (the small difference of
+    the two waves' indices in pi / (lambda n) is neglected)."""
+    c2 = cos_axis * cos_axis
+    return rho_axis * (c2 + perpendicular_ratio * (1.0 - c2))
+
+
+@wp.func
+def active_retarder_jones(retardation: wp.float64, rotation: wp.float64):
+    """Jones matrix, in the basis of the two linear waves (0, 1) of a birefringent plate
+    (right-handed about the propagation direction), of the plate with optical activity, relative
+    to the mean phase of the two waves: the solution of the coupled-wave equations
+    dE/dz = [i (beta / 2) diag(-1, 1) + rho [[0, -1], [1, 0]]] E over the plate, with the
+    linear ``retardation`` delta = beta d = phi_1 - phi_0 (rad; wave 1 gains the larger phase
+    when delta > 0, as in :func:`slab_phase`) and the ``rotation`` tau = rho d (rad, positive
+    from wave 0 toward wave 1).  The generator is traceless with square -Omega^2 I, so that
+    exp(A d) = cos(Omega) I + sin(Omega) / Omega A d, Omega = sqrt(delta^2 / 4 + tau^2): the
+    elliptic retarder (Jones 1948, "A new calculus for the treatment of optical systems VII",
+    JOSA 38, 671, the N-matrix of a medium with both linear and circular birefringence).
+    tau = 0: diag(exp(-i delta / 2), exp(i delta / 2)); delta = 0: a rotation by tau.
+    Computed in float64: delta reaches 1e4 rad in a millimetre plate."""
+    half = retardation * wp.float64(0.5)
+    omega = wp.sqrt(half * half + rotation * rotation)
+    c = wp.cos(omega)
+    sinc = wp.float64(1.0)
+    if omega > wp.float64(1.0e-12):
+        sinc = wp.sin(omega) / omega
+    j = Jones()
+    j.re = wp.mat22(float(c), float(-sinc * rotation), float(sinc * rotation), float(c))
+    j.im = wp.mat22(float(-sinc * half), 0.0, 0.0, float(sinc * half))
+    return j
+
+
+@wp.func
+def plate_active_jones(
+    k: wp.vec3,
+    normal: wp.vec3,
+    ambient: UniaxialMedium,
+    plate: UniaxialMedium,
+    thickness: float,
+    wavelength: float,
+    alpha3: wp.vec3,
+    rho_axis: float,
+    perpendicular_ratio: float,
+):
+    """The coherent Jones matrix (frames of :func:`plate_mode_jones`) of a uniaxial plate with
+    optical activity: the plate's two linear waves, entering and leaving as in
+    :func:`plate_mode_jones`, coupled inside by the gyration (:func:`active_retarder_jones`)
+    instead of crossing independently.  ``rho_axis``: rotatory power along the optic axis,
+    rad/mm, positive for a rotation counter-clockwise about the propagation direction (from x
+    toward y for light along +z; seen by an observer facing the light source this is to the
+    left: laevorotatory); ``perpendicular_ratio`` = G11 / G33 (:func:`gyration_rotatory_power`).
+
+    Approximations (the coupled-wave model of a weakly active crystal): the
+    two waves' small difference in direction (walk-off, refraction) is kept in their own
+    Fresnel factors and phases but not in the coupling, which uses their mean normal
+    wave-vector component; absorption is split symmetrically around the coupling
+    (diag(sqrt a) K diag(sqrt a)), exact for equal absorption of the two waves or no activity.
+    ``rho_axis = 0`` gives the sum of :func:`plate_mode_jones`'s two matrices (to rounding)."""
+    m = -normal
+    s = s_vector(k, normal)
+    y = wp.cross(k, s)
+    sol0, sol1 = crystal_fresnel_both(k, normal, ambient, plate)
+    b_in = _incident_basis(sol0, sol1, s, y)
+    q_amb = wp.dot(sol0.incident.k_re, m)
+    ok0, p0, p1, ux0, uy0, q0, att0, sg0 = _plate_wave(
+        0, sol0, sol1, normal, ambient, plate, thickness, alpha3, s, y
+    )
+    ok1, r0, r1, ux1, uy1, q1, att1, sg1 = _plate_wave(
+        1, sol0, sol1, normal, ambient, plate, thickness, alpha3, s, y
+    )
+    if ok0 == 0 or ok1 == 0:
+        # one wave totally reflected at the entrance: nothing to couple to
+        j0, j1 = plate_mode_jones(k, normal, ambient, plate, thickness, wavelength, alpha3)
+        return jones_add(j0, j1)
+    # the internal basis (wave 0, wave 1) and its handedness about the mean wave normal
+    w0 = sol0.to.e_re
+    w1 = sol0.te.e_re
+    kn = wp.normalize(sol0.to.wave_normal + sol0.te.wave_normal)
+    hand = 1.0
+    if wp.dot(wp.cross(w0, w1), kn) < 0.0:
+        hand = -1.0
+    q_mean = 0.5 * (q0 + q1)
+    rho = gyration_rotatory_power(wp.dot(kn, plate.axis), rho_axis, perpendicular_ratio)
+    # path along the mean wave normal, d / cos(theta_n) = d |k| / q
+    path = thickness * (0.5 * (sol0.to.n + sol0.te.n)) / wp.max(q_mean, 1.0e-6)
+    delta = (
+        _TWO_PI
+        * (wp.float64(q1) - wp.float64(q0))
+        * wp.float64(thickness)
+        * wp.float64(1.0e6)
+        / wp.float64(wavelength)
+    )
+    kc = active_retarder_jones(delta, wp.float64(hand * rho * path))
+    # the mean phase exp(i (phi_0 + phi_1) / 2) as the product of each wave's phase over half
+    # the thickness (each reduced in float64 by slab_phase; q_mean in float32 would not do)
+    ph = c_mul(
+        slab_phase(q0, q_amb, 0.5 * thickness, wavelength), slab_phase(q1, q_amb, 0.5 * thickness, wavelength)
+    )
+    g0 = wp.sqrt(att0)
+    g1 = wp.sqrt(att1)
+    # U (columns: the waves' exit fields, their exit signs included) . M . A (rows: entrance)
+    u = jones(
+        _scale_c(ux0, sg0 * g0), _scale_c(ux1, sg1 * g1), _scale_c(uy0, sg0 * g0), _scale_c(uy1, sg1 * g1)
+    )
+    a = jones(
+        _scale_c(c_mul(p0, ph), g0),
+        _scale_c(c_mul(p1, ph), g0),
+        _scale_c(c_mul(r0, ph), g1),
+        _scale_c(c_mul(r1, ph), g1),
+    )
+    return jones_mul(jones_mul(u, jones_mul(kc, a)), b_in)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -269,6 +440,61 @@ def _wave_plate_kernel(
     j = wave_plate_jones(angle[i], retardation[i], wavelength[i])
     out_re[i] = wp.vec4f(j.re[0, 0], j.re[0, 1], j.re[1, 0], j.re[1, 1])
     out_im[i] = wp.vec4f(j.im[0, 0], j.im[0, 1], j.im[1, 0], j.im[1, 1])
+
+
+@wp.kernel
+def _plate_active_kernel(
+    offset: int,
+    k: wp.array(dtype=wp.vec3),
+    wavelength: wp.array(dtype=float),
+    n3: wp.array(dtype=wp.vec3),
+    alpha3: wp.array(dtype=wp.vec3),
+    thickness: wp.array(dtype=float),
+    n_ambient: wp.array(dtype=float),
+    rho_axis: wp.array(dtype=float),
+    perpendicular_ratio: wp.array(dtype=float),
+    normal: wp.vec3,
+    frame: wp.mat33,
+    out_s: wp.array(dtype=wp.vec3),
+    out_re: wp.array(dtype=wp.vec4f),
+    out_im: wp.array(dtype=wp.vec4f),
+):
+    i = wp.tid() + offset
+    amb = uniaxial_medium(n_ambient[i], n_ambient[i], wp.vec3(0.0, 0.0, 0.0))
+    med = plate_medium(n3[i], frame)
+    d = wp.normalize(k[i])
+    j = plate_active_jones(
+        d, normal, amb, med, thickness[i], wavelength[i], alpha3[i], rho_axis[i], perpendicular_ratio[i]
+    )
+    out_s[i] = s_vector(d, normal)
+    out_re[i] = wp.vec4f(j.re[0, 0], j.re[0, 1], j.re[1, 0], j.re[1, 1])
+    out_im[i] = wp.vec4f(j.im[0, 0], j.im[0, 1], j.im[1, 0], j.im[1, 1])
+
+
+@wp.kernel
+def _active_retarder_kernel(
+    offset: int,
+    retardation: wp.array(dtype=wp.float64),
+    rotation: wp.array(dtype=wp.float64),
+    out_re: wp.array(dtype=wp.vec4f),
+    out_im: wp.array(dtype=wp.vec4f),
+):
+    i = wp.tid() + offset
+    j = active_retarder_jones(retardation[i], rotation[i])
+    out_re[i] = wp.vec4f(j.re[0, 0], j.re[0, 1], j.re[1, 0], j.re[1, 1])
+    out_im[i] = wp.vec4f(j.im[0, 0], j.im[0, 1], j.im[1, 0], j.im[1, 1])
+
+
+@wp.kernel
+def _gyration_kernel(
+    offset: int,
+    cos_axis: wp.array(dtype=float),
+    rho_axis: wp.array(dtype=float),
+    ratio: wp.array(dtype=float),
+    out: wp.array(dtype=float),
+):
+    i = wp.tid() + offset
+    out[i] = gyration_rotatory_power(cos_axis[i], rho_axis[i], ratio[i])
 
 
 # ----------------------------------------------------------------------------------------------
@@ -393,3 +619,88 @@ def wave_plates(slow_angle_deg, retardation_nm, wavelength_nm, *, device=None) -
     )
     j = re.astype(np.float64) + 1j * im.astype(np.float64)
     return j.reshape(*j.shape[:-1], 2, 2)
+
+
+@device_function(gyration_rotatory_power)
+def rotatory_powers(cos_axis, rho_axis, perpendicular_ratio=0.0, *, device=None) -> np.ndarray:
+    """rho(theta) = rho_axis (cos^2 theta + r sin^2 theta) of :func:`gyration_rotatory_power`
+    (the unit of ``rho_axis``)."""
+    (out,) = elementwise(
+        _gyration_kernel,
+        [
+            (_finite(cos_axis, "cos_axis"), wp.float32),
+            (_finite(rho_axis, "rho_axis"), wp.float32),
+            (_finite(perpendicular_ratio, "perpendicular_ratio"), wp.float32),
+        ],
+        [wp.float32],
+        device=device,
+    )
+    return out.astype(np.float64)
+
+
+@device_function(active_retarder_jones)
+def active_retarders(retardation_rad, rotation_rad, *, device=None) -> np.ndarray:
+    """Jones matrices (..., 2, 2) complex of :func:`active_retarder_jones`: linear retardation
+    delta and rotation tau (radians), in the basis of the two linear waves, relative to their
+    mean phase."""
+    re, im = elementwise(
+        _active_retarder_kernel,
+        [
+            (_finite(retardation_rad, "retardation_rad"), wp.float64),
+            (_finite(rotation_rad, "rotation_rad"), wp.float64),
+        ],
+        [wp.vec4f, wp.vec4f],
+        device=device,
+    )
+    j = re.astype(np.float64) + 1j * im.astype(np.float64)
+    return j.reshape(*j.shape[:-1], 2, 2)
+
+
+@device_function(plate_active_jones)
+def active_plate_jones(
+    direction,
+    wavelength_nm,
+    indices,
+    thickness_mm,
+    rho_axis_rad_mm,
+    *,
+    perpendicular_ratio=0.0,
+    optic_axis=(0.0, 0.0, 1.0),
+    alpha=(0.0, 0.0, 0.0),
+    n_ambient=1.0,
+    normal=(0.0, 0.0, -1.0),
+    device=None,
+):
+    """Coherent Jones matrices of a uniaxial plate with optical activity
+    (:func:`plate_active_jones`); the arguments of :func:`plate_jones` (uniaxial or isotropic
+    ``indices`` (n_o, 0, n_e) only) and ``rho_axis_rad_mm`` (...), the rotatory power along the
+    optic axis in rad/mm, positive counter-clockwise about the propagation direction
+    (``materials.optical_activity(...).rho_rad_mm``).  Returns ``(J, s)`` as
+    :func:`plate_jones` with ``coherent=True``."""
+    nrm = _finite(normal, "normal")
+    nrm = nrm / np.linalg.norm(nrm)
+    n3 = _finite(indices, "indices")
+    if np.any(n3[..., 1] != 0):
+        raise InputError(
+            "optical activity is modelled for uniaxial (or isotropic) plates only",
+            field="indices",
+            allowed="(n_o, 0, n_e)",
+        )
+    outs = elementwise(
+        _plate_active_kernel,
+        [
+            (_finite(direction, "direction"), wp.vec3),
+            (_positive(wavelength_nm, "wavelength_nm"), wp.float32),
+            (n3, wp.vec3),
+            (_finite(alpha, "alpha"), wp.vec3),
+            (_finite(thickness_mm, "thickness_mm"), wp.float32),
+            (_positive(n_ambient, "n_ambient"), wp.float32),
+            (_finite(rho_axis_rad_mm, "rho_axis_rad_mm"), wp.float32),
+            (_finite(perpendicular_ratio, "perpendicular_ratio"), wp.float32),
+        ],
+        [wp.vec3, wp.vec4f, wp.vec4f],
+        extra=(wp.vec3(*nrm.tolist()), wp.mat33(*_crystal_frame(optic_axis).ravel().tolist())),
+        device=device,
+    )
+    s, jr, ji = (np.asarray(o, dtype=np.float64) for o in outs)
+    return (jr + 1j * ji).reshape(*jr.shape[:-1], 2, 2), s

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import warp as wp
 
-from ..device import get_device, launch_tiled, load_module
+from ..device import get_device
 from ..errors import InputError
 from ..film.screen import Screen, ScreenImage, screen_set
 from ..geometry import cuts
@@ -25,7 +25,7 @@ from ..scene.bench import BenchScene
 from ..spectra import COARSE_STEP_NM, cmf
 from ..spectra import grid as spectral_grid
 from ..stages.coated import layer_index_samples
-from ..stages.forward import LEDGER, ForwardConfig, forward_params, forward_trace_kernel
+from ..stages.forward import LEDGER, ForwardConfig, ForwardStage
 from .objects import build_objects
 
 __all__ = ["BenchResult", "Bench", "bench"]
@@ -210,36 +210,24 @@ class Bench:
             wavelength_step_nm=COARSE_STEP_NM,
             device=self.device,
         )
-        self.config = ForwardConfig(
-            max_depth=r.max_depth, split_threshold=r.split_threshold, max_deposits=r.max_deposits, seed=r.seed
-        )
         absorption = [ob.absorption_scale for ob in scene.objects] or [1.0]
-        self.params = forward_params(
+        self.forward = ForwardStage(
+            ForwardConfig(
+                max_depth=r.max_depth,
+                split_threshold=r.split_threshold,
+                max_deposits=r.max_deposits,
+                seed=r.seed,
+            ),
             np.asarray(ids, dtype=np.int32),
             np.asarray(absorption, dtype=np.float32),
             np.asarray(world_axes),
             np.asarray(coat_ids, dtype=np.int32),
-            config=self.config,
             ambient=(r.ambient_index, 0.0),
             device=self.device,
         )
         self.beam = scene.source.params()
         self.screens = screen_set(list(scene.sensors), self.device)
         self.wl_device = wp.array(self.wavelengths.astype(np.float32), dtype=wp.float32, device=self.device)
-        self._deposits: dict[int, tuple] = {}  # device deposit buffers per chunk size, kept between runs
-
-    def _deposit_buffers(self, chunk: int) -> tuple:
-        """(screen, uv, stokes, depth, ledger) device buffers for ``chunk`` beam rays, allocated once."""
-        if chunk not in self._deposits:
-            k_dep, dev = self.config.max_deposits, self.device
-            self._deposits[chunk] = (
-                wp.empty(chunk * k_dep, dtype=wp.int32, device=dev),
-                wp.empty(chunk * k_dep, dtype=wp.vec2f, device=dev),
-                wp.empty(chunk * k_dep, dtype=wp.vec4f, device=dev),
-                wp.empty(chunk * k_dep, dtype=wp.int32, device=dev),
-                wp.zeros((chunk, len(LEDGER)), dtype=wp.float64, device=dev),
-            )
-        return self._deposits[chunk]
 
     def run(
         self, *, threads: int | None = None, tile_size: int | None = None, chunk: int = 1 << 15
@@ -248,12 +236,11 @@ class Bench:
         src = self.scene.source
         n_wl = self.wavelengths.size
         total = src.rays * n_wl
-        k_dep = self.config.max_deposits
+        k_dep = self.forward.config.max_deposits
         ray_power = src.power / src.rays * self.weights  # W per beam ray, per wavelength sample
         chunk = max(n_wl, (int(chunk) // n_wl) * n_wl)
-        dev = self.device
-        dep_screen, dep_uv, dep_stokes, dep_depth, ledger_dev = self._deposit_buffers(chunk)
-        load_module(forward_trace_kernel, dev)
+        out = self.forward.buffers(chunk)
+        self.forward.load()  # compile (first run) outside the timed region
         ledger_rows = []  # per beam ray, summed once at the end: the same sums for any chunking
         parts: dict[str, list] = {
             k: [] for k in ("screen", "u", "v", "wl_index", "stokes", "depth", "ray", "scale")
@@ -261,41 +248,32 @@ class Bench:
         t0 = time.perf_counter()
         for start in range(0, total, chunk):
             count = min(chunk, total - start)
-            inputs = [
-                self.params,
-                self.geometry.geometry,
-                self.materials,
-                self.coatings,
-                self.beam,
-                self.screens,
-                self.wl_device,
-                dep_screen,
-                dep_uv,
-                dep_stokes,
-                dep_depth,
-                ledger_dev,
-            ]
-            launch_tiled(
-                forward_trace_kernel,
+            self.forward.run(
+                start,
                 count,
-                [start, *inputs],
-                device=dev,
+                out,
+                geometry=self.geometry.geometry,
+                materials=self.materials,
+                coatings=self.coatings,
+                beam=self.beam,
+                screens=self.screens,
+                wavelengths=self.wl_device,
                 threads=threads,
                 tile_size=tile_size,
             )
             thread = np.arange(start, start + count)
             p_ray = ray_power[thread % n_wl]
-            ledger_rows.append(ledger_dev.numpy()[:count] * p_ray[:, None])
-            scr = dep_screen.numpy()[: count * k_dep]
+            ledger_rows.append(out.ledger.numpy()[:count] * p_ray[:, None])
+            scr = out.screen.numpy()[: count * k_dep]
             sel = np.nonzero(scr >= 0)[0]
             th = start + sel // k_dep
             parts["screen"].append(scr[sel])
-            uv = dep_uv.numpy()[: count * k_dep][sel].astype(np.float64)
+            uv = out.uv.numpy()[: count * k_dep][sel].astype(np.float64)
             parts["u"].append(uv[:, 0])
             parts["v"].append(uv[:, 1])
             parts["wl_index"].append(th % n_wl)
-            parts["stokes"].append(dep_stokes.numpy()[: count * k_dep][sel].astype(np.float64))
-            parts["depth"].append(dep_depth.numpy()[: count * k_dep][sel])
+            parts["stokes"].append(out.stokes.numpy()[: count * k_dep][sel].astype(np.float64))
+            parts["depth"].append(out.depth.numpy()[: count * k_dep][sel])
             parts["ray"].append(th // n_wl)
             parts["scale"].append(ray_power[th % n_wl])
         elapsed = time.perf_counter() - t0

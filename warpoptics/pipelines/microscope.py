@@ -22,7 +22,9 @@ direction at ``accessory_deg`` (default 45: NE-SW) in front of the analyzer, the
 Colours: the colour range 360-830 nm, CIE 1931 2 degree observer, illuminants scaled to Y = 1
 (``spectra.py``); the light falling on the plate is the illuminant behind the polarizer,
 normalised so that parallel polarizers without a plate give Y = 1.  Optical activity is not
-modelled (``optics/plate.py``).
+modelled unless asked for: ``optical_activity="right"`` (or ``"left"``, or an
+``materials.activity.OpticalActivity``) gives a quartz plate its rotatory power
+(``optics.plate.plate_active_jones``): the "bull's eye" of a plate cut across the axis.
 """
 
 from __future__ import annotations
@@ -34,6 +36,8 @@ import numpy as np
 from .. import spectra
 from ..color import encode_srgb, gamut_clip, xyz_to_lab
 from ..errors import InputError
+from ..materials.activity import OpticalActivity
+from ..materials.activity import optical_activity as _activity_of
 from ..materials.dispersion import Biaxial, Isotropic, Material, Uniaxial
 from ..optics.biaxial import biaxial_waves
 from ..optics.birefringence import extraordinary_index
@@ -49,6 +53,7 @@ __all__ = [
     "michel_levy_chart",
     "conoscope_profile",
     "conoscopic_figure",
+    "resolve_activity",
     "MicroscopeView",
     "stage_turn",
     "random_crystal_axes",
@@ -216,9 +221,11 @@ def _through_plate(
     accessory_deg,
     n_ambient,
     device,
+    optical_activity=None,
 ):
     """(coherent, incoherent) intensities of a plate of ``material`` (oriented by ``optic_axis``,
-    or ``crystal_axes`` for a biaxial one) between the polarizers, per direction x wavelength."""
+    or ``crystal_axes`` for a biaxial one) between the polarizers, per direction x wavelength;
+    ``optical_activity`` (:func:`resolve_activity`) couples the waves of the coherent result."""
     n3, a3, frame = plate_optics(material, wavelength_nm, **_orientation(material, optic_axis, crystal_axes))
     cfg = PolariscopeConfig(
         polarizer_deg=polarizer_deg,
@@ -227,8 +234,22 @@ def _through_plate(
         accessory_nm=accessory_nm,
         accessory_deg=accessory_deg,
     )
+    act = resolve_activity(material, optical_activity)
+    if act is None:
+        return plate_between_polarizers(
+            k, thickness_mm, wavelength_nm, n3, crystal_frame=frame, alpha=a3, config=cfg, device=device
+        )
     return plate_between_polarizers(
-        k, thickness_mm, wavelength_nm, n3, crystal_frame=frame, alpha=a3, config=cfg, device=device
+        k,
+        thickness_mm,
+        wavelength_nm,
+        n3,
+        crystal_frame=frame,
+        alpha=a3,
+        config=cfg,
+        rotatory_rad_mm=act.rho_rad_mm(wavelength_nm),
+        rotatory_ratio=act.perpendicular_ratio,
+        device=device,
     )
 
 
@@ -247,6 +268,7 @@ def interference_colour(
     step_nm: float = 5.0,
     exposure: float = 1.0,
     reference_nm: float = 550.0,
+    optical_activity=None,
     device=None,
 ) -> InterferenceColour:
     """The interference colour of a plate (orthoscopic, light along the microscope axis)."""
@@ -266,6 +288,7 @@ def interference_colour(
         accessory_deg,
         n_ambient,
         device,
+        optical_activity,
     )
     xyz = _xyz(lam, coh[0], illuminant)
     _, srgb = _display(xyz, exposure)
@@ -366,6 +389,7 @@ def conoscope_profile(
     accessory_nm: float = 0.0,
     accessory_deg: float = 45.0,
     n_ambient: float = 1.0,
+    optical_activity=None,
     device=None,
 ) -> np.ndarray:
     """Transmitted intensity along a radius of the conoscopic figure: ``radius`` (R,) in units
@@ -388,6 +412,7 @@ def conoscope_profile(
         accessory_deg,
         n_ambient,
         device,
+        optical_activity,
     )
     return coh[:, 0]
 
@@ -409,6 +434,7 @@ def conoscopic_figure(
     illuminant: str = "D65",
     step_nm: float = 10.0,
     exposure: float | None = None,
+    optical_activity=None,
     device=None,
 ) -> ConoscopicFigure:
     """The conoscopic figure of a plate (default: cut across its optic axis) in the objective's
@@ -435,6 +461,7 @@ def conoscopic_figure(
         accessory_deg,
         n_ambient,
         device,
+        optical_activity,
     )
     if wavelength_nm is not None:
         img = np.zeros((size, size))
@@ -450,6 +477,31 @@ def conoscopic_figure(
         exposure = 1.0 / max(float(np.max(xyz[..., 1])), 1e-12)
     _, srgb = _display(xyz.reshape(-1, 3), exposure)
     return ConoscopicFigure(None, xyz, srgb.reshape(size, size, 3), pupil, numerical_aperture, None)
+
+
+# ---------------------------------------------------------------------------------------------
+# optical activity
+
+
+def resolve_activity(material: Material, optical_activity) -> OpticalActivity | None:
+    """The :class:`OpticalActivity` a plate of ``material`` is given: None (none), an
+    ``OpticalActivity``, or a handedness ``"right"`` / ``"left"`` looked up by the material's
+    name (``materials.activity.optical_activity``; quartz)."""
+    if optical_activity is None:
+        return None
+    if isinstance(material, Biaxial):
+        raise InputError("optical activity is modelled for uniaxial plates only", field="optical_activity")
+    if isinstance(optical_activity, OpticalActivity):
+        act = optical_activity
+    elif isinstance(optical_activity, str):
+        act = _activity_of(getattr(material, "name", ""), optical_activity)
+    else:
+        raise InputError(
+            "must be None, 'right', 'left' or an OpticalActivity",
+            field="optical_activity",
+            value=type(optical_activity).__name__,
+        )
+    return act
 
 
 # ---------------------------------------------------------------------------------------------

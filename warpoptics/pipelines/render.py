@@ -53,9 +53,8 @@ from ..stages.surfaces import Surfaces, SurfaceStage
 from ..stages.trace import (
     TraceConfig,
     TraceParams,
-    default_params,
+    TraceStage,
     trace_radiance,
-    trace_variant,
 )
 from .adaptive import allocate
 from .caustics import caustic_stage
@@ -319,11 +318,12 @@ _render_pixels = _make_render_pixels(trace_radiance)
 
 
 @functools.cache
-def _render_pixels_variant(fluorescence: bool, coherent: bool):
-    """The pixel kernel over ``stages.trace.trace_variant`` (the default: ``_render_pixels``)."""
-    if not fluorescence and not coherent:
+def _render_pixels_over(trace):
+    """The pixel kernel over a trace stage's device function (``TraceStage.function``; the
+    default ``trace_radiance``: ``_render_pixels``)."""
+    if trace is trace_radiance:
         return _render_pixels
-    return _make_render_pixels(trace_variant(fluorescence, coherent), module="unique")
+    return _make_render_pixels(trace, module="unique")
 
 
 # bytes per pixel: the float64 film (xyz 24 + stokes 32 + alpha 8 + ray count 8 + per-channel stokes
@@ -416,8 +416,6 @@ class Renderer:
                 value=r.birefringence,
                 allowed='"exact" or "approx" with a fluorescent material',
             )
-        # the pixel kernel: the fluorescent one carries the re-emission pass (stages/trace.py)
-        self._pixels = _render_pixels_variant(self.fluorescence, r.birefringence == "coherent")
         self.geometry = GeometryScene(meshes, allow_empty=True, parents=built.parents, device=self.device)
         if mats:
             self.materials, ids = build_material_table(mats, self.device)
@@ -462,7 +460,7 @@ class Renderer:
             device=self.device,
         )
         self.tables = spectral_tables(self.device)
-        self.trace_config = TraceConfig(
+        trace_config = TraceConfig(
             max_depth=r.max_depth,
             split_threshold=r.split_threshold,
             max_splits=r.max_splits,
@@ -478,11 +476,11 @@ class Renderer:
         self._nesting = (meshes, built.parents)
         self._media: dict[tuple, int] = {}
         self.camera_medium = self._camera_medium(scene.camera.position)
-        self.trace_params = default_params(
+        self.trace = TraceStage(
+            trace_config,
             np.asarray(ids, dtype=np.int32),
             np.array([ob.absorption_scale for ob in scene.objects], dtype=np.float32),
             world_axes(scene.objects, built, file=scene.path),
-            config=self.trace_config,
             ambient=(r.ambient_index, 0.0),
             camera_medium=self.camera_medium,
             rgb3=r.spectral == "rgb3",
@@ -493,6 +491,8 @@ class Renderer:
             if self.fluorescence
             else None,
         )
+        # the pixel kernel: camera samples -> the trace stage's function -> the film's sums
+        self._pixels = _render_pixels_over(self.trace.function)
         film = FilmParams()
         film.width, film.height = self.camera.width, self.camera.height
         film.spp = r.spp
@@ -553,7 +553,7 @@ class Renderer:
         self.alpha = wp.zeros(n, dtype=wp.float64, device=self.device)
         self.rays = wp.zeros(n, dtype=wp.int64, device=self.device)
         self.stokes_xyz = wp.zeros((n, 3), dtype=wp.vec4d, device=self.device)
-        self.caustics = None  # caustics hook: the light tracer (stages/caustics.py)
+        self.caustics = None  # the caustic light tracer (stages/caustics.py)
         if r.caustics:
             self.caustics = caustic_stage(
                 scene,
@@ -636,7 +636,7 @@ class Renderer:
         stokes_xyz = self.stokes_xyz.numpy().reshape(h, w, 3, 4) * inv[..., None, None]
         caustic_stats = {}
         if self.caustics is not None:
-            # caustics hook: add the light tracer's film (unpolarized: S0 only) to the camera's
+            # add the light tracer's film (unpolarized: S0 only) to the camera's
             cxyz = self.caustics.run(
                 self.caustic_film, threads=threads, tile_size=tile_size, progress=progress
             ).reshape(h, w, 3)
@@ -676,13 +676,13 @@ class Renderer:
         return [
             camera,
             self.film,
-            self.trace_params,
+            self.trace.params,
             self.geometry.geometry,
             self.materials,
             self.environment.struct,
             self.surfaces.struct,
             self.tables,
-            1 if self.trace_config.polarized else 0,
+            1 if self.trace.config.polarized else 0,
             self.spp_end,
             out.xyz,
             out.sq,
@@ -730,23 +730,22 @@ class Renderer:
         saved = (f.width, f.height, f.pass_index, f.round, f.adaptive, f.spp_begin, f.spp, f.bundle, f.groups)
         # a moved camera (the preview's orbit) may be in another medium; bundles start outside
         medium = self._camera_medium(tuple(float(v) for v in cam.position))
-        self.trace_params.camera_medium = medium
         if medium >= 0:
             f.bundle, f.groups = 0, 1
         f.width, f.height = w, h
         f.pass_index, f.round, f.adaptive = int(pass_index), int(spp_begin), 0
         f.spp_begin, f.spp = int(spp_begin), int(spp_begin) + int(spp)
         try:
-            inputs = self._kernel_inputs(cam, film)
-            n = w * h
-            launch_tiled(
-                self._pixels, n, [0, *inputs], device=self.device, threads=threads, tile_size=tile_size
-            )
+            with self.trace.medium(medium):
+                inputs = self._kernel_inputs(cam, film)
+                n = w * h
+                launch_tiled(
+                    self._pixels, n, [0, *inputs], device=self.device, threads=threads, tile_size=tile_size
+                )
         finally:
             f.width, f.height, f.pass_index, f.round, f.adaptive, f.spp_begin, f.spp, f.bundle, f.groups = (
                 saved
             )
-            self.trace_params.camera_medium = self.camera_medium
 
     def _camera_medium(self, position) -> int:
         """The solid a camera at ``position`` (mm) is in, -1 outside all (cached per position)."""

@@ -51,6 +51,7 @@ from __future__ import annotations
 
 import warp as wp
 
+from ..film.leaf import add_leaf
 from ..geometry.query import (
     RayHit,
     SceneGeometry,
@@ -65,13 +66,9 @@ from ..optics.branches import ROW_B, ROW_D, ROW_IN, ROW_MI, ROW_MR, ROW_O, ROW_W
 from ..optics.interface import backward_isotropic
 from ..optics.jones import (
     Jones,
-    coherency_transform,
     coherency_unpolarized,
-    jones_add,
-    jones_scale,
     jones_zero,
 )
-from ..optics.polarizer import sheet_polarizer_coherency
 from ..spectra import SpectralTables
 from .environment import Environment, environment_basis, environment_coefficients
 from .fluorescence import has_fluorescence
@@ -259,19 +256,14 @@ def trace_bundle(
                                 environment_coefficients(env, d_j),
                             )
                             xyz = wp.vec3f(weights[j, 0], weights[j, 1], weights[j, 2]) * rad
-                            if polarized != 0:
-                                b_j = wp.vec3f(ls[r, _B], ls[r, _B + 1], ls[r, _B + 2])
-                                m_j = Jones()  # read inline: a wp.func would copy the whole stack
-                                m_j.re = wp.mat22(ls[r, _MR], ls[r, _MR + 1], ls[r, _MR + 2], ls[r, _MR + 3])
-                                m_j.im = wp.mat22(ls[r, _MI], ls[r, _MI + 1], ls[r, _MI + 2], ls[r, _MI + 3])
-                                k_unit = coherency_transform(
-                                    m_j, sheet_polarizer_coherency(env.polarizer, -d_j, b_j, ls[r, _W])
-                                )
-                                acc_x = jones_add(acc_x, jones_scale(k_unit, xyz[0]))
-                                acc_y = jones_add(acc_y, jones_scale(k_unit, xyz[1]))
-                                acc_z = jones_add(acc_z, jones_scale(k_unit, xyz[2]))
-                            else:
-                                scalar_xyz += xyz * ls[r, _W]
+                            b_j = wp.vec3f(ls[r, _B], ls[r, _B + 1], ls[r, _B + 2])
+                            m_j = Jones()  # read inline: a wp.func would copy the whole stack
+                            m_j.re = wp.mat22(ls[r, _MR], ls[r, _MR + 1], ls[r, _MR + 2], ls[r, _MR + 3])
+                            m_j.im = wp.mat22(ls[r, _MI], ls[r, _MI + 1], ls[r, _MI + 2], ls[r, _MI + 3])
+                            acc_x, acc_y, acc_z, scalar_xyz = add_leaf(
+                                acc_x, acc_y, acc_z, scalar_xyz, polarized, m_j, ls[r, _W], env.polarizer,
+                                -d_j, b_j, xyz,
+                            )  # fmt: skip
                 # a segment inside a solid that finds no exit leaked through a crack: dropped
                 continue
             if depth == 0:

@@ -53,6 +53,7 @@ import math
 
 import warp as wp
 
+from ..film.leaf import add_light
 from ..optics.biaxial import wave_index
 from ..optics.birefringence import UniaxialMedium
 from ..optics.jones import (
@@ -164,15 +165,6 @@ def _jones(buf: LeafBuffer, i: int):
 
 
 @wp.func
-def _add_xyz(acc_x: Jones, acc_y: Jones, acc_z: Jones, k_unit: Jones, xyz: wp.vec3f):
-    return (
-        jones_add(acc_x, jones_scale(k_unit, xyz[0])),
-        jones_add(acc_y, jones_scale(k_unit, xyz[1])),
-        jones_add(acc_z, jones_scale(k_unit, xyz[2])),
-    )
-
-
-@wp.func
 def coherent_leaf(
     buf: LeafBuffer,
     count: int,
@@ -202,7 +194,7 @@ def coherent_leaf(
         return buf, count, acc_x, acc_y, acc_z
     if count >= _LEAVES:
         k_unit = coherency_transform(m, sheet_polarizer_coherency(polarizer, -d, bx, w))
-        acc_x, acc_y, acc_z = _add_xyz(acc_x, acc_y, acc_z, k_unit, xyz)
+        acc_x, acc_y, acc_z = add_light(acc_x, acc_y, acc_z, k_unit, xyz)
         return buf, count, acc_x, acc_y, acc_z
     x = o
     if depth > 0:
@@ -244,5 +236,5 @@ def coherent_flush(
                         mg = jones_add(mg, jones_mul(_jones(buf, j), f))
                         used = used | (1 << j)
             k_unit = coherency_transform(mg, sheet_polarizer_coherency(polarizer, ki, bi, 1.0))
-            acc_x, acc_y, acc_z = _add_xyz(acc_x, acc_y, acc_z, k_unit, _vec(buf, i, _C_XYZ))
+            acc_x, acc_y, acc_z = add_light(acc_x, acc_y, acc_z, k_unit, _vec(buf, i, _C_XYZ))
     return acc_x, acc_y, acc_z

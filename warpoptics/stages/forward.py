@@ -65,6 +65,7 @@ import numpy as np
 import warp as wp
 
 from .. import validate as val
+from ..device import launch_tiled, load_module
 from ..film.screen import ScreenSet, screen_hit
 from ..geometry.query import RayHit, SceneGeometry, scene_closest_hit
 from ..materials.dispersion import MaterialTable
@@ -102,6 +103,8 @@ __all__ = [
     "ForwardParams",
     "ForwardConfig",
     "forward_params",
+    "ForwardStage",
+    "Deposits",
     "forward_trace_kernel",
     "forward_step",
     "LEDGER",
@@ -362,3 +365,107 @@ def forward_params(
     )
     p.object_coating = wp.array(np.asarray(object_coating, dtype=np.int32), dtype=wp.int32, device=device)
     return p
+
+
+@dataclass
+class Deposits:
+    """The forward stage's output for one launch of ``count`` beam rays (device arrays the stage
+    owns, reused from launch to launch): ``max_deposits`` slots per ray of screen index (-1:
+    empty), position on the screen, Stokes vector and interfaces crossed, and the per-ray ledger."""
+
+    screen: Any
+    uv: Any
+    stokes: Any
+    depth: Any
+    ledger: Any
+
+
+class ForwardStage:
+    """The optical bench's forward trace (DESIGN.md, "Stages"): owns its frozen
+    :class:`ForwardConfig`, its device data (:class:`ForwardParams`), its kernel
+    (:data:`forward_trace_kernel`) and the deposit buffers it fills — allocated once per launch
+    size and reused, so :meth:`run` allocates nothing after the first call of a size."""
+
+    def __init__(
+        self,
+        config: ForwardConfig,
+        object_material,
+        absorption_scale,
+        object_axis,
+        object_coating,
+        *,
+        ambient=(1.0, 0.0),
+        device=None,
+    ) -> None:
+        if not isinstance(config, ForwardConfig):
+            raise TypeError(f"config must be a ForwardConfig, not {type(config).__name__}")
+        self.config = config
+        self.device = device
+        self.params = forward_params(
+            object_material,
+            absorption_scale,
+            object_axis,
+            object_coating,
+            config=config,
+            ambient=ambient,
+            device=device,
+        )
+        self._buffers: dict[int, Deposits] = {}
+
+    def load(self) -> None:
+        """Load the kernel now (from the kernel cache, or compile it), outside a timed region."""
+        load_module(forward_trace_kernel, self.device)
+
+    def buffers(self, count: int) -> Deposits:
+        """The deposit buffers for launches of ``count`` beam rays (allocated on first use)."""
+        if count not in self._buffers:
+            k, dev = self.config.max_deposits, self.device
+            self._buffers[count] = Deposits(
+                screen=wp.empty(count * k, dtype=wp.int32, device=dev),
+                uv=wp.empty(count * k, dtype=wp.vec2f, device=dev),
+                stokes=wp.empty(count * k, dtype=wp.vec4f, device=dev),
+                depth=wp.empty(count * k, dtype=wp.int32, device=dev),
+                ledger=wp.zeros((count, len(LEDGER)), dtype=wp.float64, device=dev),
+            )
+        return self._buffers[count]
+
+    def run(
+        self,
+        start: int,
+        count: int,
+        out: Deposits,
+        *,
+        geometry: SceneGeometry,
+        materials: MaterialTable,
+        coatings: CoatingStack,
+        beam: BeamParams,
+        screens: ScreenSet,
+        wavelengths,
+        threads: int | None = None,
+        tile_size: int | None = None,
+    ) -> Deposits:
+        """Trace beam rays ``[start, start + count)`` (ray ``i`` is beam ray ``i // n_wl`` at
+        wavelength sample ``i % n_wl``) into ``out`` (:meth:`buffers` of at least ``count``)."""
+        inputs = [
+            self.params,
+            geometry,
+            materials,
+            coatings,
+            beam,
+            screens,
+            wavelengths,
+            out.screen,
+            out.uv,
+            out.stokes,
+            out.depth,
+            out.ledger,
+        ]
+        launch_tiled(
+            forward_trace_kernel,
+            count,
+            [start, *inputs],
+            device=self.device,
+            threads=threads,
+            tile_size=tile_size,
+        )
+        return out

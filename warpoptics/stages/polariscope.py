@@ -14,7 +14,8 @@ collimated beam in front of the analyzer.  Each direction of the cone sees them 
 Per (direction, wavelength) the stage writes the transmitted intensity (unit incident power
 behind the polarizer) of the coherent plate (the plate's two waves added as amplitudes,
 ``optics.plate.plate_mode_jones``) and of the incoherent model (their powers added), so that a
-caller sees both from one launch.  Optical activity is not modelled (``optics/plate.py``).
+caller sees both from one launch.  Optical activity (quartz) is optional: a rotatory power per
+wavelength couples the two waves in the coherent result (``optics.plate.plate_active_jones``).
 
 Arrays (all on the stage's device; the caller owns the outputs):
     directions   (N,) vec3   unit propagation directions (k_z > 0)
@@ -39,7 +40,7 @@ from ..errors import InputError
 from ..optics.birefringence import uniaxial_medium
 from ..optics.complex import c_abs2, c_mul
 from ..optics.jones import Jones, jones_entry, s_vector
-from ..optics.plate import plate_medium, plate_mode_jones, wave_plate_jones
+from ..optics.plate import plate_active_jones, plate_medium, plate_mode_jones, wave_plate_jones
 from ..optics.polarizer import lens_polarizer_field
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -116,6 +117,8 @@ def _polariscope_kernel(
     ana: wp.vec3f,
     acc_angle: float,
     acc_nm: float,
+    rotatory: wp.array(dtype=float),
+    rotatory_ratio: float,
     out_coherent: wp.array2d(dtype=float),
     out_incoherent: wp.array2d(dtype=float),
 ):
@@ -129,7 +132,15 @@ def _polariscope_kernel(
     a_re, a_im = _analyzer_through(wave_plate_jones(acc_angle, acc_nm, wavelength[j]), ana, x)
     e0 = _analyzed(j0, p, a_re, a_im)
     e1 = _analyzed(j1, p, a_re, a_im)
-    out_coherent[i, j] = c_abs2(e0 + e1)
+    if rotatory[j] != 0.0:
+        # optical activity: the two waves coupled inside the plate (the incoherent model below
+        # keeps them independent, without activity)
+        ja = plate_active_jones(
+            k, _NORMAL, amb, med, thickness[i], wavelength[j], alpha[j], rotatory[j], rotatory_ratio
+        )
+        out_coherent[i, j] = c_abs2(_analyzed(ja, p, a_re, a_im))
+    else:
+        out_coherent[i, j] = c_abs2(e0 + e1)
     out_incoherent[i, j] = c_abs2(e0) + c_abs2(e1)
 
 
@@ -145,6 +156,7 @@ class StagePolariscope:
         p, a = self.config.axes()
         self._pol = wp.vec3f(*p)
         self._ana = wp.vec3f(*a)
+        self._no_rotation: wp.array | None = None
 
     def run(
         self,
@@ -156,8 +168,19 @@ class StagePolariscope:
         crystal_frame,
         out_coherent: wp.array,
         out_incoherent: wp.array,
+        rotatory: wp.array | None = None,
+        rotatory_ratio: float = 0.0,
     ) -> None:
+        """``rotatory`` (W,) the plate's rotatory power along its optic axis, rad/mm, positive
+        counter-clockwise about the propagation direction (None: no optical activity; uniaxial
+        or isotropic plates only), ``rotatory_ratio`` G11 / G33 (``optics.plate``)."""
         n, w = directions.shape[0], wavelength.shape[0]
+        if rotatory is None:
+            if self._no_rotation is None or self._no_rotation.shape[0] != w:
+                self._no_rotation = wp.zeros(w, dtype=float, device=self.device)
+            rotatory = self._no_rotation
+        elif rotatory.shape[0] != w:
+            raise ValueError(f"rotatory has {rotatory.shape[0]} entries, expected {w}")
         for name, arr, length in (("thickness", thickness, n), ("indices", indices, w), ("alpha", alpha, w)):
             if arr.shape[0] != length:
                 raise ValueError(f"{name} has {arr.shape[0]} entries, expected {length}")
@@ -180,6 +203,8 @@ class StagePolariscope:
                 self._ana,
                 math.radians(self.config.accessory_deg),
                 float(self.config.accessory_nm),
+                rotatory,
+                float(rotatory_ratio),
             ],
             outputs=[out_coherent, out_incoherent],
             device=self.device,
@@ -195,12 +220,15 @@ def plate_between_polarizers(
     crystal_frame=None,
     alpha=None,
     config: PolariscopeConfig | None = None,
+    rotatory_rad_mm=None,
+    rotatory_ratio: float = 0.0,
     device=None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """NumPy form of :class:`StagePolariscope`: ``directions`` (N, 3), ``thickness_mm`` (N,) or
     a scalar, ``wavelength_nm`` (W,), ``indices`` (W, 3), ``alpha`` (W, 3) or None (lossless),
     ``crystal_frame`` (3, 3) rows X, Y, Z (Z the optic axis of a uniaxial plate; default the
-    identity).  Returns (coherent, incoherent) transmitted intensities, each (N, W)."""
+    identity); ``rotatory_rad_mm`` (W,) or a scalar: optical activity (:meth:`StagePolariscope.run`;
+    None: none).  Returns (coherent, incoherent) transmitted intensities, each (N, W)."""
     dev = get_device(device)
     k = val.finite_array(np.asarray(directions, dtype=np.float64).reshape(-1, 3), field="directions")
     if np.any(k[:, 2] <= 0.0):
@@ -219,6 +247,19 @@ def plate_between_polarizers(
     if np.any(d < 0):
         raise InputError("must be >= 0", field="thickness_mm", value=float(d.min()), allowed=">= 0")
     frame = val.finite_array(np.eye(3) if crystal_frame is None else crystal_frame, field="crystal_frame")
+    rot = None
+    if rotatory_rad_mm is not None:
+        rot = val.finite_array(
+            np.broadcast_to(np.asarray(rotatory_rad_mm, dtype=np.float64), (lam.size,)),
+            field="rotatory_rad_mm",
+        )
+        if np.any(n3[:, 1] > 0) and np.any(rot != 0):
+            raise InputError(
+                "optical activity is modelled for uniaxial (or isotropic) plates only",
+                field="rotatory_rad_mm",
+            )
+        val.number(rotatory_ratio, field="rotatory_ratio")
+        rot = to_warp(rot, wp.float32, dev)
     stage = StagePolariscope(config, device=dev)
     out_c = wp.zeros((k.shape[0], lam.size), dtype=float, device=dev)
     out_i = wp.zeros((k.shape[0], lam.size), dtype=float, device=dev)
@@ -231,5 +272,7 @@ def plate_between_polarizers(
         frame,
         out_c,
         out_i,
+        rotatory=rot,
+        rotatory_ratio=float(rotatory_ratio),
     )
     return out_c.numpy().astype(np.float64), out_i.numpy().astype(np.float64)

@@ -47,6 +47,7 @@ ambient medium.  Absorption follows Bouguer–Lambert, exp(-alpha l) on the inte
 
 from __future__ import annotations
 
+import contextlib
 import functools
 from dataclasses import dataclass
 
@@ -54,6 +55,7 @@ import numpy as np
 import warp as wp
 
 from .. import validate as val
+from ..film.leaf import add_leaf, add_light
 from ..geometry.query import RayHit, SceneGeometry, medium_closest_hit, scene_closest_hit_leaving
 from ..materials.dispersion import MaterialTable
 from ..optics.absorption import bouguer_lambert
@@ -82,12 +84,9 @@ from ..optics.jones import (
     Jones,
     coherency_transform,
     coherency_unpolarized,
-    jones_add,
     jones_identity,
-    jones_scale,
     jones_zero,
 )
-from ..optics.polarizer import sheet_polarizer_coherency
 from ..spectra import SpectralTables
 from .coated import KIND_COATED, FilmSurfaces, coating_at, empty_film_surfaces, film_surface_children
 from .coherence import DEFAULT_COHERENCE_WIDTH_MM, LeafBuffer, coherent_flush, coherent_leaf, segment_phase
@@ -110,6 +109,7 @@ wp.set_module_options({"enable_backward": False})  # no adjoint code (see device
 __all__ = [
     "TraceParams",
     "TraceConfig",
+    "TraceStage",
     "trace_radiance",
     "trace_variant",
     "default_params",
@@ -192,16 +192,6 @@ def _start_offset(geom: SceneGeometry, inside: int, left: int):
     return 0.0
 
 
-@wp.func
-def _add_light(acc_x: Jones, acc_y: Jones, acc_z: Jones, k_unit: Jones, xyz: wp.vec3f):
-    """Add light of colour ``xyz`` arriving with coherency ``k_unit`` per unit radiance."""
-    return (
-        jones_add(acc_x, jones_scale(k_unit, xyz[0])),
-        jones_add(acc_y, jones_scale(k_unit, xyz[1])),
-        jones_add(acc_z, jones_scale(k_unit, xyz[2])),
-    )
-
-
 # Out of line, like the rarely taken branches (the birefringent events, film_surface_children,
 # surface_radiance): with every function inlined into the pixel kernel, NVRTC needed 515 s to
 # build the render module for sm_90 (and > 9 min with the adjoint code Warp generated until the
@@ -239,7 +229,7 @@ def _make_trace_radiance(fluorescence: bool, coherent: bool):
         (environment.spectral_response): the one-wavelength estimate at ``wavelength`` with XYZ sample
         ``weight``, or for a path tree that does not depend on the wavelength (non-dispersive,
         non-absorbing scenes) the exact integral over the spectrum (EnvironmentLight.exact_response).
-        ``wavelength`` and ``weight`` are still the sample's for the materials and the surfaces hook."""
+        ``wavelength`` and ``weight`` are still the sample's for the materials and the surfaces stage."""
         st = Stack()
         st = write_row(
             st, 0, origin, direction, basis_x, jones_identity(), 1.0, p.camera_medium, 0, -1, -direction
@@ -373,7 +363,7 @@ def _make_trace_radiance(fluorescence: bool, coherent: bool):
                     hit = medium_closest_hit(geom, inside, o, d, p.t_max)
                 else:
                     hit = scene_closest_hit_leaving(geom, o, d, p.t_max, left)
-                    # surfaces hook (stages/surfaces.py): an opaque surface or a lamp in front of every
+                    # the surfaces stage (stages/surfaces.py): an opaque surface or a lamp in front of every
                     # solid ends the branch with its (unpolarized) radiance, like the environment below
                     if surf.num_surfaces + surf.num_area > 0:
                         sh = surfaces_closest_hit(surf, o, d, hit.t)
@@ -394,32 +384,30 @@ def _make_trace_radiance(fluorescence: bool, coherent: bool):
                                 ch3,
                                 rng,
                             )
-                            # one wavelength per path here: surfaces turn the shared-spectrum path off
-                            xyz_s = wgt * radiance
-                            if polarized != 0:
-                                k_unit = coherency_transform(m, coherency_unpolarized(w))
-                                acc_x, acc_y, acc_z = _add_light(acc_x, acc_y, acc_z, k_unit, xyz_s)
-                            else:
-                                scalar_xyz += xyz_s * w
+                            # one wavelength per path here: surfaces turn the shared-spectrum path off;
+                            # a lit surface's light is unpolarized (no polarizer axis)
+                            acc_x, acc_y, acc_z, scalar_xyz = add_leaf(
+                                acc_x, acc_y, acc_z, scalar_xyz, polarized, m, w, wp.vec3f(0.0, 0.0, 0.0),
+                                -d, bx, wgt * radiance,
+                            )  # fmt: skip
                             continue
                 if hit.object < 0:
                     if inside < 0:
+                        # the environment behind env.polarizer (a polariscope's sheet; zero axis:
+                        # unpolarized), arriving along k = -d in the frame (bx, k x bx)
                         xyz = resp * environment_coefficients(env, d)
-                        if polarized != 0:
-                            # polarized illumination hook (polariscope): the light behind env.polarizer
-                            # (zero axis: unpolarized, coherency_unpolarized); frame (bx, k x bx), k = -d
-                            if wp.static(coherent):
+                        if wp.static(coherent):
+                            if polarized != 0:  # amplitudes, added per coherence cell (coherence.py)
                                 leaves, n_leaves, acc_x, acc_y, acc_z = coherent_leaf(
                                     leaves, n_leaves, acc_x, acc_y, acc_z, m, w, o, d, bx, xyz,
                                     env.polarizer, p.ambient[0], depth, _start_offset(geom, inside, left), wl,
                                 )  # fmt: skip
                             else:
-                                k_unit = coherency_transform(
-                                    m, sheet_polarizer_coherency(env.polarizer, -d, bx, w)
-                                )
-                                acc_x, acc_y, acc_z = _add_light(acc_x, acc_y, acc_z, k_unit, xyz)
+                                scalar_xyz += xyz * w
                         else:
-                            scalar_xyz += xyz * w
+                            acc_x, acc_y, acc_z, scalar_xyz = add_leaf(
+                                acc_x, acc_y, acc_z, scalar_xyz, polarized, m, w, env.polarizer, -d, bx, xyz
+                            )
                     # a segment inside a solid that finds no exit leaked through a crack: dropped
                     continue
                 if depth == 0:
@@ -621,7 +609,7 @@ def _make_trace_radiance(fluorescence: bool, coherent: bool):
                 )
                 w_fl = fl_row[0, ROW_W]
                 k_fl = coherency_transform(m_fl, coherency_unpolarized(w_fl))
-                acc_x, acc_y, acc_z = _add_light(main_x, main_y, main_z, k_fl, weight * a)
+                acc_x, acc_y, acc_z = add_light(main_x, main_y, main_z, k_fl, weight * a)
                 scalar_xyz = main_s + weight * (w_fl * a)
                 rng = main_rng
         if polarized == 0:
@@ -683,3 +671,58 @@ def default_params(
     p.films = films if films is not None else empty_film_surfaces(len(p.object_material), device=device)
     p.reemission = reemission if reemission is not None else build_reemission([], None, device=device)
     return p
+
+
+class TraceStage:
+    """The camera trace stage (DESIGN.md, "Stages"): owns its frozen :class:`TraceConfig`, its
+    device data (:class:`TraceParams`: each object's material, absorption scale, optic axis,
+    coatings, fluorescent re-emission) and the device function a pipeline's pixel kernel calls,
+    :attr:`function` — :data:`trace_radiance`, or the variant with the re-emission pass
+    (``reemission`` given) and/or the coherent mode (``config.birefringence == "coherent"``),
+    :func:`trace_variant`.  The stage is fused into the pixel kernel (a camera sample's whole path
+    tree stays in registers and on the stack, no ray queue), so its "run" is that kernel's launch:
+    the pipeline owns the film it fills (``pipelines/render.py``).  ``medium(k)`` sets, for the
+    launches inside the ``with`` block, the solid the camera rays start in (a moved camera)."""
+
+    def __init__(
+        self,
+        config: TraceConfig,
+        objects_material: np.ndarray,
+        absorption_scale: np.ndarray,
+        object_axis: np.ndarray,
+        *,
+        ambient=(1.0, 0.0),
+        camera_medium: int = -1,
+        rgb3: bool = False,
+        films: FilmSurfaces | None = None,
+        reemission: Reemission | None = None,
+        device=None,
+    ) -> None:
+        if not isinstance(config, TraceConfig):
+            raise TypeError(f"config must be a TraceConfig, not {type(config).__name__}")
+        self.config = config
+        self.fluorescence = reemission is not None
+        self.coherent = config.birefringence == "coherent"
+        self.camera_medium = int(camera_medium)
+        self.params = default_params(
+            objects_material,
+            absorption_scale,
+            object_axis,
+            config=config,
+            ambient=ambient,
+            camera_medium=camera_medium,
+            rgb3=rgb3,
+            device=device,
+            films=films,
+            reemission=reemission,
+        )
+        self.function = trace_variant(self.fluorescence, self.coherent)
+
+    @contextlib.contextmanager
+    def medium(self, camera_medium: int):
+        """Camera rays start in solid ``camera_medium`` (-1: the ambient medium) inside the block."""
+        self.params.camera_medium = int(camera_medium)
+        try:
+            yield self
+        finally:
+            self.params.camera_medium = self.camera_medium
