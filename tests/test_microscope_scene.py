@@ -224,3 +224,30 @@ def test_command_writes_image_and_refuses_bad_scene(tmp_path, capsys):
     assert main(["microscope", str(bad), "-o", str(out)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "microscope.analyser" in err and "did you mean 'analyzer'" in err
+
+
+def test_optical_activity_key_reaches_the_plate(device):
+    """``optical_activity = "right"`` on a quartz basal plate (the other helper's coupled-wave
+    plate, pipelines.microscope.resolve_activity): at the centre of the conoscopic figure (light
+    along the optic axis, no birefringence) crossed polarizers pass sin^2(rho d) of the light
+    with the rotation, nothing without it (the cross's centre); refused for calcite (no data).
+    Reference: rho = 21.72 deg/mm at 589.3 nm (the widely quoted value for quartz along its axis
+    in sodium light, e.g. Hecht, Optics, on optical activity), times the two faces' Fresnel
+    transmission (1 - R)^2 at normal incidence, R = ((n_o - 1) / (n_o + 1))^2; tolerance 0.005
+    for the rotatory-dispersion fit of the material data (~0.1 deg/mm)."""
+    data = {
+        "microscope": {"mode": "conoscopic", "wavelength": 589.3, "size": 17},
+        "sample": {"material": "quartz", "thickness_mm": 3.0, "optic_axis": [0.0, 0.0, 1.0]},
+    }
+    plain = ms.microscope_view(MicroscopeScene.from_dict(data), device=device).xyz[8, 8, 1]
+    data["sample"]["optical_activity"] = "right"
+    active = ms.microscope_view(MicroscopeScene.from_dict(data), device=device).xyz[8, 8, 1]
+    print(f"quartz basal plate centre: {plain:.2e} without, {active:.3f} with optical activity")
+    assert plain < 1e-4
+    n_o = float(wo.materials.get("quartz").n(589.3)[0])
+    t_faces = (1.0 - ((n_o - 1.0) / (n_o + 1.0)) ** 2) ** 2
+    ref = t_faces * math.sin(math.radians(21.72 * 3.0)) ** 2
+    assert abs(active - ref) < 0.005, (active, ref)
+    data["sample"]["material"] = "calcite"
+    with pytest.raises(InputError, match="sample.optical_activity"):
+        MicroscopeScene.from_dict(data, path="a.toml")

@@ -588,12 +588,14 @@ def _sample_axes(sample, default_z: tuple[float, float, float] | None) -> np.nda
     return plate_optics(mat, 550.0, optic_axis=axis)[2]
 
 
-def _analyzed_colour(material, thickness_mm, axes, mic, accessory_nm, device) -> np.ndarray:
+def _analyzed_colour(sample, thickness_mm, axes, mic, accessory_nm, device) -> np.ndarray:
     """XYZ of one plate (frame ``axes`` in world, or None: the material's default) between the
     scene's polarizer and analyzer (``mic.analyzer`` None: both analyzer positions summed, i.e.
     the power behind the plate: plane-polarized light)."""
+    material = sample.material
     kw = dict(
         polarizer_deg=mic.polarizer,
+        optical_activity=sample.optical_activity,
         accessory_nm=accessory_nm,
         accessory_deg=mic.accessory_angle,
         n_ambient=mic.mounting_index,
@@ -638,6 +640,7 @@ def microscope_view(scene, *, device=None) -> MicroscopeView:
             numerical_aperture=mic.numerical_aperture,
             wavelength_nm=mic.wavelength,
             polarizer_deg=mic.polarizer,
+            optical_activity=sample.optical_activity,
             accessory_nm=mic.accessory_nm,
             accessory_deg=mic.accessory_angle,
             n_ambient=mic.mounting_index,
@@ -670,11 +673,11 @@ def microscope_view(scene, *, device=None) -> MicroscopeView:
         axes = _sample_axes(sample, None)
         axes_w = None if axes is None else axes @ turn.T
         if wedge:
-            strips = np.array([_analyzed_colour(mat, d, axes_w, mic, r, device) for r in ret])
+            strips = np.array([_analyzed_colour(sample, d, axes_w, mic, r, device) for r in ret])
             xyz = np.broadcast_to(strips[col][None, :, :], (size, size, 3)).copy()
         else:
             xyz = np.broadcast_to(
-                _analyzed_colour(mat, d, axes_w, mic, mic.accessory_nm, device), (size, size, 3)
+                _analyzed_colour(sample, d, axes_w, mic, mic.accessory_nm, device), (size, size, 3)
             )
             xyz = xyz.copy()
         _, srgb = _display(xyz.reshape(-1, 3), 1.0)
@@ -690,12 +693,12 @@ def microscope_view(scene, *, device=None) -> MicroscopeView:
             g = grain[:, cols]
             sub = xyz[:, cols]
             for k in np.unique(g):
-                sub[g == k] = _analyzed_colour(mat, d, axes_w[k], mic, r, device)
+                sub[g == k] = _analyzed_colour(sample, d, axes_w[k], mic, r, device)
                 xyz[:, cols] = sub
         grain_xyz = None
     else:
         grain_xyz = np.array(
-            [_analyzed_colour(mat, d, axes_w[k], mic, mic.accessory_nm, device) for k in range(len(axes))]
+            [_analyzed_colour(sample, d, axes_w[k], mic, mic.accessory_nm, device) for k in range(len(axes))]
         )
         xyz = grain_xyz[grain]
     _, srgb = _display(xyz.reshape(-1, 3), 1.0)

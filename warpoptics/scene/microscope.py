@@ -26,6 +26,7 @@ by ``pipelines/microscope.py``: :func:`~warpoptics.pipelines.microscope.microsco
     optic_axis = [0.0, 0.0, 1.0]   # uniaxial plate (world: z = the microscope axis)
     # crystal_axes = [[X], [Y], [Z]] for a biaxial plate (default: the material's own, see
     #                ``pipelines.microscope.plate_optics``)
+    # optical_activity = "right"   (quartz: the rotation along the axis, materials/activity.py)
     # thin section: grains = 40, seed = 0 (Voronoi cells, random orientations)
 
 Every value is checked by :mod:`warpoptics.validate` (unknown keys get a suggestion; an error
@@ -41,6 +42,7 @@ from typing import Any
 
 from .. import validate as val
 from ..errors import InputError
+from ..materials.activity import optical_activity
 from ..materials.dispersion import Biaxial, Material, Uniaxial
 from ..materials.spec import material_from_spec
 from ..spectra import ILLUMINANTS
@@ -77,7 +79,18 @@ _MICROSCOPE_KEYS = {
     "field_mm",
     "mounting_index",
 }
-_SAMPLE_KEYS = {"kind", "material", "thickness_mm", "optic_axis", "crystal_axes", "grains", "seed"}
+_SAMPLE_KEYS = {
+    "kind",
+    "material",
+    "thickness_mm",
+    "optic_axis",
+    "crystal_axes",
+    "grains",
+    "seed",
+    "optical_activity",
+}
+#: handedness of an optically active plate (materials/activity.py holds the data, quartz)
+ACTIVITY_HANDS = ("right", "left")
 
 
 @dataclass(frozen=True)
@@ -118,6 +131,7 @@ class SampleConfig:
     crystal_axes: tuple[tuple[float, float, float], ...] | None = None
     grains: int = 40
     seed: int = 0
+    optical_activity: str | None = None  # "right" | "left" (pipelines.microscope.resolve_activity)
 
 
 @dataclass(frozen=True)
@@ -292,4 +306,20 @@ def _sample(t: dict, file: str) -> SampleConfig:
                     "only a thin section has grains", file=file, field=f + k, allowed="kind = 'thin_section'"
                 )
     name = spec if isinstance(spec, str) else str(spec.get("base", "inline"))
+    if "optical_activity" in t:
+        hand = val.choice(t["optical_activity"], ACTIVITY_HANDS, file=file, field=f + "optical_activity")
+        try:
+            optical_activity(getattr(mat, "name", name), hand)
+        except InputError as exc:
+            raise InputError(
+                exc.message, file=file, field=f + "optical_activity", value=name, allowed=exc.allowed
+            ) from None
+        if not isinstance(mat, Uniaxial):
+            raise InputError(
+                "optical activity is modelled for uniaxial plates only",
+                file=file,
+                field=f + "optical_activity",
+                value=name,
+            )
+        kw["optical_activity"] = hand
     return SampleConfig(kind=kind, material=mat, material_name=name, thickness_mm=d, **kw)
