@@ -26,6 +26,7 @@ SUBCOMMAND_MODULES = [
     "warpoptics.commands.cut",
     "warpoptics.commands.thinfilm",
     "warpoptics.commands.chart",
+    "warpoptics.commands.microscope",
     "warpoptics.commands.sweep",
     "warpoptics.commands.colorchange",
     "warpoptics.commands.grade",

@@ -54,6 +54,11 @@ __all__ = [
     "conoscope_profile",
     "conoscopic_figure",
     "resolve_activity",
+    "MicroscopeView",
+    "stage_turn",
+    "random_crystal_axes",
+    "voronoi_grains",
+    "microscope_view",
 ]
 
 #: the plate of the Michel-Lévy chart: n_o of quartz, birefringence 0.01, mounted in n_o
@@ -497,3 +502,215 @@ def resolve_activity(material: Material, optical_activity) -> OpticalActivity | 
             value=type(optical_activity).__name__,
         )
     return act
+
+
+# ---------------------------------------------------------------------------------------------
+# microscope scenes (scene/microscope.py): orthoscopic views of plates and thin sections,
+# conoscopic figures, from a TOML file
+
+
+@dataclass(frozen=True)
+class MicroscopeView:
+    """What :func:`microscope_view` returns: ``xyz`` (H, W, 3) (the illuminant behind the
+    polarizer has Y = 1, as in :func:`interference_colour`), ``srgb`` (H, W, 3) encoded;
+    thin sections also ``grain`` (H, W) int (the grain each pixel sees), ``orientations``
+    (G, 3) (each grain's optic axis, or Z of a biaxial grain, in the section frame, before the
+    stage rotation), ``crystal_axes`` (G, 3, 3) (rows X, Y, Z) and ``grain_xyz`` (G, 3)
+    (without accessory wedge; None with it); ``title`` a one-line description."""
+
+    xyz: np.ndarray
+    srgb: np.ndarray
+    grain: np.ndarray | None = None
+    orientations: np.ndarray | None = None
+    crystal_axes: np.ndarray | None = None
+    grain_xyz: np.ndarray | None = None
+    title: str = ""
+
+
+def stage_turn(deg: float) -> np.ndarray:
+    """The rotation matrix of the stage turned counter-clockwise by ``deg`` about the
+    microscope axis (world z), seen down the tube."""
+    t = np.radians(float(deg))
+    c, s = np.cos(t), np.sin(t)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def random_crystal_axes(count: int, seed: int) -> np.ndarray:
+    """(count, 3, 3) orientations drawn uniformly over the rotation group (rows X, Y, Z): Z
+    (a uniaxial grain's optic axis) is then uniform on the sphere.  Z from a normalised 3-D
+    Gaussian (Muller 1959), X from a second Gaussian made perpendicular to it."""
+    rng = np.random.default_rng(int(seed))
+    z = rng.standard_normal((count, 3))
+    z /= np.linalg.norm(z, axis=1, keepdims=True)
+    x = rng.standard_normal((count, 3))
+    x -= z * np.sum(x * z, axis=1, keepdims=True)
+    x /= np.linalg.norm(x, axis=1, keepdims=True)
+    return np.stack([x, np.cross(z, x), z], axis=1)
+
+
+def voronoi_grains(count: int, seed: int, size: int, field_mm: float, stage_deg: float = 0.0):
+    """A thin section's grain map: ``count`` cell centres uniform over the field (drawn after
+    the orientations from the same ``seed``), each pixel (size x size over ``field_mm``, row 0
+    at the top) given the index of the nearest centre of the section turned by ``stage_deg``.
+    Returns (grain (size, size) int, centres (count, 2) mm in the section frame)."""
+    rng = np.random.default_rng(int(seed) + 1)
+    centres = (rng.random((count, 2)) - 0.5) * field_mm
+    c = ((np.arange(size) + 0.5) / size - 0.5) * field_mm
+    xx, yy = np.meshgrid(c, -c)
+    turn = stage_turn(-stage_deg)[:2, :2]  # the section point under each pixel
+    p = np.stack([xx.ravel(), yy.ravel()], axis=-1) @ turn.T
+    grain = np.empty(p.shape[0], dtype=np.int64)
+    for a in range(0, p.shape[0], 16384):
+        d2 = np.sum((p[a : a + 16384, None, :] - centres[None, :, :]) ** 2, axis=-1)
+        grain[a : a + 16384] = np.argmin(d2, axis=1)
+    return grain.reshape(size, size), centres
+
+
+def _orient_kw(material, axes: np.ndarray | None) -> dict:
+    """The orientation keyword of :func:`interference_colour` for world ``axes`` (rows X, Y, Z)."""
+    if axes is None or isinstance(material, Isotropic):
+        return {}
+    if isinstance(material, Biaxial):
+        return {"crystal_axes": axes}
+    return {"optic_axis": tuple(axes[2])}
+
+
+def _sample_axes(sample, default_z: tuple[float, float, float] | None) -> np.ndarray | None:
+    """The plate's frame (rows X, Y, Z, world, before the stage) from its scene config: its
+    ``crystal_axes``, a frame about its ``optic_axis`` (else ``default_z``), else the defaults
+    of :func:`plate_optics`; None for an isotropic plate."""
+    mat = sample.material
+    if isinstance(mat, Isotropic):
+        return None
+    if sample.crystal_axes is not None:
+        return np.asarray(sample.crystal_axes, dtype=np.float64)
+    axis = sample.optic_axis if sample.optic_axis is not None else default_z
+    return plate_optics(mat, 550.0, optic_axis=axis)[2]
+
+
+def _analyzed_colour(sample, thickness_mm, axes, mic, accessory_nm, device) -> np.ndarray:
+    """XYZ of one plate (frame ``axes`` in world, or None: the material's default) between the
+    scene's polarizer and analyzer (``mic.analyzer`` None: both analyzer positions summed, i.e.
+    the power behind the plate: plane-polarized light)."""
+    material = sample.material
+    kw = dict(
+        polarizer_deg=mic.polarizer,
+        optical_activity=sample.optical_activity,
+        accessory_nm=accessory_nm,
+        accessory_deg=mic.accessory_angle,
+        n_ambient=mic.mounting_index,
+        illuminant=mic.illuminant,
+        device=device,
+        **_orient_kw(material, axes),
+    )
+    if mic.analyzer is not None:
+        return interference_colour(material, thickness_mm, analyzer_deg=mic.analyzer, **kw).xyz
+    par = interference_colour(material, thickness_mm, analyzer_deg=mic.polarizer, **kw).xyz
+    crossed = interference_colour(material, thickness_mm, analyzer_deg=mic.polarizer + 90.0, **kw).xyz
+    return par + crossed
+
+
+def _wedge_columns(size: int, max_nm: float, steps: int = 128) -> tuple[np.ndarray, np.ndarray]:
+    """Quartz wedge: the column groups (size,) int and their retardations (steps,) nm, a ramp
+    from 0 at the left edge to ``max_nm`` at the right in ``steps`` flat strips."""
+    steps = min(steps, size)
+    col = np.minimum((np.arange(size) * steps) // size, steps - 1)
+    return col, (np.arange(steps) + 0.5) / steps * max_nm
+
+
+def microscope_view(scene, *, device=None) -> MicroscopeView:
+    """The view of a :class:`~warpoptics.scene.microscope.MicroscopeScene`: orthoscopic (each
+    pixel the interference colour of the plate or grain under it, parallel light along the
+    axis; an accessory plate or the quartz wedge in front of the analyzer) or conoscopic (the
+    Bertrand-lens figure of the plate, :func:`conoscopic_figure`).  The stage turns the sample
+    (its orientation and the grain map) counter-clockwise by ``stage_rotation``."""
+    mic, sample = scene.microscope, scene.sample
+    mat, d, size = sample.material, sample.thickness_mm, mic.size
+    turn = stage_turn(mic.stage_rotation)
+    wedge = mic.accessory == "quartz_wedge"
+    ana = "none" if mic.analyzer is None else f"{mic.analyzer:g}"
+    where = f"polarizer {mic.polarizer:g}, analyzer {ana}, stage {mic.stage_rotation:g} deg"
+    if mic.accessory != "none":
+        where += f", {mic.accessory.replace('_', ' ')} ({mic.accessory_nm:g} nm)"
+    if mic.mode == "conoscopic":
+        axes = _sample_axes(sample, (0.0, 0.0, 1.0) if isinstance(mat, Uniaxial) else None)
+        axes_w = None if axes is None else axes @ turn.T
+        kw = dict(
+            size=size,
+            numerical_aperture=mic.numerical_aperture,
+            wavelength_nm=mic.wavelength,
+            polarizer_deg=mic.polarizer,
+            optical_activity=sample.optical_activity,
+            accessory_nm=mic.accessory_nm,
+            accessory_deg=mic.accessory_angle,
+            n_ambient=mic.mounting_index,
+            illuminant=mic.illuminant,
+            device=device,
+            **_orient_kw(mat, axes_w),
+        )
+        if "optic_axis" not in kw and not isinstance(mat, Biaxial):
+            kw["optic_axis"] = (0.0, 0.0, 1.0)
+        analyzers = [mic.analyzer] if mic.analyzer is not None else [mic.polarizer, mic.polarizer + 90.0]
+        figs = [conoscopic_figure(mat, d, analyzer_deg=a, exposure=1.0, **kw) for a in analyzers]
+        light = "white light" if mic.wavelength is None else f"{mic.wavelength:g} nm"
+        title = (
+            f"{sample.material_name} {d:g} mm, conoscopic, NA {mic.numerical_aperture:g}, {light}; {where}"
+        )
+        if mic.wavelength is not None:
+            y = np.sum([np.asarray(f.intensity) for f in figs], axis=0)
+            xyz = np.repeat(y[..., None], 3, axis=-1)  # monochromatic: grey
+            srgb = np.repeat(
+                np.asarray(encode_srgb(np.clip(y / max(float(y.max()), 1e-12), 0, 1)))[..., None], 3, -1
+            )
+            return MicroscopeView(xyz=xyz, srgb=srgb, title=title)
+        xyz = np.sum([np.asarray(f.xyz) for f in figs], axis=0)
+        exposure = 1.0 / max(float(np.max(xyz[..., 1])), 1e-12)
+        _, srgb = _display(xyz.reshape(-1, 3), exposure)
+        return MicroscopeView(xyz=xyz, srgb=srgb.reshape(size, size, 3), title=title)
+    # orthoscopic
+    col, ret = _wedge_columns(size, mic.wedge_max_nm)  # used with the quartz wedge only
+    if sample.kind == "plate":
+        axes = _sample_axes(sample, None)
+        axes_w = None if axes is None else axes @ turn.T
+        if wedge:
+            strips = np.array([_analyzed_colour(sample, d, axes_w, mic, r, device) for r in ret])
+            xyz = np.broadcast_to(strips[col][None, :, :], (size, size, 3)).copy()
+        else:
+            xyz = np.broadcast_to(
+                _analyzed_colour(sample, d, axes_w, mic, mic.accessory_nm, device), (size, size, 3)
+            )
+            xyz = xyz.copy()
+        _, srgb = _display(xyz.reshape(-1, 3), 1.0)
+        title = f"{sample.material_name} plate {d * 1000:g} um, orthoscopic; {where}"
+        return MicroscopeView(xyz=xyz, srgb=srgb.reshape(size, size, 3), title=title)
+    axes = random_crystal_axes(sample.grains, sample.seed)
+    grain, _ = voronoi_grains(sample.grains, sample.seed, size, mic.field_mm, mic.stage_rotation)
+    axes_w = axes @ turn.T  # rows turned: (R a_k)^T = a_k^T R^T
+    if wedge:
+        xyz = np.zeros((size, size, 3))
+        for s, r in enumerate(ret):
+            cols = col == s
+            g = grain[:, cols]
+            sub = xyz[:, cols]
+            for k in np.unique(g):
+                sub[g == k] = _analyzed_colour(sample, d, axes_w[k], mic, r, device)
+                xyz[:, cols] = sub
+        grain_xyz = None
+    else:
+        grain_xyz = np.array(
+            [_analyzed_colour(sample, d, axes_w[k], mic, mic.accessory_nm, device) for k in range(len(axes))]
+        )
+        xyz = grain_xyz[grain]
+    _, srgb = _display(xyz.reshape(-1, 3), 1.0)
+    title = (
+        f"{sample.material_name} thin section {d * 1000:g} um, {sample.grains} grains, orthoscopic; {where}"
+    )
+    return MicroscopeView(
+        xyz=xyz,
+        srgb=srgb.reshape(size, size, 3),
+        grain=grain,
+        orientations=axes[:, 2, :].copy(),
+        crystal_axes=axes,
+        grain_xyz=grain_xyz,
+        title=title,
+    )

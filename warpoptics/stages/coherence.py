@@ -35,7 +35,8 @@ gives 0.019 mm, a stopped-down microscope condenser (alpha ~ 0.01-0.05) 0.002-0.
 
 Leaf buffer.  The leaves of a primary ray wait in a per-thread buffer of ``LEAVES`` rows, flushed
 at the end of ``trace_radiance``; a leaf that finds the buffer full is added incoherently at once
-(documented overflow: it loses only its interference with the others).  The cross terms are
+(documented overflow: it loses only its interference with the others); a leaf toward a black
+direction (below a dome's horizon) adds nothing and is not stored.  The cross terms are
 weighted sqrt(w_i w_j): exact for deterministically split branches.  A branch continued
 stochastically (below ``split_threshold``, weight 1/probability) keeps its own term unbiased, but
 its cross terms carry sqrt(1/probability): an approximation, on branches of < 0.2 % of the
@@ -185,7 +186,12 @@ def coherent_leaf(
     """A leaf (a branch of Jones ``m``, weight ``w``, origin ``o``, direction ``d`` toward the
     environment, frame ``bx``, environment colour ``xyz``) into the buffer with its incident-wave
     reference phase; a full buffer adds it incoherently at once.  (buf, count, acc_x, acc_y,
-    acc_z)."""
+    acc_z).  A leaf of a black direction (``xyz`` zero: below a dome's horizon, a black sky)
+    adds nothing coherent or not (a group takes its first leaf's colour, and leaves of one
+    direction see one colour) and is not stored, so that it does not take a row from the lit
+    leaves after it (a conoscope sphere's reflections toward the floor fill the buffer)."""
+    if xyz[0] == 0.0 and xyz[1] == 0.0 and xyz[2] == 0.0:
+        return buf, count, acc_x, acc_y, acc_z
     if count >= _LEAVES:
         k_unit = coherency_transform(m, sheet_polarizer_coherency(polarizer, -d, bx, w))
         acc_x, acc_y, acc_z = add_light(acc_x, acc_y, acc_z, k_unit, xyz)
