@@ -9,6 +9,7 @@ render seconds (the Renderer's own timer, both cores, kernels loaded first) and 
 seconds; the seconds to ``--target`` come from a power-law fit over the ladder.
 
     python scripts/bench/diamond512.py [--ref-spp 24] [--ladder 1 2 4 8] [--json out.json]
+    python scripts/bench/diamond512.py --adaptive --ladder 4 8 16    # adaptive sampling (pilot spp/4)
     python scripts/bench/diamond512.py --quick      # 64x64, seconds
 """
 
@@ -30,9 +31,9 @@ import warpoptics as wo  # noqa: E402
 from warpoptics.pipelines.render import Renderer  # noqa: E402
 
 
-def render(sc, spp: int, seed: int) -> tuple[np.ndarray, float, float, int]:
+def render(sc, spp: int, seed: int, adaptive: bool = False) -> tuple[np.ndarray, float, float, int]:
     """(linear sRGB, render seconds, process CPU seconds, rays)."""
-    r = Renderer(sc.with_overrides({"render.spp": spp, "render.seed": seed}))
+    r = Renderer(sc.with_overrides({"render.spp": spp, "render.seed": seed, "render.adaptive": adaptive}))
     r.load_kernels()
     c0 = time.process_time()
     img = r.run()
@@ -50,15 +51,26 @@ def main(argv=None) -> int:
     ap.add_argument("--ladder", type=int, nargs="+", default=[1, 2, 4, 8])
     ap.add_argument("--target", type=float, default=0.02)
     ap.add_argument("--json", type=Path)
+    ap.add_argument("--adaptive", action="store_true", help="the ladder with render.adaptive = true")
+    ap.add_argument("--reference", type=Path, help="an .npz to reuse (or to write) the two reference halves")
     ap.add_argument("--quick", action="store_true")
     args = ap.parse_args(argv)
     sc = wo.Scene.load(ROOT / "scenes" / "diamond.toml")
     if args.quick:
         sc = sc.with_overrides({"camera.width": 64, "camera.height": 64})
-        args.ref_spp, args.ladder = 4, [1, 2]
+        args.ref_spp, args.ladder = 4, [4, 8] if args.adaptive else [1, 2]
     print(f"diamond512: load average {os.getloadavg()[0]:.2f}, {os.cpu_count()} CPUs", flush=True)
-    h1, s1, c1, _ = render(sc, args.ref_spp, 900001)
-    h2, s2, c2, _ = render(sc, args.ref_spp, 900002)
+    if args.reference is not None and args.reference.exists():
+        z = np.load(args.reference)
+        h1, h2, s1, s2 = z["h1"], z["h2"], float(z["seconds"]) / 2, float(z["seconds"]) / 2
+    else:
+        h1, s1, c1, _ = render(sc, args.ref_spp, 900001)
+        h2, s2, c2, _ = render(sc, args.ref_spp, 900002)
+        if args.reference is not None:
+            from warpoptics.atomic import atomic_path
+
+            with atomic_path(args.reference) as tmp, open(tmp, "wb") as f:
+                np.savez(f, h1=h1, h2=h2, seconds=s1 + s2)
     ref = 0.5 * (h1 + h2)
     mean = float(ref.mean())
     ref_noise = float(np.sqrt(np.mean((h1 - h2) ** 2)) / mean) / 2.0
@@ -68,7 +80,7 @@ def main(argv=None) -> int:
     )
     rows = []
     for k, spp in enumerate(args.ladder):
-        img, sec, cpu, rays = render(sc, spp, 1000 + k)
+        img, sec, cpu, rays = render(sc, spp, 1000 + k, adaptive=args.adaptive)
         raw = float(np.sqrt(np.mean((img - ref) ** 2)) / mean)
         err = float(np.sqrt(max(raw**2 - ref_noise**2, 0.0)))
         rows.append(
