@@ -206,3 +206,21 @@ def finite_array(v, *, file: str | None = None, field: str) -> np.ndarray:
                 "must be finite", file=file, field=field, value=first.item(), allowed="finite numbers"
             )
     return a
+
+
+def toml_file(path, *, what: str = "scene") -> dict:
+    """The table of a TOML file, or a one-line error naming the file: ``{what} file not found``,
+    not UTF-8 text (with the byte), or not valid TOML (with the parser's line and column)."""
+    import tomllib
+    from pathlib import Path
+
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"{what} file not found", file=str(p))
+    try:
+        return tomllib.loads(p.read_text(encoding="utf-8"))
+    except UnicodeDecodeError as exc:
+        msg = f"not a UTF-8 text file (byte {exc.start}); TOML files are UTF-8"
+        raise InputError(msg, file=str(p)) from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"not valid TOML ({exc})", file=str(p)) from None

@@ -25,6 +25,7 @@ import json
 import sys
 from pathlib import Path
 
+from .. import validate as val
 from ..errors import InputError
 
 _MESH_EXT = (".ply", ".stl", ".obj", ".glb", ".off")
@@ -51,7 +52,6 @@ def _numbers(text: str, field: str) -> list[float]:
 def stone_from_args(args) -> tuple[dict, float | None]:
     """The ``[[object]]`` table of STONE (module docstring) with ``--set`` and ``--material``
     applied, and the frame (mm) the face-up camera needs for meshes (None: from the table)."""
-    import tomllib
 
     from ..geometry import cuts
     from ..scene.load import parse_set_options
@@ -62,12 +62,7 @@ def stone_from_args(args) -> tuple[dict, float | None]:
     ext = p.suffix.lower()
     frame = None
     if ext == ".toml":
-        if not p.is_file():
-            raise InputError("scene file not found", file=src)
-        try:
-            data = tomllib.loads(p.read_text(encoding="utf-8"))
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError(f"not valid TOML ({exc})", file=src) from None
+        data = val.toml_file(p)
         objs = data.get("object")
         if not isinstance(objs, list) or not objs or not isinstance(objs[0], dict):
             raise InputError("the scene has no [[object]]", file=src, field="object")

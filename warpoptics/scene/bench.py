@@ -218,14 +218,7 @@ class BenchScene:
 
     @classmethod
     def load(cls, path: str | Path) -> BenchScene:
-        p = Path(path)
-        if not p.is_file():
-            raise InputError("scene file not found", file=str(p))
-        try:
-            data = tomllib.loads(p.read_text(encoding="utf-8"))
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError(f"not valid TOML ({exc})", file=str(p)) from None
-        return cls.from_dict(data, path=str(p))
+        return cls.from_dict(val.toml_file(path), path=str(Path(path)))
 
     @classmethod
     def from_dict(cls, data: dict, *, path: str | None = None) -> BenchScene:

@@ -330,16 +330,8 @@ class Sweep:
     def load(cls, path: str | Path, *, extra_set: dict | None = None) -> Sweep:
         """Read a sweep TOML file; ``extra_set`` (dotted path -> value) is added to ``[set]``."""
         p = Path(path)
-        file = str(p)
-        if not p.is_file():
-            raise InputError("sweep file not found", file=file)
-        try:
-            data = tomllib.loads(p.read_text(encoding="utf-8"))
-        except UnicodeDecodeError as exc:
-            raise InputError(f"not UTF-8 text (byte {exc.start}); TOML files are UTF-8", file=file) from None
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError(f"not valid TOML ({exc})", file=file) from None
-        return cls.from_dict(data, base_dir=p.parent, source=file, extra_set=extra_set)
+        data = val.toml_file(p, what="sweep")
+        return cls.from_dict(data, base_dir=p.parent, source=str(p), extra_set=extra_set)
 
     @classmethod
     def from_dict(
