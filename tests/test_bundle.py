@@ -78,8 +78,10 @@ def test_bundle_mean_equals_separate_traces(device, polarization):
     assert np.all(np.abs(z_img) < 4.0)
 
 
-@pytest.mark.parametrize("polarization", [True, False])
-def test_white_furnace_bundle(device, polarization):
+@pytest.mark.parametrize(
+    "polarization, split", [(True, None), (False, None), (True, 0.0)], ids=["pol", "scalar", "pol-split-all"]
+)
+def test_white_furnace_bundle(device, polarization, split):
     """Energy conservation through bundles: a clear dispersive diamond in a constant environment
     is invisible (Y with the stone / Y of the empty furnace, same wavelengths).  Each lane is an
     exact tree except where the group continues stochastically by the lanes' mean energy: that
@@ -92,6 +94,9 @@ def test_white_furnace_bundle(device, polarization):
             "wavelengths": 8,
             "max_depth": 256,
             "polarization": polarization,
+            # split 0: every node with two children splits (the deterministic tree; stochastic
+            # only where the stack is full), so energy is exact up to roulette-free truncation
+            **({} if split is None else {"split_threshold": split}),
         },
         "light": [{"type": "constant", "intensity": 1.0}],
         "object": [{**STONE["object"][0], "absorption_scale": 0.0}],

@@ -367,7 +367,9 @@ def trace_bundle(
             keep_t = mask_t != 0
             keep_r = mask_r != 0
             scale = float(1.0)
-            if e_parent < p.split_threshold or n + 2 > _NODES or pos + 1 >= _ROWS:
+            # (pos + 2: a node at position pos writes its refracted children at pos + 1 before
+            # this choice, so a split may only create position pos + 1 <= _ROWS - 2)
+            if e_parent < p.split_threshold or n + 2 > _NODES or pos + 2 >= _ROWS:
                 # stochastic continuation: one child by energy, weighted by 1/probability
                 if keep_t and keep_r:
                     if wp.randf(rng) * e_parent < e_t:
