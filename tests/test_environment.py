@@ -96,6 +96,29 @@ def test_kernel_reads_the_texel_latlong_uv_names(tmp_path, device, conv, rot):
     assert np.allclose(rgb, lum[..., None], rtol=3e-3, atol=1e-4)
 
 
+def test_kernel_interpolates_across_the_seam(tmp_path, device):
+    """Bilinear lookup next to the seam (u near 0 and 1, where column w-1 meets column 0) and in
+    the map's interior, against a NumPy bilinear interpolation that wraps the column index with
+    np.mod: the kernel's azimuth wrap must join the two edge columns."""
+    rng = np.random.default_rng(5)
+    h, w = 8, 16
+    lum = rng.uniform(0.1, 1.0, size=(h, w)).astype(np.float32)
+    path = tmp_path / "grey.exr"
+    write_exr(path, np.repeat(lum[..., None], 3, -1), ["R", "G", "B"])
+    light = EnvironmentLight(EnvironmentConfig(map=str(path)), device)
+    u = np.array([1e-4, 0.01, 0.5 / w, 0.2, 0.61, 1 - 0.5 / w, 0.99, 1 - 1e-4])
+    v = np.full_like(u, 3.5 / h)  # a row centre: only the columns interpolate
+    phi, theta = (0.5 - u) * 2 * np.pi, v * np.pi  # Blender: u = 0.5 - atan2(y, x) / 2 pi
+    d = np.stack([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)], -1)
+    assert np.allclose(latlong_uv(d), np.stack([u, v], -1), atol=1e-9)
+    x = u * w - 0.5
+    i0 = np.floor(x).astype(int)
+    fx = x - i0
+    want = (1 - fx) * lum[3, np.mod(i0, w)] + fx * lum[3, np.mod(i0 + 1, w)]
+    rgb = environment_rgb(light, d.astype(np.float32), step=1.0, device=device)
+    assert np.allclose(rgb, want[:, None], rtol=3e-3, atol=1e-4)
+
+
 def test_camera_sees_the_right_side_on_the_right(tmp_path, device):
     """A camera looking along +x with z up: the map's columns right of the centre (u > 0.5,
     Blender: toward -y) appear on the image's right, as in Blender; with "mirrored" on its left."""

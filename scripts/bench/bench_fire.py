@@ -54,6 +54,7 @@ from equal_error import (  # noqa: E402
     OursRunner,
     converged_difference,
     run_interleaved,
+    shown,
     time_to_target,
 )
 
@@ -291,16 +292,16 @@ def main(argv=None) -> int:
     r = sc.render
     w, h = sc.camera.width, sc.camera.height
     log(
-        f"scene {args.scene}: {w}x{h}, {r.spectral} {r.wavelengths} wavelengths x spp {r.spp}"
+        f"scene {shown(args.scene)}: {w}x{h}, {r.spectral} {r.wavelengths} wavelengths x spp {r.spp}"
         f"{' adaptive' if r.adaptive else ''}, polarization {r.polarization}, max_depth {r.max_depth}; "
-        f"clear twin {args.clear_scene} spp {scenes['clear'].render.spp}; cpu cores {os.cpu_count()}"
+        f"clear twin {shown(args.clear_scene)} spp {scenes['clear'].render.spp}; cpu cores {os.cpu_count()}"
     )
     res: dict = {
         "command": " ".join(
             ["python", "scripts/bench/bench_fire.py", *(argv if argv is not None else sys.argv[1:])]
         ),
-        "scene": args.scene,
-        "clear_scene": args.clear_scene,
+        "scene": shown(args.scene),
+        "clear_scene": shown(args.clear_scene),
         "width": w,
         "height": h,
         "targets": list(TARGETS),

@@ -59,6 +59,7 @@ from equal_error import (  # noqa: E402  (the machinery shared with bench_fire.p
     OursRunner,
     converged_difference,
     run_interleaved,
+    shown,
     time_to_target,
 )
 
@@ -178,7 +179,7 @@ def main(argv=None) -> int:
     w, h = scene.camera.width, scene.camera.height
     per_pass = r.spp * (r.wavelengths if r.spectral == "stratified" else 1)
     log(
-        f"scene {args.scene}: {w}x{h}, ours {r.spectral} {r.wavelengths} wavelengths x spp {r.spp}, "
+        f"scene {shown(args.scene)}: {w}x{h}, ours {r.spectral} {r.wavelengths} wavelengths x spp {r.spp}, "
         f"max_depth {r.max_depth} (Mitsuba {r.max_depth + 1}); cpu cores {os.cpu_count()}"
     )
     variant = pick_variant(args.variant, log)
@@ -203,7 +204,7 @@ def main(argv=None) -> int:
     theirs, t_theirs = np.array(mr.ims), mr.times
 
     res = {
-        "scene": args.scene,
+        "scene": shown(args.scene),
         "width": w,
         "height": h,
         "target": args.target,

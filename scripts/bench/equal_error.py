@@ -22,8 +22,17 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
+
+
+def shown(path) -> str:
+    """A path as the logs show it: relative to the repository when inside it (no machine paths
+    in committed results)."""
+    root = Path(__file__).resolve().parents[2]
+    p = Path(path).resolve()
+    return str(p.relative_to(root)) if p.is_relative_to(root) else str(path)
 
 
 def log(msg: str) -> None:

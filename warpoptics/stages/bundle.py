@@ -29,6 +29,26 @@ the lanes that left it, weighting the rest by the balance heuristic of hero-wave
 (Wilkie et al. 2014): unbiased too, but 1.4x the noise of grouping (32x32, 16 lanes: 0.42 vs
 0.30 relative RMSE), because near dispersed facet edges few lanes stay.
 
+What a lane costs, and two ways around it that were measured and dropped (issue 19).  A lane
+pays, per node, its own interface event (``backward_isotropic``: ~110 ns on one core) and, per
+leaf, its own environment lookup (40-80 ns on the lat-long map) and film update (~5 ns); that is
+0.41 of a whole single-wavelength trace per added lane (1.8 us per pixel position for one lane,
+12.9 us for 16, the clear stone 1.5 us; ``scripts/bench/bench_lane_cost.py``).  (1) Interpolated
+lanes: trace every s-th lane and carry the lanes between as interpolations of their two traced
+neighbours while both meet the same facets (interpolated and then traced exactly where they
+part or near the critical angle).  In a diamond neighbouring lanes part at about a quarter of
+the nodes, so at stride 4 the lanes between were traced most of the way anyway: ray queries
+per position fell from 22.9 to 15.4 and the time not at all (16 lanes, 32x32: 13.8, 12.8 and
+14.0 us per position at stride 1, 4 and 15), with a second-order bias (0.25 % RMSE at stride 4).
+(2) Leaf points: at a leaf, look up each lane's cell of the spectrum at several wavelengths with
+the exit direction, Jones matrix and weight interpolated toward the neighbouring lanes of the
+group.  It removes much of the spectral noise of few lanes (4 lanes, 64x64: 10.7 -> 5.7 % at 128
+positions per pixel), but a point costs an environment lookup, about half of what a traced lane
+costs at a leaf: at equal error the best setting (2 lanes, 8 points each) was 1.18x faster than
+8 traced lanes (27.7 vs 32.7 CPU-s to 1 %) but the interpolation over 200 nm left a per-pixel
+bias of ~2.4 % RMSE; 4 lanes with 2 points each (no measurable bias) was 1.05x faster.  Neither
+was kept.
+
 Scope.  Isotropic, uncoated solids in an environment light (no surfaces, lamps or films, no
 solid inside another: a bundle keeps one solid's indices; not rgb3): :func:`bundle_applies` is
 the Renderer's test; everything else is traced per wavelength by
