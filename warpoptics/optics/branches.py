@@ -35,7 +35,8 @@ __all__ = [
     "Ray",
     "read_row",
     "branch_energy",
-    "child_jones",
+    "parent_in_sp",
+    "child_jones_sp",
     "add_child",
     "pick_child",
     "roulette",
@@ -162,14 +163,18 @@ def branch_energy(m: Jones, w: float):
 
 
 @wp.func
-def child_jones(
-    m: Jones, k_out: wp.vec3f, parent_x: wp.vec3f, s: wp.vec3f, a_s: wp.vec2f, a_p: wp.vec2f, scale: float
-):
+def parent_in_sp(m: Jones, k_out: wp.vec3f, parent_x: wp.vec3f, s: wp.vec3f):
+    """M_parent . B, with B turning the s/p frame of the outgoing wave (``k_out``, ``s``) into the
+    parent's frame (x = ``parent_x``): what every child of one event starts from, so an event
+    computes it once, not once per child."""
+    return jones_mul(m, jones_real(frame_change(k_out, s, parent_x)))
+
+
+@wp.func
+def child_jones_sp(mb: Jones, a_s: wp.vec2f, a_p: wp.vec2f, scale: float):
     """Jones matrix of a child across an interface, backward (Guy & Soler 2004 eq. 12 from the
-    eye): M_parent . B . diag(a_s, a_p) * scale, with B turning the s/p frame of the outgoing wave
-    (``k_out``, ``s``) into the parent's frame (x = ``parent_x``)."""
-    b = jones_real(frame_change(k_out, s, parent_x))
-    return jones_scale(jones_mul(m, jones_mul(b, jones_diag(a_s, a_p))), scale)
+    eye): (M_parent . B) . diag(a_s, a_p) * scale, ``mb`` = :func:`parent_in_sp`."""
+    return jones_scale(jones_mul(mb, jones_diag(a_s, a_p)), scale)
 
 
 @wp.func

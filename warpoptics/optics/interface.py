@@ -21,7 +21,7 @@ The laws it composes, each in its own place:
   biaxial; or ``birefringence.interface_jones_approx`` (eq. 10, approx mode, uniaxial only: a
   biaxial interface is always exact);
 - power normalisation of amplitudes: ``fresnel.flux_ratio`` with the waves' normal fluxes;
-- the Jones algebra of a child: ``branches.child_jones`` (backward, eq. 12 accumulated from the
+- the Jones algebra of a child: ``branches.child_jones_sp`` (backward, eq. 12 accumulated from the
   eye) or ``jones_mul`` on the left (forward).
 
 Conventions.  ``nrm`` is the unit normal on the side the ray arrives from (medium A); B is the
@@ -76,7 +76,7 @@ from .birefringence import (
     oe_frame_x,
     ordinary_wave,
 )
-from .branches import ROW_MODE, ROW_W, Cand, add_child, child_jones, write_jones, write_row
+from .branches import ROW_MODE, ROW_W, Cand, add_child, child_jones_sp, parent_in_sp, write_jones, write_row
 from .complex import c_mul
 from .fresnel import (
     FresnelAmplitudes,
@@ -147,22 +147,30 @@ def interface_amplitudes(
 
 
 @wp.func
+def event_parent(m: Jones, k_out: wp.vec3f, parent_x: wp.vec3f, s: wp.vec3f, polarized: int):
+    """What the children of a backward event share: M_parent B (``branches.parent_in_sp``) when
+    polarized; the scalar renderer carries ``m`` unchanged."""
+    if polarized != 0:
+        return parent_in_sp(m, k_out, parent_x, s)
+    return m
+
+
+@wp.func
 def child_of(
     m: Jones,
+    mb: Jones,
     w: float,
-    k_out: wp.vec3f,
-    parent_x: wp.vec3f,
-    s: wp.vec3f,
     a_s: wp.vec2f,
     a_p: wp.vec2f,
     power_scale: float,
     polarized: int,
 ):
-    """(M_child, w_child) of a backward child with s/p amplitudes (a_s, a_p): polarized,
-    M_parent B diag(a_s, a_p) sqrt(power_scale) (``child_jones``); scalar, the weight times the
-    unpolarized power coefficient ``unpolarized_power(a_s, a_p) power_scale``."""
+    """(M_child, w_child) of a backward child with s/p amplitudes (a_s, a_p), ``mb`` =
+    :func:`event_parent`: polarized, M_parent B diag(a_s, a_p) sqrt(power_scale)
+    (``child_jones_sp``); scalar, the weight times the unpolarized power coefficient
+    ``unpolarized_power(a_s, a_p) power_scale``."""
     if polarized != 0:
-        return child_jones(m, k_out, parent_x, s, a_s, a_p, wp.sqrt(wp.max(power_scale, 0.0))), w
+        return child_jones_sp(mb, a_s, a_p, wp.sqrt(wp.max(power_scale, 0.0))), w
     return m, w * unpolarized_power(a_s, a_p) * power_scale
 
 
@@ -221,13 +229,14 @@ def _isotropic_children(
     # reflection): a conditional add_child would select between two copies of ``cand``
     m_t = jones_zero()
     w_t = float(0.0)
+    mb = event_parent(m, k_out, bx, s, polarized)
     if wp.dot(d_t, d_t) > 0.0:
-        m_t, w_t = child_of(m, w, k_out, bx, s, ts, tp, t_flux, polarized)
+        m_t, w_t = child_of(m, mb, w, ts, tp, t_flux, polarized)
     cand, energies, count = add_child(
         cand, energies, count, x + d_t * eps, d_t, s, m_t, w_t, in_b, depth + 1, -1, -d_t
     )
     d_r = wp.normalize(d + nrm * (2.0 * cos_a))
-    m_r, w_r = child_of(m, w, k_out, bx, s, rs, rp, 1.0, polarized)
+    m_r, w_r = child_of(m, mb, w, rs, rp, 1.0, polarized)
     cand, energies, count = add_child(
         cand, energies, count, x + d_r * eps, d_r, s, m_r, w_r, in_a, depth + 1, -1, -d_r
     )

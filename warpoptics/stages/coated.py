@@ -54,7 +54,7 @@ from ..errors import InputError
 from ..fields import oil_slick_thickness_wp, soap_film_thickness_wp, turbulence, turbulence_3d
 from ..materials.dispersion import Biaxial, MaterialTable, material_eval
 from ..optics.branches import Cand, add_child
-from ..optics.interface import backward_coated, child_of
+from ..optics.interface import backward_coated, child_of, event_parent
 from ..optics.jones import (
     Jones,
     jones_identity,
@@ -278,6 +278,7 @@ def film_surface_children(
         ns = mf
     cos_a = wp.clamp(-wp.dot(d, ns), 0.0, 1.0)
     s = s_vector(d, ns)
+    mb = event_parent(m, k_out, bx, s, polarized)
     d_r = wp.normalize(d + ns * (2.0 * cos_a))
     n_sub = n_a
     if kind == KIND_FILM:
@@ -287,7 +288,7 @@ def film_surface_children(
     if kind == KIND_SHELL:
         # light from the other side passes straight on (no refraction: the same medium)
         rs, rp, ts, tp = coating_amplitudes_scaled(fs.stack, coat, wavelength, cos_a, n_a, n_a, front, scale)
-        m_t, w_t = child_of(m, w, k_out, bx, s, ts, tp, 1.0, polarized)
+        m_t, w_t = child_of(m, mb, w, ts, tp, 1.0, polarized)
         cand, energies, count = add_child(
             cand, energies, count, x + d * eps, d, s, m_t, w_t, in_a, depth + 1, -1, -d
         )
@@ -296,7 +297,7 @@ def film_surface_children(
         rs, rp, ts, tp = coating_amplitudes_scaled(
             fs.stack, coat, wavelength, cos_a, n_a, n_sub, 1 - front, scale
         )
-        m_r, w_r = child_of(m, w, k_out, bx, s, rs, rp, weight, polarized)
+        m_r, w_r = child_of(m, mb, w, rs, rp, weight, polarized)
         cand, energies, count = add_child(
             cand, energies, count, x + d_r * eps, d_r, s, m_r, w_r, in_a, depth + 1, -1, -d_r
         )
