@@ -40,6 +40,7 @@ __all__ = [
     "load_mesh",
     "validate_mesh",
     "facet_planes",
+    "facet_neighbours",
     "scale_problem",
     "size_problem",
 ]
@@ -354,3 +355,22 @@ def facet_planes(mesh: trimesh.Trimesh, *, angle_tol: float = 1e-5) -> tuple[np.
     asum[asum == 0] = 1.0
     planes = np.column_stack([normals, dsum / asum])
     return planes, face_facet
+
+
+def facet_neighbours(
+    mesh: trimesh.Trimesh, face_facet: np.ndarray, count: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """The edge neighbours of every facet: ``(start, index)``, the facets sharing a mesh edge with
+    facet f being ``index[start[f] : start[f + 1]]`` (``count`` facets, ``face_facet`` from
+    :func:`facet_planes`).  In a closed convex solid a facet is the part of its plane inside its
+    edge neighbours' planes (a convex polygon is the intersection of its edges' half-planes), which
+    is what ``geometry.query.convex_exit_near`` tests."""
+    ff = np.asarray(face_facet, dtype=np.int64)
+    adj = np.asarray(mesh.face_adjacency, dtype=np.int64).reshape(-1, 2)
+    fa, fb = ff[adj[:, 0]], ff[adj[:, 1]]
+    keep = fa != fb
+    pairs = np.concatenate([np.stack([fa[keep], fb[keep]], 1), np.stack([fb[keep], fa[keep]], 1)])
+    pairs = np.unique(pairs, axis=0) if len(pairs) else np.zeros((0, 2), np.int64)
+    start = np.zeros(count + 1, dtype=np.int64)
+    np.add.at(start, pairs[:, 0] + 1, 1)
+    return np.cumsum(start), pairs[:, 1].copy()

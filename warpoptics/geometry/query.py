@@ -57,7 +57,7 @@ import trimesh
 import warp as wp
 
 from .. import device as _device
-from .mesh import facet_planes
+from .mesh import facet_neighbours, facet_planes
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -73,8 +73,7 @@ __all__ = [
     "object_exit_hit",
     "medium_closest_hit",
     "offset_epsilon",
-    "convex_plane_excess",
-    "convex_exit_through",
+    "convex_exit_near",
     "scene_closest_hit",
     "Hits",
     "GeometryScene",
@@ -117,6 +116,10 @@ class SceneGeometry:
     block_count: wp.array(dtype=wp.int32)
     face_start: wp.array(dtype=wp.int32)
     face_facet: wp.array(dtype=wp.int32)
+    # edge neighbours of the facets (mesh.facet_neighbours, local facet indices): those of facet f
+    # of object k are adj[adj_start[plane_start[k] + f] : adj_start[plane_start[k] + f + 1]]
+    adj_start: wp.array(dtype=wp.int32)
+    adj: wp.array(dtype=wp.int32)
     bounding_sphere: wp.array(dtype=wp.vec4f)
     # nesting (geometry/nesting.py): the innermost solid around object k (-1: none), and whether
     # any object has one; a ray inside k meets k's surface or that of a solid whose parent is k
@@ -460,63 +463,36 @@ def medium_closest_hit(
     return hit
 
 
-# Does a ray inside a convex object leave it through a given facet?  The point where it meets that
-# facet's plane is its exit iff the point lies in the polyhedron (a convex solid is left once, and a
-# point of the boundary reached from inside is that exit): max_k (n_k . x - d_k) <= 0.  One pass of
-# the SIMD blocks as in the exit query, without its division (padding planes give -1).
-_EXCESS_HEAD = r"""
-    const float* p = blocks.data + start;
-    float worst = -1.0e30f;
-"""
-_EXCESS_SIMD = r"""
-    typedef float v16 __attribute__((ext_vector_type(16)));
-    for (int b = 0; b < nblocks; ++b) {
-        const float* q = p + 64 * b;
-        v16 nx, ny, nz, h;
-        __builtin_memcpy(&nx, q, 64);
-        __builtin_memcpy(&ny, q + 16, 64);
-        __builtin_memcpy(&nz, q + 32, 64);
-        __builtin_memcpy(&h, q + 48, 64);
-        v16 e = nx * x + ny * y + nz * z - h;
-        float m = __builtin_reduce_max(e);
-        worst = m > worst ? m : worst;
-    }
-"""
-_EXCESS_SCALAR = r"""
-    for (int b = 0; b < nblocks; ++b) {
-        const float* q = p + 64 * b;
-        for (int j = 0; j < 16; ++j) {
-            float e = q[j] * x + q[16 + j] * y + q[32 + j] * z - q[48 + j];
-            worst = e > worst ? e : worst;
-        }
-    }
-"""
-_EXCESS = (
-    _EXCESS_HEAD
-    + "#if defined(__clang__) && !defined(__CUDA_ARCH__)\n"
-    + _EXCESS_SIMD
-    + "#else\n"
-    + _EXCESS_SCALAR
-    + "#endif\n    return worst;\n"
-)
-
-
-@wp.func_native(_EXCESS)
-def convex_plane_excess(
-    blocks: wp.array(dtype=wp.float32),
-    start: wp.int32,
-    nblocks: wp.int32,
-    x: wp.float32,
-    y: wp.float32,
-    z: wp.float32,
-) -> wp.float32:
-    """max over the planes of a convex polyhedron (SoA blocks, ``SceneGeometry.plane_blocks``) of
-    ``n_k . x - d_k`` (mm): <= 0 inside or on the surface, > 0 outside."""
-    ...
+@wp.func
+def _exits_through(
+    geom: SceneGeometry, s: wp.int32, facet: wp.int32, o: wp.vec3f, d: wp.vec3f, t_max: float, tol: float
+):
+    """(t, 1) if the object-space ray, inside the convex object whose planes start at ``s``,
+    leaves it through ``facet``; else (t_max, 0).  The point where it meets the facet's plane is
+    its exit iff it lies on the facet (a convex solid is left once, and a boundary point reached
+    from inside is that exit), i.e. inside the planes of the facet's edge neighbours
+    (``mesh.facet_neighbours``), within ``tol`` mm.  A facet without neighbours (a plane that
+    bounds no face) is never accepted."""
+    a = geom.adj_start[s + facet]
+    b = geom.adj_start[s + facet + 1]
+    pl = geom.planes[s + facet]
+    n = wp.vec3f(pl[0], pl[1], pl[2])
+    vn = wp.dot(n, d)
+    if vn <= 0.0 or b == a:
+        return t_max, 0
+    t = (pl[3] - wp.dot(n, o)) / vn
+    if t <= 0.0 or t >= t_max:
+        return t_max, 0
+    x = o + d * t
+    for i in range(a, b):
+        q = geom.planes[s + geom.adj[i]]
+        if wp.dot(wp.vec3f(q[0], q[1], q[2]), x) - q[3] > tol:
+            return t_max, 0
+    return t, 1
 
 
 @wp.func
-def convex_exit_through(
+def convex_exit_near(
     geom: SceneGeometry,
     k: wp.int32,
     facet: wp.int32,
@@ -524,29 +500,38 @@ def convex_exit_through(
     direction: wp.vec3f,
     t_max: wp.float32,
 ):
-    """For a world-space ray INSIDE convex object ``k``: ``(t, 1)`` if it leaves the object
-    through facet ``facet`` (at ray parameter t), else ``(t_max, 0)`` -- the same answer as
-    :func:`object_exit_hit` at a fraction of its cost when the facet is a good guess (a ray of a
-    neighbouring wavelength).  Points within 1e-6 of the object's radius outside a neighbouring
-    plane count as on the facet (float32 round-off of the hit point is ~1e-7 of it)."""
+    """For a world-space ray INSIDE convex object ``k``: ``(hit, 1)`` if it leaves through
+    ``facet`` or one of its edge neighbours — ``hit`` as :func:`object_exit_hit` gives it —, else
+    ``(miss, 0)``: then ask :func:`object_exit_hit`.  A few plane tests instead of all planes when
+    the facet is a good guess (the exit of a ray of a neighbouring wavelength: the spectral
+    bundles' lanes).  Points within 1e-6 of the object's radius outside a neighbouring plane
+    count as on the facet (float32 round-off of the hit point is ~1e-7 of it)."""
+    hit = RayHit()
+    hit.t = t_max
+    hit.object = -1
+    hit.facet = -1
+    hit.face = -1
+    hit.normal = wp.vec3f(0.0, 0.0, 0.0)
     m = geom.world_to_object[k]
     o = wp.transform_point(m, origin)
     d = wp.transform_vector(m, direction)
-    pl = geom.planes[geom.plane_start[k] + facet]
-    n = wp.vec3f(pl[0], pl[1], pl[2])
-    vn = wp.dot(n, d)
-    if vn <= 0.0:
-        return t_max, 0
-    t = (pl[3] - wp.dot(n, o)) / vn
-    if t <= 0.0 or t >= t_max:
-        return t_max, 0
-    x = o + d * t
-    excess = convex_plane_excess(
-        geom.plane_blocks, geom.block_start[k], geom.block_count[k], x[0], x[1], x[2]
-    )
-    if excess > 1.0e-6 * geom.bounding_sphere[k][3]:
-        return t_max, 0
-    return t, 1
+    s = geom.plane_start[k]
+    tol = 1.0e-6 * geom.bounding_sphere[k][3]
+    f = facet
+    t, ok = _exits_through(geom, s, f, o, d, t_max, tol)
+    if ok == 0:
+        for i in range(geom.adj_start[s + facet], geom.adj_start[s + facet + 1]):
+            f = geom.adj[i]
+            t, ok = _exits_through(geom, s, f, o, d, t_max, tol)
+            if ok != 0:
+                break
+    if ok != 0:
+        p = geom.planes[s + f]
+        hit.t = t
+        hit.object = k
+        hit.facet = f
+        hit.normal = wp.normalize(wp.transform_vector(wp.transpose(m), wp.vec3f(p[0], p[1], p[2])))
+    return hit, ok
 
 
 @wp.kernel
@@ -692,6 +677,7 @@ class GeometryScene:
         self.meshes: list[wp.Mesh] = []
         self.convex_flags: list[bool] = []
         planes_all, face_facet_all, w2o, spheres = [], [], [], []
+        adj_counts, adj_all = [], []  # per unique mesh: facet neighbour counts and indices
         plane_start, plane_count, face_start = [], [], []
         np_, nf = 0, 0
         # instancing: objects given the SAME trimesh object share one wp.Mesh (one BVH, one set of
@@ -723,6 +709,9 @@ class GeometryScene:
             self.meshes.append(wp.Mesh(points=pts, indices=idx))
             planes_all.append(planes)
             face_facet_all.append(face_facet)
+            nb_start, nb = facet_neighbours(mesh, face_facet, len(planes))
+            adj_counts.append(np.diff(nb_start))
+            adj_all.append(nb)
             plane_start.append(np_)
             plane_count.append(len(planes))
             face_start.append(nf)
@@ -747,6 +736,7 @@ class GeometryScene:
             planes_all, face_facet_all = [np.zeros((1, 4))], [np.zeros(1, dtype=np.int64)]
             w2o, spheres = [np.eye(4)], [[0.0, 0.0, 0.0, 0.0]]
             plane_start, plane_count, face_start = [0], [0], [0]
+            adj_counts, adj_all = [np.zeros(1, np.int64)], [np.zeros(0, np.int64)]
             self.convex_flags = [False]
         dev = self.device
         self._convex_possible = [bool(m.is_watertight and m.is_convex) for m, _ in objs]
@@ -766,6 +756,10 @@ class GeometryScene:
         g.block_count = wp.array(block_count, dtype=wp.int32, device=dev)
         g.face_start = wp.array(np.array(face_start, dtype=np.int32), dtype=wp.int32, device=dev)
         g.face_facet = wp.array(np.concatenate(face_facet_all).astype(np.int32), dtype=wp.int32, device=dev)
+        adj_start = np.concatenate([[0], np.cumsum(np.concatenate(adj_counts))]).astype(np.int32)
+        adj = np.concatenate([*adj_all, np.zeros(1, np.int64)]).astype(np.int32)  # never empty
+        g.adj_start = wp.array(adj_start, dtype=wp.int32, device=dev)
+        g.adj = wp.array(adj, dtype=wp.int32, device=dev)
         g.bounding_sphere = wp.array(np.array(spheres, dtype=np.float32), dtype=wp.vec4f, device=dev)
         par = np.full(max(len(objs), 1), -1, dtype=np.int32)
         if parents is not None:
@@ -810,6 +804,8 @@ class GeometryScene:
                 "block_count",
                 "face_start",
                 "face_facet",
+                "adj_start",
+                "adj",
                 "bounding_sphere",
                 "parent",
                 "nested",

@@ -32,8 +32,8 @@ the lanes that left it, weighting the rest by the balance heuristic of hero-wave
 What a lane costs, and two ways around it that were measured and dropped (issue 19).  A lane
 pays, per node, its own interface event (``backward_isotropic``: ~110 ns on one core) and, per
 leaf, its own environment lookup (40-80 ns on the lat-long map) and film update (~5 ns); that is
-0.41 of a whole single-wavelength trace per added lane (1.8 us per pixel position for one lane,
-12.9 us for 16, the clear stone 1.5 us; ``scripts/bench/bench_lane_cost.py``).  (1) Interpolated
+0.39 of a whole single-wavelength trace per added lane (1.7 us per pixel position for one lane,
+11.6 us for 16, the clear stone 1.5 us; ``scripts/bench/bench_lane_cost.py``).  (1) Interpolated
 lanes: trace every s-th lane and carry the lanes between as interpolations of their two traced
 neighbours while both meet the same facets (interpolated and then traced exactly where they
 part or near the critical angle).  In a diamond neighbouring lanes part at about a quarter of
@@ -75,7 +75,7 @@ from ..film.leaf import add_leaf
 from ..geometry.query import (
     RayHit,
     SceneGeometry,
-    convex_exit_through,
+    convex_exit_near,
     object_exit_hit,
     scene_closest_hit_leaving,
 )
@@ -208,14 +208,14 @@ def trace_bundle(
         base = pos * _L
         # every lane's own hit.  The primary ray is the same for all lanes: one query.  Inside a
         # convex solid a lane first tries the facet its neighbour (the previous lane, the next
-        # shorter wavelength) left through (geometry.query.convex_exit_through, exact, a fraction
-        # of a query); only where that fails (a dispersed facet edge) does it query all planes.
+        # shorter wavelength) left through and that facet's edge neighbours
+        # (geometry.query.convex_exit_near: exact, a few plane tests); only where that fails does
+        # it query all planes.
         guess = int(-1)
         convex_in = int(0)
         if inside >= 0:
             if geom.mode == 2 or (geom.mode == 0 and geom.convex[inside] != 0):
                 convex_in = 1
-        g_nrm = wp.vec3f(0.0, 0.0, 0.0)
         for j in range(count):
             if _bit(remaining, j) == 1:
                 r = base + j
@@ -230,13 +230,14 @@ def trace_bundle(
                 d_j = wp.vec3f(ls[r, _D], ls[r, _D + 1], ls[r, _D + 2])
                 through = int(0)
                 if convex_in != 0 and guess >= 0:
-                    t_g, through = convex_exit_through(geom, inside, guess, o_j, d_j, p.t_max)
+                    hg, through = convex_exit_near(geom, inside, guess, o_j, d_j, p.t_max)
                     if through != 0:
-                        lane_t[j] = t_g
+                        lane_t[j] = hg.t
                         lane_obj[j] = inside
-                        lane_facet[j] = guess
+                        lane_facet[j] = hg.facet
                         for c in range(3):
-                            lane_nrm[j, c] = g_nrm[c]
+                            lane_nrm[j, c] = hg.normal[c]
+                        guess = hg.facet
                 if through == 0:
                     hj = RayHit()
                     if inside >= 0:
@@ -250,7 +251,6 @@ def trace_bundle(
                     for c in range(3):
                         lane_nrm[j, c] = hj.normal[c]
                     guess = hj.facet
-                    g_nrm = hj.normal
                     if depth == 0:
                         guess = 0  # marks the primary ray as queried
         # the groups of lanes that meet the same facet (or nothing), one after the other
