@@ -144,6 +144,18 @@ class RayHit:
 
 
 @wp.func
+def ray_miss(t_max: wp.float32):
+    """The :class:`RayHit` of a ray that meets nothing within ``t_max``."""
+    hit = RayHit()
+    hit.t = t_max
+    hit.object = -1
+    hit.facet = -1
+    hit.face = -1
+    hit.normal = wp.vec3f(0.0, 0.0, 0.0)
+    return hit
+
+
+@wp.func
 def convex_closest_hit(
     planes: wp.array(dtype=wp.vec4f),
     start: wp.int32,
@@ -337,12 +349,7 @@ def scene_closest_hit_leaving(
     travels away from it (reflected off it from outside, or transmitted out of it; -1: none).
     A convex solid cannot be met again by such a ray, so it is skipped instead of testing all
     its facet planes (diamond.toml 160x160, one thread, alternating runs: 8 % less CPU time)."""
-    hit = RayHit()
-    hit.t = t_max
-    hit.object = -1
-    hit.facet = -1
-    hit.face = -1
-    hit.normal = wp.vec3f(0.0, 0.0, 0.0)
+    hit = ray_miss(t_max)
     n_obj = wp.vec3f(0.0, 0.0, 0.0)
     m_hit = wp.identity(n=4, dtype=wp.float32)
     for k in range(geom.num_objects):
@@ -389,12 +396,7 @@ def object_exit_hit(
     The tracer's query after a refraction into a solid: only object ``k`` is searched, and its
     convex path needs only the leaving planes (:func:`convex_exit_hit`).  Same result struct as
     :func:`scene_closest_hit` (``object`` = k, or -1 if nothing within ``t_max``)."""
-    hit = RayHit()
-    hit.t = t_max
-    hit.object = -1
-    hit.facet = -1
-    hit.face = -1
-    hit.normal = wp.vec3f(0.0, 0.0, 0.0)
+    hit = ray_miss(t_max)
     m = geom.world_to_object[k]
     o = wp.transform_point(m, origin)
     d = wp.transform_vector(m, direction)
@@ -506,12 +508,7 @@ def convex_exit_near(
     the facet is a good guess (the exit of a ray of a neighbouring wavelength: the spectral
     bundles' lanes).  Points within 1e-6 of the object's radius outside a neighbouring plane
     count as on the facet (float32 round-off of the hit point is ~1e-7 of it)."""
-    hit = RayHit()
-    hit.t = t_max
-    hit.object = -1
-    hit.facet = -1
-    hit.face = -1
-    hit.normal = wp.vec3f(0.0, 0.0, 0.0)
+    hit = ray_miss(t_max)
     m = geom.world_to_object[k]
     o = wp.transform_point(m, origin)
     d = wp.transform_vector(m, direction)

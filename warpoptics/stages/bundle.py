@@ -36,10 +36,10 @@ leaf, its own environment lookup (40-80 ns on the lat-long map) and film update 
 11.6 us for 16, the clear stone 1.5 us; ``scripts/bench/bench_lane_cost.py``).  (1) Interpolated
 lanes: trace every s-th lane and carry the lanes between as interpolations of their two traced
 neighbours while both meet the same facets (interpolated and then traced exactly where they
-part or near the critical angle).  In a diamond neighbouring lanes part at about a quarter of
-the nodes, so at stride 4 the lanes between were traced most of the way anyway: ray queries
-per position fell from 22.9 to 15.4 and the time not at all (16 lanes, 32x32: 13.8, 12.8 and
-14.0 us per position at stride 1, 4 and 15), with a second-order bias (0.25 % RMSE at stride 4).
+part or near the critical angle).  In a diamond the traced neighbours part often enough that
+the lanes between were traced much of the way anyway: at stride 4 ray queries per position fell
+only from 22.9 to 15.4 and the time not at all (16 lanes, 32x32: 13.8, 12.8 and 14.0 us per
+position at stride 1, 4 and 15), with a second-order bias (0.25 % RMSE at stride 4).
 (2) Leaf points: at a leaf, look up each lane's cell of the spectrum at several wavelengths with
 the exit direction, Jones matrix and weight interpolated toward the neighbouring lanes of the
 group.  It removes much of the spectral noise of few lanes (4 lanes, 64x64: 10.7 -> 5.7 % at 128
