@@ -43,11 +43,11 @@ position at stride 1, 4 and 15), with a second-order bias (0.25 % RMSE at stride
 (2) Leaf points: at a leaf, look up each lane's cell of the spectrum at several wavelengths with
 the exit direction, Jones matrix and weight interpolated toward the neighbouring lanes of the
 group.  It removes much of the spectral noise of few lanes (4 lanes, 64x64: 10.7 -> 5.7 % at 128
-positions per pixel), but a point costs an environment lookup, about half of what a traced lane
-costs at a leaf: at equal error the best setting (2 lanes, 8 points each) was 1.18x faster than
+positions per pixel), but a point costs an environment lookup and a film update, what a traced
+lane pays at the leaf: at equal error the best setting (2 lanes, 4 points each) was 1.18x faster than
 8 traced lanes (27.7 vs 32.7 CPU-s to 1 %) but the interpolation over 200 nm left a per-pixel
-bias of ~2.4 % RMSE; 4 lanes with 2 points each (no measurable bias) was 1.05x faster.  Neither
-was kept.
+bias of ~2.4 % RMSE (2 lanes, 8 points, against a 16-lane, 64-point reference); 4 lanes with 2
+points each was 1.05x faster.  Neither was kept.
 
 Scope.  Isotropic, uncoated solids in an environment light (no surfaces, lamps or films, no
 solid inside another: a bundle keeps one solid's indices; not rgb3): :func:`bundle_applies` is
