@@ -74,6 +74,8 @@ __all__ = [
     "medium_closest_hit",
     "offset_epsilon",
     "convex_exit_near",
+    "world_normal",
+    "plane_t",
     "scene_closest_hit",
     "Hits",
     "GeometryScene",
@@ -153,6 +155,20 @@ def ray_miss(t_max: wp.float32):
     hit.face = -1
     hit.normal = wp.vec3f(0.0, 0.0, 0.0)
     return hit
+
+
+@wp.func
+def world_normal(world_to_object: wp.mat44f, n_obj: wp.vec3f):
+    """Unit world-space normal of an object-space normal (the inverse transpose of the object's
+    transform, which ``world_to_object`` is the inverse of)."""
+    return wp.normalize(wp.transform_vector(wp.transpose(world_to_object), n_obj))
+
+
+@wp.func
+def plane_t(plane: wp.vec4f, origin: wp.vec3f, direction: wp.vec3f):
+    """Ray parameter where the ray meets the plane ``n . x = d`` (``plane`` = (n, d))."""
+    n = wp.vec3f(plane[0], plane[1], plane[2])
+    return (plane[3] - wp.dot(n, origin)) / wp.dot(n, direction)
 
 
 @wp.func
@@ -309,9 +325,7 @@ def convex_exit_hit(
     )
     if f < 0:
         return t_max, -1
-    p = geom.planes[geom.plane_start[k] + f]
-    n = wp.vec3f(p[0], p[1], p[2])
-    t = (p[3] - wp.dot(n, origin)) / wp.dot(n, direction)
+    t = plane_t(geom.planes[geom.plane_start[k] + f], origin, direction)
     if t >= t_max:
         return t_max, -1
     return t, f
@@ -382,7 +396,7 @@ def scene_closest_hit_leaving(
                 m_hit = m
     if hit.object >= 0:
         # normals transform with the inverse transpose of object_to_world = transpose(world_to_object)
-        hit.normal = wp.normalize(wp.transform_vector(wp.transpose(m_hit), n_obj))
+        hit.normal = world_normal(m_hit, n_obj)
     return hit
 
 
@@ -419,7 +433,7 @@ def object_exit_hit(
             hit.facet = geom.face_facet[geom.face_start[k] + q.face]
             n_obj = q.normal
     if hit.object >= 0:
-        hit.normal = wp.normalize(wp.transform_vector(wp.transpose(m), n_obj))
+        hit.normal = world_normal(m, n_obj)
     return hit
 
 
@@ -461,7 +475,7 @@ def medium_closest_hit(
                         n_obj = q.normal
                 if found != 0:
                     hit.object = j
-                    hit.normal = wp.normalize(wp.transform_vector(wp.transpose(m), n_obj))
+                    hit.normal = world_normal(m, n_obj)
     return hit
 
 
@@ -479,10 +493,9 @@ def _exits_through(
     b = geom.adj_start[s + facet + 1]
     pl = geom.planes[s + facet]
     n = wp.vec3f(pl[0], pl[1], pl[2])
-    vn = wp.dot(n, d)
-    if vn <= 0.0 or b == a:
+    if wp.dot(n, d) <= 0.0 or b == a:
         return t_max, 0
-    t = (pl[3] - wp.dot(n, o)) / vn
+    t = plane_t(pl, o, d)
     if t <= 0.0 or t >= t_max:
         return t_max, 0
     x = o + d * t
@@ -527,7 +540,7 @@ def convex_exit_near(
         hit.t = t
         hit.object = k
         hit.facet = f
-        hit.normal = wp.normalize(wp.transform_vector(wp.transpose(m), wp.vec3f(p[0], p[1], p[2])))
+        hit.normal = world_normal(m, wp.vec3f(p[0], p[1], p[2]))
     return hit, ok
 
 

@@ -156,22 +156,14 @@ def event_parent(m: Jones, k_out: wp.vec3f, parent_x: wp.vec3f, s: wp.vec3f, pol
 
 
 @wp.func
-def child_of(
-    m: Jones,
-    mb: Jones,
-    w: float,
-    a_s: wp.vec2f,
-    a_p: wp.vec2f,
-    power_scale: float,
-    polarized: int,
-):
+def child_of(mb: Jones, w: float, a_s: wp.vec2f, a_p: wp.vec2f, power_scale: float, polarized: int):
     """(M_child, w_child) of a backward child with s/p amplitudes (a_s, a_p), ``mb`` =
     :func:`event_parent`: polarized, M_parent B diag(a_s, a_p) sqrt(power_scale)
-    (``child_jones_sp``); scalar, the weight times the unpolarized power coefficient
-    ``unpolarized_power(a_s, a_p) power_scale``."""
+    (``child_jones_sp``); scalar, ``mb`` (the parent's matrix, unchanged) and the weight times the
+    unpolarized power coefficient ``unpolarized_power(a_s, a_p) power_scale``."""
     if polarized != 0:
         return child_jones_sp(mb, a_s, a_p, wp.sqrt(wp.max(power_scale, 0.0))), w
-    return m, w * unpolarized_power(a_s, a_p) * power_scale
+    return mb, w * unpolarized_power(a_s, a_p) * power_scale
 
 
 # ---------------------------------------------------------------------------------------------
@@ -231,12 +223,12 @@ def _isotropic_children(
     w_t = float(0.0)
     mb = event_parent(m, k_out, bx, s, polarized)
     if wp.dot(d_t, d_t) > 0.0:
-        m_t, w_t = child_of(m, mb, w, ts, tp, t_flux, polarized)
+        m_t, w_t = child_of(mb, w, ts, tp, t_flux, polarized)
     cand, energies, count = add_child(
         cand, energies, count, x + d_t * eps, d_t, s, m_t, w_t, in_b, depth + 1, -1, -d_t
     )
     d_r = wp.normalize(d + nrm * (2.0 * cos_a))
-    m_r, w_r = child_of(m, mb, w, rs, rp, 1.0, polarized)
+    m_r, w_r = child_of(mb, w, rs, rp, 1.0, polarized)
     cand, energies, count = add_child(
         cand, energies, count, x + d_r * eps, d_r, s, m_r, w_r, in_a, depth + 1, -1, -d_r
     )

@@ -30,7 +30,7 @@ the lanes that left it, weighting the rest by the balance heuristic of hero-wave
 0.30 relative RMSE), because near dispersed facet edges few lanes stay.
 
 What a lane costs, and two ways around it that were measured and dropped (issue 19).  A lane
-pays, per node, its own interface event (``backward_isotropic``: ~110 ns on one core) and, per
+pays, per node, its own interface event (``backward_isotropic``: ~100 ns on one core) and, per
 leaf, its own environment lookup (40-80 ns on the lat-long map) and film update (~5 ns); that is
 0.39 of a whole single-wavelength trace per added lane (1.7 us per pixel position for one lane,
 11.6 us for 16, the clear stone 1.5 us; ``scripts/bench/bench_lane_cost.py``).  (1) Interpolated

@@ -52,6 +52,7 @@ import warp as wp
 from ..device import device_function, elementwise, get_device
 from ..errors import InputError
 from ..fields import oil_slick_thickness_wp, soap_film_thickness_wp, turbulence, turbulence_3d
+from ..geometry.query import world_normal
 from ..materials.dispersion import Biaxial, MaterialTable, material_eval
 from ..optics.branches import Cand, add_child
 from ..optics.interface import backward_coated, child_of, event_parent
@@ -187,7 +188,7 @@ def _shading_normal(fs: FilmSurfaces, obj: int, xl: wp.vec3f, w2o: wp.mat44f, fa
         nl = wp.vec3f(-dzdx, -dzdy, 1.0)
     if wp.dot(nl, nl) <= 0.0:
         return face_normal
-    nw = wp.normalize(wp.transform_vector(wp.transpose(w2o), nl))
+    nw = world_normal(w2o, nl)
     if wp.dot(nw, face_normal) < 0.0:
         nw = -nw
     return nw
@@ -288,7 +289,7 @@ def film_surface_children(
     if kind == KIND_SHELL:
         # light from the other side passes straight on (no refraction: the same medium)
         rs, rp, ts, tp = coating_amplitudes_scaled(fs.stack, coat, wavelength, cos_a, n_a, n_a, front, scale)
-        m_t, w_t = child_of(m, mb, w, ts, tp, 1.0, polarized)
+        m_t, w_t = child_of(mb, w, ts, tp, 1.0, polarized)
         cand, energies, count = add_child(
             cand, energies, count, x + d * eps, d, s, m_t, w_t, in_a, depth + 1, -1, -d
         )
@@ -297,7 +298,7 @@ def film_surface_children(
         rs, rp, ts, tp = coating_amplitudes_scaled(
             fs.stack, coat, wavelength, cos_a, n_a, n_sub, 1 - front, scale
         )
-        m_r, w_r = child_of(m, mb, w, rs, rp, weight, polarized)
+        m_r, w_r = child_of(mb, w, rs, rp, weight, polarized)
         cand, energies, count = add_child(
             cand, energies, count, x + d_r * eps, d_r, s, m_r, w_r, in_a, depth + 1, -1, -d_r
         )

@@ -233,12 +233,14 @@ def _latlong_rgb(env: Environment, d: wp.vec3f):
     iy0 = int(y0)
     # wrap in azimuth, clamp in elevation: u in [0, 1] puts ix0 in [-1, width - 1], so one
     # conditional add wraps it (three integer modulos, i.e. divisions, cost ~7 ns of the ~45 ns
-    # lookup; scripts/bench/bench_lane_cost.py)
+    # lookup; scripts/bench/bench_lane_cost.py); the clamp keeps a non-finite direction's index
+    # inside the map, as the modulo did
     if ix0 < 0:
         ix0 += env.width
+    ix0 = wp.clamp(ix0, 0, env.width - 1)
     ix1 = ix0 + 1
     if ix1 >= env.width:
-        ix1 -= env.width
+        ix1 = 0
     iy1 = wp.clamp(iy0 + 1, 0, env.height - 1)
     iy0 = wp.clamp(iy0, 0, env.height - 1)
     a = env.texture[iy0, ix0] * (1.0 - fx) + env.texture[iy0, ix1] * fx
