@@ -53,3 +53,16 @@ def test_readme_and_ci_run_the_same_test_command():
     cmd = test_cmds[0]
     assert cmd in ci, f"README's test command {cmd!r} is not what .ci/run runs"
     assert "set -euo pipefail" in ci
+
+
+def test_quick_look_at_an_adaptive_scene(tmp_path):
+    """``--spp 1`` on the adaptive main job samples every pixel once (no pilot fits below spp)
+    and says so; asking for adaptive sampling with too few samples explicitly stays an error."""
+    out = tmp_path / "d.png"
+    small = ("render", "scenes/diamond.toml", "-o", str(out), "--width", "24", "--height", "24")
+    r = run_cli(*small, "--spp", "1", cwd=ROOT)
+    assert r.returncode == 0, r.stderr
+    assert "render.adaptive off: --spp 1" in r.stdout and "adaptive:" not in r.stdout.splitlines()[-1]
+    assert read_image(out)[0].shape[:2] == (24, 24)
+    r = run_cli(*small, "--spp", "2", "--set", "render.adaptive=true", cwd=ROOT)
+    assert r.returncode == 2 and "render.spp = 2" in r.stderr and "Traceback" not in r.stderr

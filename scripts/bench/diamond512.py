@@ -10,6 +10,10 @@ seconds; the seconds to ``--target`` come from a power-law fit over the ladder.
 
     python scripts/bench/diamond512.py [--ref-spp 24] [--ladder 1 2 4 8] [--json out.json]
     python scripts/bench/diamond512.py --adaptive --ladder 4 8 16    # adaptive sampling (pilot spp/4)
+    python scripts/bench/diamond512.py --adaptive --set render.wavelengths=16 \
+        --set render.split_threshold=0.02
+                                                    # other sampling settings for the ladder (the
+                                                    # reference keeps the scene's: same expectation)
     python scripts/bench/diamond512.py --quick      # 64x64, seconds
 """
 
@@ -29,11 +33,15 @@ sys.path.insert(0, str(ROOT))
 
 import warpoptics as wo  # noqa: E402
 from warpoptics.pipelines.render import Renderer  # noqa: E402
+from warpoptics.scene.load import parse_set_options  # noqa: E402
 
 
-def render(sc, spp: int, seed: int, adaptive: bool = False) -> tuple[np.ndarray, float, float, int]:
+def render(
+    sc, spp: int, seed: int, adaptive: bool = False, settings: dict | None = None
+) -> tuple[np.ndarray, float, float, int]:
     """(linear sRGB, render seconds, process CPU seconds, rays)."""
-    r = Renderer(sc.with_overrides({"render.spp": spp, "render.seed": seed, "render.adaptive": adaptive}))
+    over = {**(settings or {}), "render.spp": spp, "render.seed": seed, "render.adaptive": adaptive}
+    r = Renderer(sc.with_overrides(over))
     r.load_kernels()
     c0 = time.process_time()
     img = r.run()
@@ -53,13 +61,22 @@ def main(argv=None) -> int:
     ap.add_argument("--json", type=Path)
     ap.add_argument("--adaptive", action="store_true", help="the ladder with render.adaptive = true")
     ap.add_argument("--reference", type=Path, help="an .npz to reuse (or to write) the two reference halves")
+    ap.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="a sampling setting of the ladder's renders, e.g. render.wavelengths=16 (TOML value)",
+    )
     ap.add_argument("--quick", action="store_true")
     args = ap.parse_args(argv)
+    settings = parse_set_options(args.set)
     sc = wo.Scene.load(ROOT / "scenes" / "diamond.toml")
     if args.quick:
         sc = sc.with_overrides({"camera.width": 64, "camera.height": 64})
         args.ref_spp, args.ladder = 4, [4, 8] if args.adaptive else [1, 2]
     print(f"diamond512: load average {os.getloadavg()[0]:.2f}, {os.cpu_count()} CPUs", flush=True)
+    print(f"ladder settings: {settings or 'those of the scene'}", flush=True)
     if args.reference is not None and args.reference.exists():
         z = np.load(args.reference)
         h1, h2, s1, s2 = z["h1"], z["h2"], float(z["seconds"]) / 2, float(z["seconds"]) / 2
@@ -80,7 +97,7 @@ def main(argv=None) -> int:
     )
     rows = []
     for k, spp in enumerate(args.ladder):
-        img, sec, cpu, rays = render(sc, spp, 1000 + k, adaptive=args.adaptive)
+        img, sec, cpu, rays = render(sc, spp, 1000 + k, adaptive=args.adaptive, settings=settings)
         raw = float(np.sqrt(np.mean((img - ref) ** 2)) / mean)
         err = float(np.sqrt(max(raw**2 - ref_noise**2, 0.0)))
         rows.append(
@@ -109,6 +126,7 @@ def main(argv=None) -> int:
             "seconds_to_target": t_target,
             "target": args.target,
             "reference": {"spp": 2 * args.ref_spp, "noise": ref_noise, "render_seconds": s1 + s2},
+            "settings": settings,
         }
         with atomic_path(args.json) as tmp, open(tmp, "w") as f:
             json.dump(out, f, indent=1)

@@ -49,6 +49,25 @@ lane pays at the leaf: at equal error the best setting (2 lanes, 4 points each) 
 bias of ~2.4 % RMSE (2 lanes, 8 points, against a 16-lane, 64-point reference); 4 lanes with 2
 points each was 1.05x faster.  Neither was kept.
 
+Three more, measured and dropped in session 10 (64x64 issue-19 stone, 8 lanes, 64 positions per
+pixel, one thread; CPU-s to 1 % extrapolated with the R2 slope 0.75 from the noise between seeds;
+the experiments' code is not in the repository).  Where a lane's work goes: 3.4 interface events
+per lane and position (3.42 for one lane, 26.7 for 8), and full exit queries inside the stone
+5.3 per position for 8 lanes against 3.2 for one (the neighbour-facet guess answers the rest).
+(3) A clear control variate: each bundle also carries the same stone without dispersion (every
+material at its 560 nm index and absorption) as one more lane with minus the exact clear-stone
+response, and k clear-stone trees per bundle (one tree for the whole spectrum, a fifth of a
+bundle's cost) at positions of their own add it back: unbiased.  At one position per pixel the
+difference has 0.17 of the bundle's variance (48x48, 12 seeds), but at 64 positions only ~0.5:
+the facet-edge noise the two share is what the R2 sequence already removes, and the dispersed
+edges that remain converge slower.  k = 0, 2, 4, 8: 34.8, 51.9, 53.5, 71.7 CPU-s to 1 %
+(adaptive: k = 0 27.2, k = 2 42.8).  (4) Thinning weak groups: halve a group's lanes (one random
+parity, the kept lanes at twice the weight) while their mean energy is below T; T = 0, 0.05, 0.1,
+0.15, 0.3: 32.8, 30.6, 32.3, 31.1, 49.4 CPU-s to 1 % (4 seeds, +-10 %): no gain beyond the
+noise, since the lanes' events sit in the few strong nodes of the split tree.  (5) One
+environment lookup for lanes that leave in one direction (reflected off the outside): images
+identical, no change measurable in five alternating whole-process pairs (3.5-4.4 s each).
+
 Scope.  Isotropic, uncoated solids in an environment light (no surfaces, lamps or films, no
 solid inside another: a bundle keeps one solid's indices; not rgb3): :func:`bundle_applies` is
 the Renderer's test; everything else is traced per wavelength by
