@@ -62,7 +62,9 @@ def test_quick_look_at_an_adaptive_scene(tmp_path):
     small = ("render", "scenes/diamond.toml", "-o", str(out), "--width", "24", "--height", "24")
     r = run_cli(*small, "--spp", "1", cwd=ROOT)
     assert r.returncode == 0, r.stderr
-    assert "render.adaptive off: --spp 1" in r.stdout and "adaptive:" not in r.stdout.splitlines()[-1]
+    assert "render.adaptive off: spp = 1" in r.stdout and "adaptive:" not in r.stdout.splitlines()[-1]
     assert read_image(out)[0].shape[:2] == (24, 24)
+    r = run_cli(*small, "--set", "render.spp=2", cwd=ROOT)  # the same through --set
+    assert r.returncode == 0 and "render.adaptive off: spp = 2" in r.stdout, r.stderr
     r = run_cli(*small, "--spp", "2", "--set", "render.adaptive=true", cwd=ROOT)
     assert r.returncode == 2 and "render.spp = 2" in r.stderr and "Traceback" not in r.stderr

@@ -53,6 +53,17 @@ def render(
     )
 
 
+def reference_noise(h1: np.ndarray, h2: np.ndarray, mean: float) -> float:
+    """Relative RMSE of the mean of two independent halves against the truth: rms(h1 - h2) / 2."""
+    return float(np.sqrt(np.mean((h1 - h2) ** 2)) / mean) / 2.0
+
+
+def error_vs_reference(img: np.ndarray, ref: np.ndarray, mean: float, ref_noise: float) -> tuple[float, ...]:
+    """(relative RMSE of ``img`` with the reference's own noise subtracted in quadrature, raw)."""
+    raw = float(np.sqrt(np.mean((img - ref) ** 2)) / mean)
+    return float(np.sqrt(max(raw**2 - ref_noise**2, 0.0))), raw
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--ref-spp", type=int, default=24)
@@ -90,7 +101,7 @@ def main(argv=None) -> int:
                 np.savez(f, h1=h1, h2=h2, seconds=s1 + s2)
     ref = 0.5 * (h1 + h2)
     mean = float(ref.mean())
-    ref_noise = float(np.sqrt(np.mean((h1 - h2) ** 2)) / mean) / 2.0
+    ref_noise = reference_noise(h1, h2, mean)
     print(
         f"reference: 2 x {args.ref_spp} spp, {s1 + s2:.1f} s render, its noise {100 * ref_noise:.3f} %",
         flush=True,
@@ -98,8 +109,7 @@ def main(argv=None) -> int:
     rows = []
     for k, spp in enumerate(args.ladder):
         img, sec, cpu, rays = render(sc, spp, 1000 + k, adaptive=args.adaptive, settings=settings)
-        raw = float(np.sqrt(np.mean((img - ref) ** 2)) / mean)
-        err = float(np.sqrt(max(raw**2 - ref_noise**2, 0.0)))
+        err, raw = error_vs_reference(img, ref, mean, ref_noise)
         rows.append(
             {"spp": spp, "render_seconds": sec, "cpu_seconds": cpu, "rays": rays, "rel_rmse": err, "raw": raw}
         )

@@ -24,8 +24,10 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from diamond512 import error_vs_reference, reference_noise, render  # noqa: E402
+
 import warpoptics as wo  # noqa: E402
-from warpoptics.pipelines.render import Renderer  # noqa: E402
 from warpoptics.scene.load import parse_set_options  # noqa: E402
 
 
@@ -42,8 +44,8 @@ def main(argv=None) -> int:
     files = [np.load(f) for f in args.reference]
     ref = np.mean([h for z in files for h in (z["h1"], z["h2"])], axis=0)
     mean = float(ref.mean())
-    # each file's mean has noise rms(h1 - h2) / 2; the mean of k files 1/k of their quadrature sum
-    noises = [float(np.sqrt(np.mean((z["h1"] - z["h2"]) ** 2)) / mean / 2) for z in files]
+    # the mean of k files: 1/k of the quadrature sum of each file's own noise
+    noises = [reference_noise(z["h1"], z["h2"], mean) for z in files]
     ref_noise = float(np.sqrt(np.sum(np.square(noises)))) / len(files)
     print(f"diamond512_ab: load average {os.getloadavg()[0]:.2f}, {os.cpu_count()} CPUs", flush=True)
     print(f"reference: {2 * len(files)} halves, its noise {100 * ref_noise:.3f} %", flush=True)
@@ -53,18 +55,8 @@ def main(argv=None) -> int:
         print(f"{name}: {ov or 'the scene'}, {spp} spp", flush=True)
     for rnd in range(args.rounds):
         for name, ov, spp in runs:
-            over = {
-                **ov,
-                "render.spp": spp,
-                "render.seed": 5000 + rnd,
-                "render.adaptive": bool(args.adaptive),
-            }
-            r = Renderer(sc.with_overrides(over))
-            r.load_kernels()
-            img = r.run()
-            sec = float(img.stats["seconds"])
-            raw = float(np.sqrt(np.mean((img.rgb.astype(np.float64) - ref) ** 2)) / mean)
-            err = float(np.sqrt(max(raw**2 - ref_noise**2, 0.0)))
+            img, sec, _cpu, _rays = render(sc, spp, 5000 + rnd, adaptive=bool(args.adaptive), settings=ov)
+            err, _raw = error_vs_reference(img, ref, mean, ref_noise)
             print(f"round {rnd} {name}: {sec:6.2f} s render, {100 * err:.2f} %", flush=True)
     print(f"load average after {os.getloadavg()[0]:.2f}")
     return 0

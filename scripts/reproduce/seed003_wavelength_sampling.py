@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _gallery import GALLERY, ROOT, Timer, compose, write_json  # noqa: E402
+from _gallery import FIGURE_SAMPLING, GALLERY, ROOT, Timer, compose, write_json  # noqa: E402
 
 SCENE = ROOT / "scenes" / "diamond.toml"
 STRATEGIES = ("uniform", "importance")
@@ -54,9 +54,7 @@ def main(argv: list[str] | None = None) -> int:
     from warpoptics import metrics as wm
 
     # the scene's camera narrowed (fov 15 -> 10.5 degrees) so that the stone fills the frame
-    # uniform sampling and splits down to 0.2 % of the energy: the settings this figure was made
-    # with (diamond.toml's until it moved to adaptive sampling); equal samples in every pixel
-    fixed = {"camera.fov": 10.5, "render.adaptive": False, "render.split_threshold": 0.002}
+    fixed = {"camera.fov": 10.5, **FIGURE_SAMPLING}  # the sampling the figure was made with
     base = wo.Scene.load(SCENE).with_overrides(fixed, width=args.size, height=args.size, spp=1)
     runs: dict[str, list] = {s: [] for s in STRATEGIES}
     with Timer() as total:

@@ -88,15 +88,16 @@ def run(args) -> int:
             kw.get("width", scene.camera.width), kw.get("height", scene.camera.height), file=args.scene
         )
     _check_writable(out)
-    if "spp" in kw and "render.adaptive" not in overrides:
+    spp = kw.get("spp", overrides.get("render.spp"))
+    if isinstance(spp, int) and scene.render.adaptive and "render.adaptive" not in overrides:
         # a quick look (--spp 1 or 2) at an adaptive scene: too few samples for a pilot and an
-        # adaptive rest, so sample every pixel alike instead of refusing
-        given = overrides.get("render.pilot_spp", scene.render.pilot_spp)
-        pilot = given if isinstance(given, int) and given > 0 else max(2, kw["spp"] // 4)
-        if scene.render.adaptive and not 2 <= pilot < kw["spp"]:
+        # adaptive rest, so sample every pixel alike instead of refusing (a pilot_spp the
+        # command sets is left to the scene's validation)
+        pilot = scene.render.pilot_spp or max(2, spp // 4)
+        if "render.pilot_spp" not in overrides and not 2 <= pilot < spp:
             overrides["render.adaptive"] = False
             print(
-                f"render.adaptive off: --spp {kw['spp']} leaves no samples to allocate after a "
+                f"render.adaptive off: spp = {spp} leaves no samples to allocate after a "
                 f"pilot of {pilot} (adaptive sampling needs spp >= 3)"
             )
     if overrides or kw:

@@ -33,7 +33,8 @@ What a lane costs, and two ways around it that were measured and dropped (issue 
 pays, per node, its own interface event (``backward_isotropic``: ~100 ns on one core) and, per
 leaf, its own environment lookup (40-80 ns on the lat-long map) and film update (~5 ns); that is
 0.39 of a whole single-wavelength trace per added lane (1.7 us per pixel position for one lane,
-11.6 us for 16, the clear stone 1.5 us; ``scripts/bench/bench_lane_cost.py``).  (1) Interpolated
+11.6 us for 16, the clear stone 1.5 us on session 9's machine; 0.33 of a trace on session 10's
+slower one; ``scripts/bench/bench_lane_cost.py``).  (1) Interpolated
 lanes: trace every s-th lane and carry the lanes between as interpolations of their two traced
 neighbours while both meet the same facets (interpolated and then traced exactly where they
 part or near the critical angle).  In a diamond the traced neighbours part often enough that
