@@ -255,3 +255,44 @@ def test_absorbing_incident_medium_keeps_the_forward_wave(device):
     clear = wo.optics.fresnel(c, 1.33, 1.0, device=device)
     for a, b in zip(lossy, clear, strict=True):
         assert abs(abs(a) - abs(b)) < 1e-4
+
+
+def test_reverse_crossing_is_the_swapped_solution(device):
+    """fresnel_reverse (the B -> A amplitudes every backward event needs, from the A -> B solve)
+    against the closed angle forms of the crossing from medium 2 at the refracted angle, below
+    the critical angle, for rare-to-dense and dense-to-rare pairs; and R + T = 1 for it."""
+    import warp as wp
+
+    from warpoptics.optics.fresnel import fresnel_amplitudes, fresnel_reverse, transmitted_flux_ratio
+
+    @wp.kernel
+    def k(cos_i: wp.array(dtype=float), n1: float, n2: float, out: wp.array2d(dtype=float)):
+        i = wp.tid()
+        f = fresnel_amplitudes(cos_i[i], wp.vec2f(n1, 0.0), wp.vec2f(n2, 0.0))
+        r = fresnel_reverse(f, wp.vec2f(n1, 0.0), wp.vec2f(n2, 0.0))
+        out[i, 0] = r.rs[0]
+        out[i, 1] = r.rp[0]
+        out[i, 2] = r.ts[0]
+        out[i, 3] = r.tp[0]
+        out[i, 4] = r.rs[1] + r.rp[1] + r.ts[1] + r.tp[1]
+        out[i, 5] = transmitted_flux_ratio(r)
+
+    for n1, n2 in ((1.0, 2.4173), (2.4173, 1.0), (1.5, 1.76), (1.33, 1.0)):
+        crit = np.sqrt(max(0.0, 1.0 - (n2 / n1) ** 2)) if n1 > n2 else 0.0
+        cos_i = np.linspace(crit, 1.0, 400)[1:-1]  # propagating, away from grazing
+        cos_i = cos_i[np.abs(cos_i - crit) > 2e-3]
+        out = wp.zeros((len(cos_i), 6), dtype=float, device=device)
+        wp.launch(
+            k,
+            dim=len(cos_i),
+            inputs=[wp.array(cos_i, dtype=float, device=device), n1, n2, out],
+            device=device,
+        )
+        got = out.numpy().astype(np.float64)
+        theta_t = np.arcsin(n1 * np.sin(np.arccos(cos_i)) / n2)
+        want = np.array(_angle_forms(theta_t, n2, n1))  # from medium 2 at theta_t into medium 1
+        np.testing.assert_allclose(got[:, :4], want.T, atol=2e-5, rtol=0)
+        assert np.all(got[:, 4] == 0.0)
+        # energy: |r'|^2 + |t'|^2 Re(b') / Re(a') = 1 for s and for p
+        for r_col, t_col in ((0, 2), (1, 3)):
+            np.testing.assert_allclose(got[:, r_col] ** 2 + got[:, t_col] ** 2 * got[:, 5], 1.0, atol=2e-5)

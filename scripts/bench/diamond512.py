@@ -15,6 +15,8 @@ seconds; the seconds to ``--target`` come from a power-law fit over the ladder.
                                                     # other sampling settings for the ladder (the
                                                     # reference keeps the scene's: same expectation)
     python scripts/bench/diamond512.py --quick      # 64x64, seconds
+    python scripts/bench/diamond512.py --adaptive --scene scenes/diamond_clear.toml
+                                                    # the same stone without dispersion
 """
 
 from __future__ import annotations
@@ -79,14 +81,23 @@ def main(argv=None) -> int:
         metavar="KEY=VALUE",
         help="a sampling setting of the ladder's renders, e.g. render.wavelengths=16 (TOML value)",
     )
+    ap.add_argument(
+        "--scene",
+        type=Path,
+        default=ROOT / "scenes" / "diamond.toml",
+        help="another scene (e.g. scenes/diamond_clear.toml, the main job without dispersion)",
+    )
     ap.add_argument("--quick", action="store_true")
     args = ap.parse_args(argv)
     settings = parse_set_options(args.set)
-    sc = wo.Scene.load(ROOT / "scenes" / "diamond.toml")
+    sc = wo.Scene.load(args.scene)
     if args.quick:
         sc = sc.with_overrides({"camera.width": 64, "camera.height": 64})
         args.ref_spp, args.ladder = 4, [4, 8] if args.adaptive else [1, 2]
-    print(f"diamond512: load average {os.getloadavg()[0]:.2f}, {os.cpu_count()} CPUs", flush=True)
+    print(
+        f"diamond512: {args.scene.name}, load average {os.getloadavg()[0]:.2f}, {os.cpu_count()} CPUs",
+        flush=True,
+    )
     print(f"ladder settings: {settings or 'those of the scene'}", flush=True)
     if args.reference is not None and args.reference.exists():
         z = np.load(args.reference)

@@ -47,13 +47,14 @@ import warp as wp
 
 from ..device import device_function, elementwise
 from ..errors import InputError
-from .complex import c_abs2, c_div, c_mul, c_normal_component
+from .complex import c_abs2, c_conj, c_mul, c_normal_component
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
 __all__ = [
     "FresnelAmplitudes",
     "fresnel_amplitudes",
+    "fresnel_reverse",
     "fresnel_power_coefficients",
     "reflect_direction",
     "refract_direction",
@@ -110,11 +111,16 @@ def fresnel_amplitudes(cos_i: float, n1: wp.vec2f, n2: wp.vec2f):
         f.ts = wp.vec2f(1.0, 0.0)
         f.tp = wp.vec2f(1.0, 0.0)
         return f
-    f.rs = c_div(a - b, ds)
-    f.ts = c_div(2.0 * a, ds)
-    f.rp = c_div(pa - pb, dp)
+    # one reciprocal per denominator (conj / |.|^2: one real division) serves r and t; four
+    # Smith divisions cost 12 (~6 ns of the ~30 ns solve; scripts/bench/bench_lane_cost.py).
+    # |ds|^2 and |dp|^2 are >= the squared normal components, far from overflow for any index
+    inv_s = c_conj(ds) * (1.0 / c_abs2(ds))
+    inv_p = c_conj(dp) * (1.0 / c_abs2(dp))
+    f.rs = c_mul(a - b, inv_s)
+    f.ts = c_mul(2.0 * a, inv_s)
+    f.rp = c_mul(pa - pb, inv_p)
     # tp = 2 N1 cos i / (N2 cos i + N1 cos t) = 2 N1 N2 cos i / (N2^2 cos i + N1 N2 cos t)
-    f.tp = c_div(2.0 * c_mul(c_mul(n1, n2), wp.vec2f(c, 0.0)), dp)
+    f.tp = c_mul(c_mul(n1, n2) * (2.0 * c), inv_p)
     if n1sq[0] == n2sq[0] and n1sq[1] == n2sq[1]:
         # identical media: exactly no reflection, whatever the rounding of N2 cos t
         f.rs = wp.vec2f(0.0, 0.0)
@@ -122,6 +128,33 @@ def fresnel_amplitudes(cos_i: float, n1: wp.vec2f, n2: wp.vec2f):
         f.ts = wp.vec2f(1.0, 0.0)
         f.tp = wp.vec2f(1.0, 0.0)
     return f
+
+
+@wp.func
+def fresnel_reverse(f: FresnelAmplitudes, n1: wp.vec2f, n2: wp.vec2f):
+    """``fresnel_amplitudes(cos_t, n2, n1)`` — the same interface crossed back, from medium 2 at
+    the refracted angle — from the forward solution ``f = fresnel_amplitudes(cos_i, n1, n2)``,
+    for REAL indices below the critical angle (the caller checks both).  With a = n1 cos i and
+    b = n2 cos t the reverse crossing swaps them: rs' = -rs, rp' = -rp (Stokes relations, Born &
+    Wolf §1.5.2), ts' = 2 b / (a + b), tp' = 2 n1 n2 b / (n2^2 a + n1^2 b).  Two real divisions
+    instead of a complex square root and four complex ones: every backward isotropic event needs
+    both crossings (issue 19; tests/test_fresnel.py checks it against the direct solve)."""
+    a = f.n1_cos_i[0]
+    b = f.n2_cos_t[0]
+    r = FresnelAmplitudes()
+    r.n1_cos_i = f.n2_cos_t
+    r.n2_cos_t = f.n1_cos_i
+    r.rs = -f.rs
+    r.rp = -f.rp
+    r.ts = wp.vec2f(1.0, 0.0)
+    r.tp = wp.vec2f(1.0, 0.0)
+    ds = a + b
+    if ds > 0.0:  # else grazing into an identical medium: no interface (as fresnel_amplitudes)
+        m1 = n1[0]
+        m2 = n2[0]
+        r.ts = wp.vec2f(2.0 * b / ds, 0.0)
+        r.tp = wp.vec2f(2.0 * m1 * m2 * b / (m2 * m2 * a + m1 * m1 * b), 0.0)
+    return r
 
 
 @wp.func

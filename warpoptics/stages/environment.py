@@ -64,6 +64,7 @@ import warp as wp
 
 from ..device import get_device
 from ..errors import InputError
+from ..geometry.directions import polar_azimuth
 from ..spectra import (
     SpectralTables,
     illuminant_value,
@@ -221,8 +222,9 @@ def _sky_rgb(d: wp.vec3f):
 @wp.func
 def _latlong_rgb(env: Environment, d: wp.vec3f):
     # Blender's equirectangular layout in the map frame (module docstring; latlong_uv in NumPy)
-    u = 0.5 - wp.atan2(d[1], d[0]) / (2.0 * wp.pi)
-    v = wp.acos(wp.clamp(d[2], -1.0, 1.0)) / wp.pi
+    theta, phi = polar_azimuth(d)
+    u = 0.5 - phi / (2.0 * wp.pi)
+    v = theta / wp.pi
     x = u * float(env.width) - 0.5
     y = v * float(env.height) - 0.5
     x0 = wp.floor(x)

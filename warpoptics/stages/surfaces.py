@@ -70,6 +70,7 @@ import warp as wp
 
 from ..device import device_function, elementwise, get_device
 from ..errors import InputError
+from ..geometry.directions import polar_azimuth
 from ..geometry.query import (
     RayHit,
     SceneGeometry,
@@ -396,8 +397,7 @@ def env_sample(s: Surfaces, u1: float, u2: float, u3: float, u4: float):
 def env_pdf(s: Surfaces, d: wp.vec3f):
     """Solid-angle pdf (1/sr) of :func:`env_sample` drawing unit ``d``: cell probability over
     the cell's (theta, phi) area times the Jacobian 1 / sin(theta)."""
-    theta = wp.acos(wp.clamp(d[2], -1.0, 1.0))
-    phi = wp.atan2(d[1], d[0])
+    theta, phi = polar_azimuth(d)
     row = wp.clamp(int(theta / wp.pi * float(s.env_rows)), 0, s.env_rows - 1)
     col = wp.clamp(int((phi + wp.pi) / (2.0 * wp.pi) * float(s.env_cols)), 0, s.env_cols - 1)
     st = wp.sin(theta)
