@@ -1,0 +1,101 @@
+"""Where a gem render's noise comes from: the map's edges or the facets' edges (issue 19).
+
+A pixel's samples fall on different facet sequences of the stone (facet edges in the pixel's
+footprint, at every depth of the path tree) and, within one sequence, leave toward nearby
+directions of the environment (map edges: the soft boxes' rims).  Pre-filtered environment
+lookups (ray cones through the flat facets) would remove the second kind; only integrating the
+pixel over the facet tree (beam tracing) removes the first.  This script measures their shares:
+the fire benchmark's two scenes (``scenes/bench_fire.toml``, dispersive, and its clear twin
+``bench_fire_clear.toml``) rendered twice with independent seeds, with the studio map as it is
+and blurred by a Gaussian of ``--sigma`` texels (scipy.ndimage, wrapped in azimuth).  The noise
+of one render is rms(a - b) / sqrt 2 / mean (linear sRGB, all pixels: the renders are unbiased).
+If the blurred map's noise is close to the sharp one's, the facets' edges dominate.
+
+    python scripts/bench/fire_noise_sources.py [--res 64] [--spp 16] [--sigma 4 16]
+        [--json scripts/bench/results/fire_noise_sources.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+import OpenImageIO as oiio
+from scipy.ndimage import gaussian_filter
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+
+import warpoptics as wo  # noqa: E402
+
+MAP = ROOT / "scenes" / "bench_studio.exr"
+
+
+def blurred_map(sigma: float, path: Path) -> None:
+    """The benchmark map blurred by a Gaussian of ``sigma`` texels (azimuth wraps), as EXR."""
+    a = oiio.ImageBuf(str(MAP)).get_pixels(oiio.FLOAT)
+    b = np.stack(
+        [gaussian_filter(a[..., c], sigma=sigma, mode=("nearest", "wrap")) for c in range(a.shape[2])], -1
+    )
+    out = oiio.ImageBuf(oiio.ImageSpec(a.shape[1], a.shape[0], a.shape[2], oiio.FLOAT))
+    out.set_pixels(oiio.ROI(), b.astype(np.float32))
+    if not out.write(str(path)):
+        raise RuntimeError(f"{path}: {out.geterror()}")
+
+
+def noise(scene: str, map_path: Path, res: int, spp: int) -> tuple[float, float]:
+    """(relative noise of one render, CPU seconds per render)."""
+    base = wo.Scene.load(ROOT / "scenes" / f"{scene}.toml")
+    imgs, cpu = [], 0.0
+    for seed in (11, 12):
+        over = {"camera.width": res, "camera.height": res, "render.spp": spp, "render.seed": seed}
+        sc = base.with_overrides({**over, "light.0.map": str(map_path)})
+        t0 = time.process_time()
+        imgs.append(wo.render(sc).rgb.astype(np.float64))
+        cpu += time.process_time() - t0
+    mean = float(np.mean(0.5 * (imgs[0] + imgs[1])))
+    return float(np.sqrt(np.mean((imgs[0] - imgs[1]) ** 2) / 2.0) / mean), cpu / 2.0
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--res", type=int, default=64)
+    ap.add_argument("--spp", type=int, default=16)
+    ap.add_argument("--sigma", type=float, nargs="+", default=[4.0, 16.0], help="blur, map texels")
+    ap.add_argument("--json", type=Path)
+    args = ap.parse_args(argv)
+    width = oiio.ImageInput.open(str(MAP)).spec().width
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        maps = [(0.0, MAP)]
+        for s in args.sigma:
+            p = Path(tmp) / f"blur_{s:g}.exr"
+            blurred_map(s, p)
+            maps.append((s, p))
+        for scene in ("bench_fire_clear", "bench_fire"):
+            sharp = None
+            for s, p in maps:
+                n, cpu = noise(scene, p, args.res, args.spp)
+                sharp = n if sharp is None else sharp
+                deg = s * 360.0 / width
+                rows.append({"scene": scene, "sigma_texels": s, "sigma_deg": deg, "noise": n, "cpu_s": cpu})
+                print(
+                    f"{scene:17s} map blur {deg:4.1f} deg: one render {100 * n:.2f} % noise"
+                    f" ({(n / sharp) ** 2:.2f} of the sharp map's variance), {cpu:.1f} CPU-s",
+                    flush=True,
+                )
+    if args.json:
+        from warpoptics.atomic import atomic_path
+
+        with atomic_path(args.json) as tmp_json, open(tmp_json, "w") as f:
+            json.dump({"res": args.res, "spp": args.spp, "rows": rows}, f, indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
