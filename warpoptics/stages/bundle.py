@@ -206,7 +206,7 @@ def trace_bundle(
     cand = Cand()
     basis = LaneWeights()  # the environment's basis spectra at each lane's wavelength
     lane_n = LaneWavelengths()  # each lane's (real) index in the solid last met
-    lane_alpha = LaneWavelengths()  # and its absorption coefficient, 1/mm
+    lane_kappa = LaneWavelengths()  # and its absorption coefficient (times the object's scale), 1/mm
     lane_t = LaneWavelengths()  # the lanes' hits at the node being traced
     lane_obj = LaneInts()
     lane_facet = LaneInts()
@@ -326,13 +326,24 @@ def trace_bundle(
                 hit_any = 1
             if obj != c_obj:
                 # every lane's index and absorption in the solid met (entered or left: solids do
-                # not overlap), evaluated again only when the bundle meets another solid
+                # not overlap), evaluated again only when the bundle meets another solid; in an
+                # isotropic solid a segment's absorption does not depend on its direction, so
+                # stages.media.segment_kappa is evaluated here once per lane, not per segment
                 for j in range(count):
                     med, no, ne, alpha = object_medium(
                         mats, p.object_material[obj], p.object_axis[obj], wavelengths[j]
                     )
                     lane_n[j] = no[0]
-                    lane_alpha[j] = alpha[0]
+                    lane_kappa[j] = segment_kappa(
+                        mats,
+                        p.object_material[obj],
+                        wp.vec2f(alpha[0], alpha[0]),
+                        -1,
+                        -1,
+                        wp.vec3f(0.0, 0.0, 1.0),
+                        uniaxial_medium(no[0], no[0], wp.vec3f(0.0, 0.0, 0.0)),
+                        p.object_absorption_scale[obj],
+                    )
                 c_obj = obj
             if depth >= p.max_depth:
                 continue
@@ -364,19 +375,10 @@ def trace_bundle(
                     n_a = wp.vec2f(p.ambient[0], 0.0)
                     n_b = wp.vec2f(lane_n[j], 0.0)
                     if inside >= 0:
-                        # Bouguer-Lambert along the lane's own segment (stages.media.segment_kappa)
-                        med = uniaxial_medium(lane_n[j], lane_n[j], wp.vec3f(0.0, 0.0, 0.0))
-                        kappa = segment_kappa(
-                            mats,
-                            p.object_material[inside],
-                            wp.vec2f(lane_alpha[j], lane_alpha[j]),
-                            -1,
-                            -1,
-                            d_j,
-                            med,
-                            p.object_absorption_scale[inside],
-                        )
-                        w_j = w_j * bouguer_lambert(kappa, lane_t[j])
+                        # Bouguer-Lambert along the lane's own segment (inside == obj: a lane
+                        # inside a solid meets that solid's surface); a clear stone skips exp
+                        if lane_kappa[j] != 0.0:
+                            w_j = w_j * bouguer_lambert(lane_kappa[j], lane_t[j])
                         n_a = wp.vec2f(lane_n[j], 0.0)
                         n_b = wp.vec2f(p.ambient[0], 0.0)
                     cand, energies, k = backward_isotropic(
