@@ -8,7 +8,8 @@ pixel over the facet tree (beam tracing) removes the first.  This script measure
 the fire benchmark's two scenes (``scenes/bench_fire.toml``, dispersive, and its clear twin
 ``bench_fire_clear.toml``) rendered twice with independent seeds, with the studio map as it is
 and blurred by a Gaussian of ``--sigma`` texels (scipy.ndimage, wrapped in azimuth).  The noise
-of one render is rms(a - b) / sqrt 2 / mean (linear sRGB, all pixels: the renders are unbiased).
+of one render is rms(a - b) / sqrt 2 / mean (``equal_error.rel_noise``; linear sRGB, all pixels:
+the renders are unbiased).
 If the blurred map's noise is close to the sharp one's, the facets' edges dominate.
 
     python scripts/bench/fire_noise_sources.py [--res 64] [--spp 16] [--sigma 4 16]
@@ -32,6 +33,9 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 import warpoptics as wo  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from equal_error import rel_noise  # noqa: E402
 
 MAP = ROOT / "scenes" / "bench_studio.exr"
 
@@ -58,8 +62,7 @@ def noise(scene: str, map_path: Path, res: int, spp: int) -> tuple[float, float]
         t0 = time.process_time()
         imgs.append(wo.render(sc).rgb.astype(np.float64))
         cpu += time.process_time() - t0
-    mean = float(np.mean(0.5 * (imgs[0] + imgs[1])))
-    return float(np.sqrt(np.mean((imgs[0] - imgs[1]) ** 2) / 2.0) / mean), cpu / 2.0
+    return rel_noise(np.stack(imgs)), cpu / 2.0
 
 
 def main(argv=None) -> int:
