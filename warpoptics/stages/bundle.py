@@ -77,6 +77,11 @@ more accurate near grazing), and the lat-long lookup's ``acosf``/``atan2f`` beca
 atan (``geometry/directions.py``).  ``backward_isotropic`` 118 -> 85 ns; an 8-lane position
 ~10 % faster (median of 10 alternating process pairs, 32x32 issue-19 stone, one thread: the
 machine's noise is +-10 % a run); the clear stone's position unchanged within that noise.
+Measured the same way and not kept: an 8-lane stack (``LANES`` = 8, half the per-position
+zeroing and cache footprint; it would cap ``bundle_lanes`` at 8): median 0.96, within the noise;
+Warp's ``optimization_level`` 3 instead of the CPU default 2: median 1.05 (slower).  A lane's
+absorption coefficient is now evaluated once per solid met, not per segment (images bitwise
+equal; no change measurable).
 
 Where the noise that is left comes from (session 11, ``scripts/bench/fire_noise_sources.py``):
 not the map's edges.  Blurring the studio map by 1.4 deg (wider than a pixel's exit cone through
