@@ -97,3 +97,19 @@ def test_pfm_round_trip(tmp_path):
     img = np.random.default_rng(0).random((5, 7, 3)).astype(np.float32)
     bf.write_pfm(tmp_path / "a.pfm", img)
     assert np.array_equal(bf.read_pfm(tmp_path / "a.pfm"), img.astype(np.float64))
+
+
+def test_noise_sources_smoke(tmp_path):
+    """scripts/bench/fire_noise_sources.py at 16x16 runs and writes its figures: noises of the
+    sharp and blurred maps, and first-hit edge pixels that are a part of the stone's pixels."""
+    out = tmp_path / "sources.json"
+    env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    cmd = [sys.executable, str(ROOT / "scripts" / "bench" / "fire_noise_sources.py"), "--res", "16"]
+    cmd += ["--spp", "4", "--sigma", "8", "--sub", "4", "--json", str(out)]
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    res = json.loads(out.read_text())
+    assert len(res["rows"]) == 4 and all(0.0 < r["noise"] < 1.0 for r in res["rows"])
+    for e in res["first_hit_edges"]:
+        assert 0.0 < e["edge_pixels"] <= e["stone_pixels"] < 1.0
+        assert 0.0 < e["variance_share_of_edge_pixels"] <= 1.0
