@@ -40,6 +40,7 @@ def main(argv=None) -> int:
     ap.add_argument("--b-spp", type=int, required=True)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--adaptive", type=int, default=1, help="1: render.adaptive = true in both")
+    ap.add_argument("--scene", type=Path, default=ROOT / "scenes" / "diamond.toml", help="another scene")
     args = ap.parse_args(argv)
     files = [np.load(f) for f in args.reference]
     ref = np.mean([h for z in files for h in (z["h1"], z["h2"])], axis=0)
@@ -49,7 +50,7 @@ def main(argv=None) -> int:
     ref_noise = float(np.sqrt(np.sum(np.square(noises)))) / len(files)
     print(f"diamond512_ab: load average {os.getloadavg()[0]:.2f}, {os.cpu_count()} CPUs", flush=True)
     print(f"reference: {2 * len(files)} halves, its noise {100 * ref_noise:.3f} %", flush=True)
-    sc = wo.Scene.load(ROOT / "scenes" / "diamond.toml")
+    sc = wo.Scene.load(args.scene)
     runs = (("A", parse_set_options(args.a), args.a_spp), ("B", parse_set_options(args.b), args.b_spp))
     for name, ov, spp in runs:
         print(f"{name}: {ov or 'the scene'}, {spp} spp", flush=True)
