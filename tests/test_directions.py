@@ -9,7 +9,7 @@ import pytest
 
 from warpoptics.geometry.directions import polar_azimuths
 
-# float32 carries ~6e-8 relative: a few ulp of pi is 3e-7 rad (1e-4 of a texel of a 4k map)
+# float32 carries ~6e-8 relative: a few ulp of pi is 3e-7 rad (2e-4 of a texel of a 4k map)
 TOL = 4.0e-7
 
 

@@ -8,7 +8,7 @@ bundle looks the map up at every leaf).  :func:`fast_atan2` is the Cephes ``atan
 reduction, with the two divisions of that reduction merged into one.  The polar angle is
 ``atan2(sqrt(x^2 + y^2), z)`` rather than ``acos(z)``: accurate near the poles, where acos loses
 half the digits of z, and independent of the length of ``d``.  Both agree with NumPy's float64
-``arctan2``/``arccos`` to 3e-7 rad over the sphere (``tests/test_directions.py``), a 1e-4 of a
+``arctan2``/``arccos`` to 3e-7 rad over the sphere (``tests/test_directions.py``), 2e-4 of a
 texel of a 4k map.
 
 References:

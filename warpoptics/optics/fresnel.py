@@ -112,7 +112,7 @@ def fresnel_amplitudes(cos_i: float, n1: wp.vec2f, n2: wp.vec2f):
         f.tp = wp.vec2f(1.0, 0.0)
         return f
     # one reciprocal per denominator (conj / |.|^2: one real division) serves r and t; four
-    # Smith divisions cost 12 (~6 ns of the ~30 ns solve; scripts/bench/bench_lane_cost.py).
+    # Smith divisions cost 12 (~3 ns of the ~30 ns solve; scripts/bench/bench_lane_cost.py).
     # |ds|^2 and |dp|^2 are >= the squared normal components, far from overflow for any index
     inv_s = c_conj(ds) * (1.0 / c_abs2(ds))
     inv_p = c_conj(dp) * (1.0 / c_abs2(dp))
