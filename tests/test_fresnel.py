@@ -263,13 +263,18 @@ def test_reverse_crossing_is_the_swapped_solution(device):
     the critical angle, for rare-to-dense and dense-to-rare pairs; and R + T = 1 for it."""
     import warp as wp
 
-    from warpoptics.optics.fresnel import fresnel_amplitudes, fresnel_reverse, transmitted_flux_ratio
+    from warpoptics.optics.fresnel import (
+        fresnel_amplitudes,
+        fresnel_reverse,
+        refracted_cos,
+        transmitted_flux_ratio,
+    )
 
     @wp.kernel
     def k(cos_i: wp.array(dtype=float), n1: float, n2: float, out: wp.array2d(dtype=float)):
         i = wp.tid()
         f = fresnel_amplitudes(cos_i[i], wp.vec2f(n1, 0.0), wp.vec2f(n2, 0.0))
-        r = fresnel_reverse(f, wp.vec2f(n1, 0.0), wp.vec2f(n2, 0.0))
+        r = fresnel_reverse(f, refracted_cos(f, wp.vec2f(n2, 0.0)), wp.vec2f(n1, 0.0), wp.vec2f(n2, 0.0))
         out[i, 0] = r.rs[0]
         out[i, 1] = r.rp[0]
         out[i, 2] = r.ts[0]
@@ -296,3 +301,31 @@ def test_reverse_crossing_is_the_swapped_solution(device):
         # energy: |r'|^2 + |t'|^2 Re(b') / Re(a') = 1 for s and for p
         for r_col, t_col in ((0, 2), (1, 3)):
             np.testing.assert_allclose(got[:, r_col] ** 2 + got[:, t_col] ** 2 * got[:, 5], 1.0, atol=2e-5)
+
+
+def test_reverse_crossing_with_an_absorbing_side_is_the_direct_solve(device):
+    """An absorbing medium has no Stokes swap: fresnel_reverse is then fresnel_amplitudes at the
+    refracted angle, bit for bit (the swap between real indices is tested above)."""
+    import warp as wp
+
+    from warpoptics.optics.fresnel import fresnel_amplitudes, fresnel_reverse, refracted_cos
+
+    @wp.kernel
+    def k(cos_i: wp.array(dtype=float), out: wp.array2d(dtype=float)):
+        i = wp.tid()
+        n1 = wp.vec2f(1.0, 0.0)
+        n2 = wp.vec2f(1.76, 0.02)
+        f = fresnel_amplitudes(cos_i[i], n1, n2)
+        c = refracted_cos(f, n2)
+        r = fresnel_reverse(f, c, n1, n2)
+        d = fresnel_amplitudes(c, n2, n1)
+        out[i, 0] = wp.length(r.rs - d.rs) + wp.length(r.rp - d.rp)
+        out[i, 1] = wp.length(r.ts - d.ts) + wp.length(r.tp - d.tp)
+        out[i, 2] = wp.length(r.rs + f.rs)  # what a (wrong) swap would give: -rs
+
+    cos_i = np.linspace(0.05, 1.0, 64)
+    out = wp.zeros((64, 3), dtype=float, device=device)
+    wp.launch(k, dim=64, inputs=[wp.array(cos_i, dtype=float, device=device), out], device=device)
+    got = out.numpy()
+    assert np.all(got[:, :2] == 0.0)
+    assert got[:, 2].max() > 1e-3  # the absorbing case really differs from the swap

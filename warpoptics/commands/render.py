@@ -57,6 +57,7 @@ def run(args) -> int:
     from ..pipelines.render import Renderer
     from ..scene.bench import is_bench_scene
     from ..scene.load import Scene, parse_set_options
+    from ..scene.schema import RenderConfig
 
     if is_bench_scene(args.scene):
         # an optical-bench scene ([source] type = "beam"): trace it forward onto its screens
@@ -93,12 +94,12 @@ def run(args) -> int:
         # a quick look (--spp 1 or 2) at an adaptive scene: too few samples for a pilot and an
         # adaptive rest, so sample every pixel alike instead of refusing (a pilot_spp the
         # command sets is left to the scene's validation)
-        pilot = scene.render.pilot_spp or max(2, spp // 4)
-        if "render.pilot_spp" not in overrides and not 2 <= pilot < spp:
+        pilot_spp = scene.render.pilot_spp
+        if "render.pilot_spp" not in overrides and not RenderConfig.pilot_fits(spp, pilot_spp):
             overrides["render.adaptive"] = False
             print(
-                f"render.adaptive off: spp = {spp} leaves no samples to allocate after a "
-                f"pilot of {pilot} (adaptive sampling needs spp >= 3)"
+                f"render.adaptive off: spp = {spp} leaves no samples to allocate after a pilot of "
+                f"{RenderConfig.pilot_for(spp, pilot_spp)} (adaptive sampling needs spp >= 3)"
             )
     if overrides or kw:
         scene = scene.with_overrides(overrides, **kw)

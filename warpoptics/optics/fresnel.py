@@ -131,14 +131,17 @@ def fresnel_amplitudes(cos_i: float, n1: wp.vec2f, n2: wp.vec2f):
 
 
 @wp.func
-def fresnel_reverse(f: FresnelAmplitudes, n1: wp.vec2f, n2: wp.vec2f):
-    """``fresnel_amplitudes(cos_t, n2, n1)`` — the same interface crossed back, from medium 2 at
-    the refracted angle — from the forward solution ``f = fresnel_amplitudes(cos_i, n1, n2)``,
-    for REAL indices below the critical angle (the caller checks both).  With a = n1 cos i and
-    b = n2 cos t the reverse crossing swaps them: rs' = -rs, rp' = -rp (Stokes relations, Born &
-    Wolf §1.5.2), ts' = 2 b / (a + b), tp' = 2 n1 n2 b / (n2^2 a + n1^2 b).  Two real divisions
-    instead of a complex square root and four complex ones: every backward isotropic event needs
-    both crossings (issue 19; tests/test_fresnel.py checks it against the direct solve)."""
+def fresnel_reverse(f: FresnelAmplitudes, cos_t: float, n1: wp.vec2f, n2: wp.vec2f):
+    """``fresnel_amplitudes(cos_t, n2, n1)`` -- the same interface crossed back, from medium 2 at
+    the refracted angle (``cos_t = refracted_cos(f, n2)``) -- given the forward solution
+    ``f = fresnel_amplitudes(cos_i, n1, n2)`` below the critical angle.  Between lossless media
+    (real indices) the reverse crossing swaps a = n1 cos i and b = n2 cos t: rs' = -rs, rp' = -rp
+    (Stokes relations, Born & Wolf §1.5.2), ts' = 2 b / (a + b), tp' = 2 n1 n2 b / (n2^2 a +
+    n1^2 b) -- two real divisions instead of a complex square root and four complex ones, and
+    exact where the re-solve loses digits near grazing (issue 19: every backward isotropic event
+    needs both crossings).  With an absorbing side it is the direct solve."""
+    if n1[1] != 0.0 or n2[1] != 0.0:
+        return fresnel_amplitudes(cos_t, n2, n1)
     a = f.n1_cos_i[0]
     b = f.n2_cos_t[0]
     r = FresnelAmplitudes()

@@ -177,8 +177,8 @@ def _isotropic_fresnel(d: wp.vec3f, nrm: wp.vec3f, n_a: wp.vec2f, n_b: wp.vec2f)
     """The geometry and bare amplitudes of a backward isotropic event: (cos_a, Fresnel A -> B,
     refracted direction into B — zero under total internal reflection —, cos_b, Fresnel B -> A).
     The direction comes from the A -> B solution (``refract_from_fresnel``); the amplitudes of
-    light from B are those of B -> A (``fresnel_amplitudes(cos_b, n_b, n_a)``; between lossless
-    media that solution swapped, ``fresnel_reverse``)."""
+    light from B are those of B -> A (``fresnel_reverse``: ``fresnel_amplitudes(cos_b, n_b, n_a)``,
+    between lossless media the A -> B solution swapped)."""
     cos_a = wp.clamp(-wp.dot(d, nrm), 0.0, 1.0)
     f_r = fresnel_amplitudes(cos_a, n_a, n_b)
     d_t = refract_from_fresnel(d, nrm, f_r, n_a, n_b)
@@ -186,10 +186,7 @@ def _isotropic_fresnel(d: wp.vec3f, nrm: wp.vec3f, n_a: wp.vec2f, n_b: wp.vec2f)
     f_t = FresnelAmplitudes()
     if wp.dot(d_t, d_t) > 0.0:
         cos_b = refracted_cos(f_r, n_b)
-        if n_a[1] == 0.0 and n_b[1] == 0.0:
-            f_t = fresnel_reverse(f_r, n_a, n_b)  # lossless: the forward solution, swapped
-        else:
-            f_t = fresnel_amplitudes(cos_b, n_b, n_a)
+        f_t = fresnel_reverse(f_r, cos_b, n_a, n_b)
     return cos_a, f_r, d_t, cos_b, f_t
 
 
