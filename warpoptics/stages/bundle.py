@@ -74,7 +74,8 @@ twice, A -> B for the reflected child and direction and B -> A for the refracted
 amplitudes; between lossless media the second is the first swapped (``fresnel_reverse``, the
 Stokes relations: two real divisions instead of a complex square root and four complex ones, and
 more accurate near grazing), and the lat-long lookup's ``acosf``/``atan2f`` became one polynomial
-atan (``geometry/directions.py``).  ``backward_isotropic`` 118 -> 85 ns; an 8-lane position
+atan (``geometry/directions.py``).  ``backward_isotropic`` 120 -> 86 ns (medians of 5
+alternating runs of bench_lane_cost's kernel); an 8-lane position
 ~10 % faster (median of 10 alternating process pairs, 32x32 issue-19 stone, one thread: the
 machine's noise is +-10 % a run); the clear stone's position unchanged within that noise.
 Measured the same way and not kept: an 8-lane stack (``LANES`` = 8, half the per-position
