@@ -284,7 +284,10 @@ def test_reverse_crossing_is_the_swapped_solution(device):
 
     for n1, n2 in ((1.0, 2.4173), (2.4173, 1.0), (1.5, 1.76), (1.33, 1.0)):
         crit = np.sqrt(max(0.0, 1.0 - (n2 / n1) ** 2)) if n1 > n2 else 0.0
-        cos_i = np.linspace(crit, 1.0, 400)[1:-1]  # propagating, away from grazing
+        cos_i = np.linspace(crit, 1.0, 400)[1:-1]  # propagating, away from the critical angle
+        if crit == 0.0:
+            # down to grazing incidence from the rare side, where re-solving from cos t lost 1e-2
+            cos_i = np.concatenate([np.logspace(-7, -2, 60), cos_i])
         cos_i = cos_i[np.abs(cos_i - crit) > 2e-3]
         out = wp.zeros((len(cos_i), 6), dtype=float, device=device)
         wp.launch(
