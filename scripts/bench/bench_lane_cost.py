@@ -19,6 +19,7 @@ Then the whole bundle per pixel position on the issue-19 stone
 clear twin: the marginal cost of a lane against the cost of the laws above.
 
     python scripts/bench/bench_lane_cost.py [--json scripts/bench/results/bench_lane_cost.json]
+    python scripts/bench/bench_lane_cost.py --only bundle:8 --spp 48   # one position setting
 """
 
 from __future__ import annotations
@@ -154,10 +155,33 @@ def time_kernel(kernel, inputs, out) -> float:
     return 1e9 * best / (THREADS * REP)
 
 
+def position_cost(est: str, lanes: int, spp: int, res: int = 32) -> tuple[float, float]:
+    """(process CPU microseconds, rays) per pixel position of the issue-19 stone, one thread."""
+    sc = scene_for(est, res, lanes, lanes).with_overrides({"render.spp": spp, "render.seed": 3})
+    rr = Renderer(sc)
+    rr.load_kernels()
+    t0 = time.process_time()
+    img = rr.run(threads=1)
+    n = spp * res * res
+    return 1e6 * (time.process_time() - t0) / n, float(img.stats["rays"]) / n
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--json", type=Path)
+    ap.add_argument(
+        "--only",
+        metavar="ESTIMATOR:LANES",
+        help="time one pixel-position setting alone (e.g. bundle:8, clear:1), for before/after runs"
+        " alternated between two checkouts",
+    )
+    ap.add_argument("--spp", type=int, default=8, help="samples per pixel of the position timings")
     args = ap.parse_args(argv)
+    if args.only:
+        est, lanes = args.only.split(":")
+        us, rays = position_cost(est, int(lanes), args.spp)
+        print(f"{args.only} {us:.3f} us per pixel position, {rays:.1f} rays", flush=True)
+        return 0
     print(f"bench_lane_cost: load average {os.getloadavg()[0]:.2f}", flush=True)
     r = Renderer(scene_for("bundle", 32, 8, 8))
     env, tables = r.environment.struct, r.tables
@@ -175,7 +199,6 @@ def main(argv=None) -> int:
         laws[name] = time_kernel(kernel, inputs, out)
         print(f"  {name:52s} {laws[name]:6.1f} ns per call (inputs included)", flush=True)
     positions = {}
-    res, spp = 32, 8
     for est, lanes in (
         ("bundle", 1),
         ("bundle", 2),
@@ -184,19 +207,10 @@ def main(argv=None) -> int:
         ("bundle", 16),
         ("clear", 1),
     ):
-        sc = scene_for(est, res, lanes, lanes).with_overrides({"render.spp": spp, "render.seed": 3})
-        rr = Renderer(sc)
-        rr.load_kernels()
-        t0 = time.process_time()
-        img = rr.run(threads=1)
-        t = time.process_time() - t0
-        n = spp * res * res
+        us, rays = position_cost(est, lanes, args.spp)
         key = f"{est} {lanes} lanes" if est == "bundle" else "clear twin, 1 wavelength tree"
-        positions[key] = {"us_per_position": 1e6 * t / n, "rays_per_position": float(img.stats["rays"]) / n}
-        print(
-            f"  {key:30s} {1e6 * t / n:6.2f} us per pixel position, {img.stats['rays'] / n:5.1f} rays",
-            flush=True,
-        )
+        positions[key] = {"us_per_position": us, "rays_per_position": rays}
+        print(f"  {key:30s} {us:6.2f} us per pixel position, {rays:5.1f} rays", flush=True)
     one, sixteen = positions["bundle 1 lanes"], positions["bundle 16 lanes"]
     marginal = (sixteen["us_per_position"] - one["us_per_position"]) / 15.0
     share = marginal / one["us_per_position"]
