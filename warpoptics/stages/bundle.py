@@ -74,10 +74,10 @@ twice, A -> B for the reflected child and direction and B -> A for the refracted
 amplitudes; between lossless media the second is the first swapped (``fresnel_reverse``, the
 Stokes relations: two real divisions instead of a complex square root and four complex ones, and
 more accurate near grazing), and the lat-long lookup's ``acosf``/``atan2f`` became one polynomial
-atan (``geometry/directions.py``).  ``backward_isotropic`` 120 -> 86 ns (medians of 5
-alternating runs of bench_lane_cost's kernel); an 8-lane position
-~10 % faster (median of 10 alternating process pairs, 32x32 issue-19 stone, one thread: the
-machine's noise is +-10 % a run); the clear stone's position unchanged within that noise.
+atan (``geometry/directions.py``).  ``backward_isotropic`` 117 -> 85 ns; an 8-lane position
+0.91x the time (median of 11 alternating process pairs, 32x32 issue-19 stone, one thread: the
+machine's noise is +-10 % a run); the clear stone's position unchanged within that noise
+(``scripts/bench/results/bench_lane_cost_ab.log``).
 Measured the same way and not kept: an 8-lane stack (``LANES`` = 8, half the per-position
 zeroing and cache footprint; it would cap ``bundle_lanes`` at 8): median 0.96, within the noise;
 Warp's ``optimization_level`` 3 instead of the CPU default 2: median 1.05 (slower).  A lane's
