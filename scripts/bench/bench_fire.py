@@ -45,6 +45,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -252,6 +253,13 @@ def main(argv=None) -> int:
         default=0.0,
         help="also run indicatrix on the clear twin (its diamond at the constant index) for this budget",
     )
+    ap.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="a setting of our dispersive scene only (TOML value), e.g. render.pixel_beam=true",
+    )
     ap.add_argument("--json", help="write the results here")
     ap.add_argument("--log", help="also write this log here")
     ap.add_argument("--save", help="write the mean images (linear sRGB) to this .npz")
@@ -287,13 +295,19 @@ def main(argv=None) -> int:
             o["light.0.map"] = str(ROOT / m)  # the scene's map path is relative to the repository root
         if spp is not None:
             o["render.spp"] = spp
+        if name == "ours":
+            for kv in args.set:
+                key, _, value = kv.partition("=")
+                o[key.strip()] = tomllib.loads(f"v = {value}")["v"]
         scenes[name] = s.with_overrides(o)
     sc = scenes["ours"]
     r = sc.render
     w, h = sc.camera.width, sc.camera.height
     log(
         f"scene {shown(args.scene)}: {w}x{h}, {r.spectral} {r.wavelengths} wavelengths x spp {r.spp}"
-        f"{' adaptive' if r.adaptive else ''}, polarization {r.polarization}, max_depth {r.max_depth}; "
+        f"{' adaptive' if r.adaptive else ''}{' pixel beams' if r.pixel_beam else ''}, "
+        f"polarization {r.polarization}, "
+        f"max_depth {r.max_depth}, split_threshold {r.split_threshold}; "
         f"clear twin {shown(args.clear_scene)} spp {scenes['clear'].render.spp}; cpu cores {os.cpu_count()}"
     )
     res: dict = {

@@ -27,7 +27,7 @@ from ..geometry.nesting import point_medium
 from ..geometry.query import GeometryScene, SceneGeometry
 from ..materials import material_from_spec
 from ..materials.dispersion import MaterialTable, build_material_table
-from ..optics.jones import stokes_from_coherency
+from ..optics.jones import jones_zero, stokes_from_coherency
 from ..scene import Scene
 from ..spectra import (
     COARSE_STEP_NM,
@@ -49,6 +49,7 @@ from ..stages.fluorescence import (
     has_fluorescence,
     scene_light_spectra,
 )
+from ..stages.pixel_beam import beam_applies, pixel_beam, trace_beam
 from ..stages.surfaces import Surfaces, SurfaceStage
 from ..stages.trace import (
     TraceConfig,
@@ -88,6 +89,8 @@ class FilmParams:
     response: wp.mat33f  # the exact spectral integral (EnvironmentLight.exact_response) when shared
     bundle: int  # 1: dispersive scene traced in spectral bundles (stages/bundle.py)
     groups: int  # bundles per spp (each takes every groups-th stratum of the count)
+    beam: int  # 1: each bundle traces the pixel's whole footprint as beams (stages/pixel_beam.py)
+    beam_object: int  # the one convex solid the beams meet
 
 
 # Values drawn from the camera stream per trace (wavelength, lens u, lens v): a round that starts
@@ -227,9 +230,24 @@ def _make_render_pixels(trace, module=None):
                     lane_w[nl, 2] = w[2]
                     nl += 1
                 wp.randf(rng)  # (reserved: keeps _DRAWS_PER_TRACE draws per bundle)
-                coh_x, coh, coh_z, hit, nr, rng_trace = trace_bundle(
-                    tp, geom, mats, env, tables, polarized, o, d, bx, lanes, lane_w, nl, rng_trace
-                )
+                coh_x = jones_zero()
+                coh = jones_zero()
+                coh_z = jones_zero()
+                cover = float(0.0)
+                nr = int(0)
+                if film.beam != 0:
+                    # pixel beams: the whole pixel at once (stages/pixel_beam.py; the R2 point
+                    # is not used)
+                    b_poly, b_bx = pixel_beam(cam, px, py)
+                    coh_x, coh, coh_z, cover, nr, rng_trace = trace_beam(
+                        tp, geom, mats, env, tables, polarized, film.beam_object, b_poly, 4, b_bx,
+                        lanes, lane_w, nl, rng_trace,
+                    )  # fmt: skip
+                else:
+                    coh_x, coh, coh_z, hit_i, nr, rng_trace = trace_bundle(
+                        tp, geom, mats, env, tables, polarized, o, d, bx, lanes, lane_w, nl, rng_trace
+                    )
+                    cover = float(hit_i)
                 s = stokes_from_coherency(coh)
                 sx = stokes_from_coherency(coh_x)
                 sz = stokes_from_coherency(coh_z)
@@ -242,7 +260,7 @@ def _make_render_pixels(trace, module=None):
                 stokes += _stokes_d(s)
                 stokes_x += _stokes_d(sx)
                 stokes_z += _stokes_d(sz)
-                hits += float(hit)
+                hits += cover
                 rays += nr
             _add_to_film(
                 pix,
@@ -532,6 +550,12 @@ class Renderer:
             and self.camera_medium < 0  # bundles start in the ambient medium
         )
         film.bundle = 1 if self.spectral_bundle else 0
+        # pixel beams (stages/pixel_beam.py): a bundle's lanes trace the pixel's whole footprint
+        self.pixel_beam = self.spectral_bundle and bool(getattr(r, "pixel_beam", False))
+        if self.pixel_beam:
+            beam_applies(scene, self.geometry, file=scene.path)
+        film.beam = 1 if self.pixel_beam else 0
+        film.beam_object = 0
         film.groups = -(-film.count // r.bundle_lanes) if self.spectral_bundle else 1
         # the whole spectrum at every leaf, integrated exactly (no spectral noise); a shared
         # scene's `wavelengths` then only multiplies the pixel samples per spp

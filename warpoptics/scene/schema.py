@@ -88,6 +88,9 @@ class RenderConfig:
     # tree per wavelength sample at its own position
     bundle: bool = True
     bundle_lanes: int = 8
+    # pixel beams (stages/pixel_beam.py): a bundle traces the pixel's whole footprint through one
+    # convex stone as exact parallel beams instead of a point of it
+    pixel_beam: bool = False
     source: str | None = field(default=None, compare=False)  # scene file, for messages
 
     def __post_init__(self) -> None:
@@ -96,7 +99,7 @@ class RenderConfig:
         val.choice(self.birefringence, BIREFRINGENCE_MODES, file=file, field=f("birefringence"))
         val.choice(self.tone, TONE_CURVES, file=file, field=f("tone"))
         val.choice(self.mis, MIS_CHOICES, file=file, field=f("mis"))
-        for k in ("polarization", "stone_shadows", "caustics", "adaptive", "bundle"):
+        for k in ("polarization", "stone_shadows", "caustics", "adaptive", "bundle", "pixel_beam"):
             val.boolean(getattr(self, k), file=file, field=f(k))
         cp = self.caustic_paths
         if isinstance(cp, int) and not isinstance(cp, bool) and cp > _CAUSTIC_PATHS_MAX:

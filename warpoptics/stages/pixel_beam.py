@@ -1,0 +1,729 @@
+"""Pixel beams: a pixel's whole footprint traced through a convex stone as beams.
+
+Why.  With the spectral bundles (``stages/bundle.py``) a dispersive stone's noise is no longer
+mostly spectral: it is where a pixel's sample positions fall relative to facet edges, seen
+directly and many reflections deep (``scripts/bench/fire_noise_sources.py``).  Averaging those
+positions is what costs most of the samples.  A beam follows the whole pixel instead: the part
+of the pixel whose rays meet each facet is a convex polygon (``geometry/polygon.py``: pixel
+coordinates, a ray per vertex), and one Fresnel solution, one Jones matrix and one environment
+lookup serve each part.
+
+What.  :func:`trace_beam` follows the pixel's polygon (:func:`pixel_beam`: the four corners'
+camera rays) for each of ``count`` wavelengths.  Entering the stone it is cut by the front
+facets its rays meet (the rest misses and sees the environment); a part's reflection off the
+outside leaves the convex stone and sees the environment, its refraction continues inside.
+Inside, a part is cut by the facets its rays leave through; each piece's refraction out is a
+leaf, its internal reflection continues.  Every vertex's ray is reflected and refracted exactly
+(``optics.fresnel``: the same laws as a ray's); the piece's Fresnel amplitudes, Jones matrix and
+weight are those of its centre ray (the mean of its vertices': the event of
+``optics.interface.backward_isotropic``).  A leaf adds the piece's fraction of the pixel (its
+area in pixel coordinates) times the light a ray of it carries, looked up along the direction
+of a point drawn uniformly in the piece (so the environment is averaged over the spread of
+directions a pixel's rays leave in).  The only other random choices are Russian roulette on
+parts carrying less than ``split_threshold`` of the pixel's light and, should more parts be
+pending than the stack holds, a pick among them by their fractions (weighted by the inverse
+probability): both unbiased.
+
+Accuracy.  Orthographic camera: the pixel's rays share one direction, every cut and every
+interpolated ray is exact, so the estimate is unbiased.  Pinhole camera: the rays are exact at
+the vertices and linear in the pixel coordinates until they first refract; after that the
+interpolated rays are exact to first order in the pixel's angle (ray differentials), so a cut
+deep in the stone may sit off by a second-order amount.  Also second order: a part's Fresnel
+factors are its centre ray's (they vary with the angle across the pixel), a vertex in total
+internal reflection inside a refracting part takes the centre ray's refracted direction, and a
+segment's absorption is that of the centre ray.  ``scripts/bench/beam_bias.py`` measures the
+whole against point sampling.
+
+Scope: one convex, isotropic, uncoated solid in an environment light, seen through a pinhole or
+orthographic camera (``beam_applies``).
+
+References:
+    Heckbert, P., Hanrahan, P. 1984. Beam tracing polygonal objects. SIGGRAPH 84, 119-127.
+    Igehy, H. 1999. Tracing ray differentials. SIGGRAPH 99, 179-186.
+    Guy, S., Soler, C. 2004. Graphics Gems Revisited, §5 (the pruned facet tree).
+    Veach, E. 1997. Robust Monte Carlo Methods for Light Transport Simulation, ch. 4 (Russian
+        roulette, random selection weighted by 1/probability).
+"""
+
+from __future__ import annotations
+
+import warp as wp
+
+from ..film.leaf import add_leaf
+from ..geometry.polygon import (
+    COLS,
+    MAX_VERTICES,
+    BeamPolygon,
+    VertexValues,
+    clip_by_values,
+    polygon_area,
+    random_point,
+)
+from ..geometry.query import SceneGeometry, world_normal
+from ..materials.dispersion import MaterialTable
+from ..optics.absorption import bouguer_lambert
+from ..optics.birefringence import uniaxial_medium
+from ..optics.branches import ROW_B, ROW_D, ROW_IN, ROW_MI, ROW_MR, ROW_W, Cand, roulette
+from ..optics.fresnel import reflect_direction, refract_direction
+from ..optics.interface import backward_isotropic
+from ..optics.jones import Jones, coherency_unpolarized, jones_zero
+from ..spectra import SpectralTables
+from .bundle import LaneWavelengths, LaneWeights
+from .camera import CameraParams, camera_ray
+from .environment import Environment, environment_basis, environment_coefficients
+from .media import object_medium, segment_kappa
+from .trace import TraceParams
+
+wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
+
+__all__ = ["MAX_PLANES", "MAX_PIECES", "STACK_ROWS", "pixel_beam", "trace_beam", "beam_applies"]
+
+#: facet planes of the stone a beam can handle
+MAX_PLANES = 128
+#: pieces one cut may give (beyond it: one of the rest, picked by fraction)
+MAX_PIECES = 8
+#: pending parts of the beam (beyond it: one of the rest, picked by fraction)
+STACK_ROWS = 32
+_PLANES = wp.constant(MAX_PLANES)
+_PIECES = wp.constant(MAX_PIECES)
+_STACK = wp.constant(STACK_ROWS)
+_C = wp.constant(COLS)
+_BIG = wp.constant(1.0e20)
+# piece columns: the polygon (vertex i at COLS i), vertex count, fraction of the pixel, facet, the
+# mean ray parameter from where the cut beam started (the centre ray's path, mm)
+_P_NV = wp.constant(COLS * MAX_VERTICES)
+_P_FRAC = wp.constant(COLS * MAX_VERTICES + 1)
+_P_FACET = wp.constant(COLS * MAX_VERTICES + 2)
+_P_T = wp.constant(COLS * MAX_VERTICES + 3)
+_PIECE_COLS = COLS * MAX_VERTICES + 4
+# stack columns: the piece's, then basis x, Jones (re 4, im 4), weight, depth
+_S_B = wp.constant(_PIECE_COLS)
+_S_MR = wp.constant(_PIECE_COLS + 3)
+_S_MI = wp.constant(_PIECE_COLS + 7)
+_S_W = wp.constant(_PIECE_COLS + 11)
+_S_DEPTH = wp.constant(_PIECE_COLS + 12)
+_STACK_COLS = _PIECE_COLS + 13
+
+PieceBuf = wp.types.matrix(shape=(MAX_PIECES, _PIECE_COLS), dtype=wp.float32)
+BeamStack = wp.types.matrix(shape=(STACK_ROWS, _STACK_COLS), dtype=wp.float32)
+PlaneList = wp.types.vector(length=MAX_PLANES, dtype=wp.int32)
+
+
+@wp.func
+def _p(poly: BeamPolygon, i: int):
+    return wp.vec3f(poly[i, 2], poly[i, 3], poly[i, 4])
+
+
+@wp.func
+def _d(poly: BeamPolygon, i: int):
+    return wp.vec3f(poly[i, 5], poly[i, 6], poly[i, 7])
+
+
+@wp.func
+def _set_ray(poly: BeamPolygon, i: int, x: wp.vec3f, d: wp.vec3f):
+    for c in range(3):
+        poly[i, 2 + c] = x[c]
+        poly[i, 5 + c] = d[c]
+    return poly
+
+
+@wp.func
+def _centre(poly: BeamPolygon, nv: int):
+    """The part's centre ray: the mean of its vertices' points and (unit) directions."""
+    x = wp.vec3f(0.0, 0.0, 0.0)
+    d = wp.vec3f(0.0, 0.0, 0.0)
+    for i in range(nv):
+        x = x + _p(poly, i)
+        d = d + _d(poly, i)
+    return x / float(wp.max(nv, 1)), wp.normalize(d)
+
+
+@wp.func
+def pixel_beam(cam: CameraParams, px: int, py: int):
+    """The beam of pixel (px, py): its corners (u, v) = (0, 0), (1, 0), (1, 1), (0, 1) with the
+    camera's rays through them, the directions scaled to unit length along the camera's axis
+    (then a pinhole's are linear in (u, v), and so exact when interpolated), and the basis x of
+    the pixel centre's ray."""
+    o_c, d_c, bx = camera_ray(cam, float(px) + 0.5, float(py) + 0.5, 0.5, 0.5)
+    poly = BeamPolygon()
+    for i in range(4):
+        u = float(0.0)
+        v = float(0.0)
+        if i == 1 or i == 2:
+            u = 1.0
+        if i >= 2:
+            v = 1.0
+        o, d, b = camera_ray(cam, float(px) + u, float(py) + v, 0.5, 0.5)
+        poly[i, 0] = u
+        poly[i, 1] = v
+        poly = _set_ray(poly, i, o, d / wp.dot(d, cam.forward))
+    return poly, bx
+
+
+@wp.func
+def _obj(geom: SceneGeometry, k: int, poly: BeamPolygon, i: int):
+    """Vertex i's ray in object k's space (ray parameters are the same in both spaces)."""
+    m = geom.world_to_object[k]
+    return wp.transform_point(m, _p(poly, i)), wp.transform_vector(m, _d(poly, i))
+
+
+@wp.func
+def _t_exit(geom: SceneGeometry, s: int, g: int, x: wp.vec3f, d: wp.vec3f):
+    """Ray parameter at which the object-space ray x + t d leaves through plane g of the object
+    whose planes start at ``s`` (_BIG: the plane does not face the ray)."""
+    pl = geom.planes[s + g]
+    n = wp.vec3f(pl[0], pl[1], pl[2])
+    sd = wp.dot(n, d)
+    if sd <= 0.0:
+        return _BIG
+    return (pl[3] - wp.dot(n, x)) / sd
+
+
+@wp.func
+def _t_entry(geom: SceneGeometry, s: int, g: int, x: wp.vec3f, d: wp.vec3f):
+    """Ray parameter at which the object-space ray x + t d enters through plane g (-_BIG: the
+    plane does not face the ray)."""
+    pl = geom.planes[s + g]
+    n = wp.vec3f(pl[0], pl[1], pl[2])
+    sd = wp.dot(n, d)
+    if sd >= 0.0:
+        return -_BIG
+    return (pl[3] - wp.dot(n, x)) / sd
+
+
+@wp.func
+def _exit_argmin(geom: SceneGeometry, s: int, count: int, x: wp.vec3f, d: wp.vec3f):
+    best = int(0)
+    t_best = float(_BIG)
+    for g in range(count):
+        t = _t_exit(geom, s, g, x, d)
+        if t < t_best:
+            t_best = t
+            best = g
+    return best
+
+
+@wp.func
+def _exits_via(geom: SceneGeometry, s: int, f: int, x: wp.vec3f, d: wp.vec3f, tol: float):
+    """Whether the ray x + t d from inside the convex solid leaves through facet ``f``: where it
+    meets f's plane lies inside the planes of f's edge neighbours (``mesh.facet_neighbours``;
+    ``geometry.query.convex_exit_near`` tests a ray the same way)."""
+    a = geom.adj_start[s + f]
+    b = geom.adj_start[s + f + 1]
+    t = _t_exit(geom, s, f, x, d)
+    if b == a or t >= _BIG:
+        return 0
+    q = x + d * t
+    for i in range(a, b):
+        pl = geom.planes[s + geom.adj[i]]
+        if wp.dot(wp.vec3f(pl[0], pl[1], pl[2]), q) - pl[3] > tol:
+            return 0
+    return 1
+
+
+@wp.func
+def _add_candidate(lst: PlaneList, n: int, g: int):
+    for i in range(n):
+        if lst[i] == g:
+            return lst, n
+    if n < _PLANES:
+        lst[n] = g
+        n += 1
+    return lst, n
+
+
+@wp.func
+def _project(geom: SceneGeometry, k: int, poly: BeamPolygon, nv: int, f: int):
+    """Every vertex's ray moved to where it meets facet plane f of object k, and the mean of the
+    moves (ray parameters)."""
+    out = poly
+    t_sum = float(0.0)
+    pl = geom.planes[geom.plane_start[k] + f]
+    n = wp.vec3f(pl[0], pl[1], pl[2])
+    for i in range(nv):
+        xo, do = _obj(geom, k, poly, i)
+        x = _p(poly, i)
+        d = _d(poly, i)
+        sd = wp.dot(n, do)
+        t = float(0.0)
+        if sd != 0.0:
+            t = (pl[3] - wp.dot(n, xo)) / sd
+        t_sum += t
+        out = _set_ray(out, i, x + d * t, d)
+    return out, t_sum / float(wp.max(nv, 1))
+
+
+@wp.func
+def _put_piece(
+    buf: PieceBuf,
+    nb: int,
+    q: BeamPolygon,
+    nq: int,
+    frac: float,
+    facet: int,
+    t: float,
+    over: float,
+    rng: wp.uint32,
+):
+    """Append a piece; one beyond the buffer's rows joins the last row's reservoir (kept with
+    probability frac / all the fractions that met it, which it then carries: unbiased)."""
+    row = nb
+    if nb < _PIECES:
+        nb += 1
+    else:
+        row = _PIECES - 1
+        if over == 0.0:
+            over = buf[row, _P_FRAC]
+        over = over + frac
+        keep = wp.randf(rng) * over < frac
+        buf[row, _P_FRAC] = over
+        if not keep:
+            return buf, nb, over, rng
+        frac = over
+    for i in range(nq):
+        for c in range(_C):
+            buf[row, _C * i + c] = q[i, c]
+    buf[row, _P_NV] = float(nq)
+    buf[row, _P_FRAC] = frac
+    buf[row, _P_FACET] = float(facet)
+    buf[row, _P_T] = t
+    return buf, nb, over, rng
+
+
+@wp.func
+def _entry_region(geom: SceneGeometry, k: int, f: int, poly: BeamPolygon, nv: int):
+    """The part of ``poly`` whose rays enter object k through facet f: f is the last plane they
+    cross inward (largest entry parameter) and that comes before every outward crossing."""
+    s0 = geom.plane_start[k]
+    q = poly
+    m = nv
+    for g in range(geom.plane_count[k]):
+        if g == f or m == 0:
+            continue
+        s = VertexValues()
+        for i in range(m):
+            x, d = _obj(geom, k, q, i)
+            tf = _t_entry(geom, s0, f, x, d)
+            tg_in = _t_entry(geom, s0, g, x, d)
+            if tg_in > -_BIG:
+                s[i] = tf - tg_in
+            else:
+                s[i] = _t_exit(geom, s0, g, x, d) - tf
+        q, m = clip_by_values(q, m, s)
+    return q, m
+
+
+@wp.func
+def _exit_region(geom: SceneGeometry, k: int, f: int, poly: BeamPolygon, nv: int, cands: PlaneList, nc: int):
+    """The part of ``poly`` whose rays leave object k through facet f first among the
+    candidates."""
+    s0 = geom.plane_start[k]
+    q = poly
+    m = nv
+    for ci in range(nc):
+        e = cands[ci]
+        if e == f or m == 0:
+            continue
+        s = VertexValues()
+        for i in range(m):
+            x, d = _obj(geom, k, q, i)
+            s[i] = _t_exit(geom, s0, e, x, d) - _t_exit(geom, s0, f, x, d)
+        q, m = clip_by_values(q, m, s)
+    return q, m
+
+
+@wp.func
+def _entry_split(geom: SceneGeometry, k: int, poly: BeamPolygon, nv: int, rng: wp.uint32):
+    """Cut a beam arriving from outside convex object k by the facets its rays enter through:
+    (pieces on their facets with their fractions of the beam, count, fraction that misses)."""
+    s0 = geom.plane_start[k]
+    count = geom.plane_count[k]
+    buf = PieceBuf()
+    nb = int(0)
+    first = int(-2)
+    same = int(1)
+    hits = int(0)
+    for i in range(nv):
+        x, d = _obj(geom, k, poly, i)
+        t_in = float(-_BIG)
+        t_out = float(_BIG)
+        g_in = int(-1)
+        for g in range(count):
+            ti = _t_entry(geom, s0, g, x, d)
+            if ti > t_in:
+                t_in = ti
+                g_in = g
+            t_out = wp.min(t_out, _t_exit(geom, s0, g, x, d))
+        g_hit = int(-1)
+        if g_in >= 0 and t_in <= t_out:
+            g_hit = g_in
+            hits += 1
+        if first == -2:
+            first = g_hit
+        elif g_hit != first:
+            same = 0
+    if same != 0 and first >= 0:
+        q, t_mean = _project(geom, k, poly, nv, first)
+        buf, nb, over, rng = _put_piece(buf, nb, q, nv, 1.0, first, t_mean, 0.0, rng)
+        return buf, nb, 0.0, rng
+    if hits == 0:
+        # no corner's ray hits: the whole beam misses unless the solid's bounding sphere comes
+        # closer to the centre ray than the corners' rays spread there (object space)
+        sph = geom.bounding_sphere[k]
+        c = wp.vec3f(sph[0], sph[1], sph[2])
+        reach = float(0.0)
+        x0 = wp.vec3f(0.0, 0.0, 0.0)
+        d0 = wp.vec3f(0.0, 0.0, 0.0)
+        for i in range(nv):
+            x, d = _obj(geom, k, poly, i)
+            x0 = x0 + x / float(nv)
+            d0 = d0 + d / float(nv)
+        near = x0 + d0 * (wp.dot(c - x0, d0) / wp.dot(d0, d0))
+        for i in range(nv):
+            x, d = _obj(geom, k, poly, i)
+            reach = wp.max(reach, wp.length(x + d * (wp.dot(c - x, d) / wp.dot(d, d)) - near))
+        if wp.length(c - near) > sph[3] + reach:
+            return buf, 0, 1.0, rng
+    area = polygon_area(poly, nv)
+    covered = float(0.0)
+    over = float(0.0)
+    for f in range(count):
+        q, m = _entry_region(geom, k, f, poly, nv)
+        if m >= 3:
+            a_f = polygon_area(q, m)
+            if a_f > 0.0:
+                frac = a_f / area
+                covered += frac
+                qp, t_mean = _project(geom, k, q, m, f)
+                buf, nb, over, rng = _put_piece(buf, nb, qp, m, frac, f, t_mean, over, rng)
+    return buf, nb, wp.clamp(1.0 - covered, 0.0, 1.0), rng
+
+
+@wp.func
+def _exit_candidates(geom: SceneGeometry, k: int, poly: BeamPolygon, nv: int, tol: float):
+    """The facet the first vertex's ray leaves object k through, and 0 candidates if every
+    vertex's ray leaves through it (then the whole part does: the facet's projection along
+    the rays is convex); else the candidate facets of a cut (those the vertices' rays leave
+    through and their edge neighbours)."""
+    s = geom.plane_start[k]
+    count = geom.plane_count[k]
+    x0, d0 = _obj(geom, k, poly, 0)
+    f0 = _exit_argmin(geom, s, count, x0, d0)
+    cands = PlaneList()
+    nc = int(0)
+    for i in range(1, nv):
+        xi, di = _obj(geom, k, poly, i)
+        if _exits_via(geom, s, f0, xi, di, tol) == 0:
+            if nc == 0:
+                cands, nc = _add_candidate(cands, nc, f0)
+                for a in range(geom.adj_start[s + f0], geom.adj_start[s + f0 + 1]):
+                    cands, nc = _add_candidate(cands, nc, geom.adj[a])
+            fi = _exit_argmin(geom, s, count, xi, di)
+            cands, nc = _add_candidate(cands, nc, fi)
+            for a in range(geom.adj_start[s + fi], geom.adj_start[s + fi + 1]):
+                cands, nc = _add_candidate(cands, nc, geom.adj[a])
+    return f0, nc, cands
+
+
+@wp.func
+def _exit_split(geom: SceneGeometry, k: int, poly: BeamPolygon, nv: int, tol: float, rng: wp.uint32):
+    """Cut a beam inside convex object k by the facets its rays leave through: (pieces on their
+    facets with fractions of the beam and mean path lengths, count)."""
+    count = geom.plane_count[k]
+    buf = PieceBuf()
+    nb = int(0)
+    area = polygon_area(poly, nv)
+    if area <= 0.0:
+        return buf, 0, rng  # a degenerate part carries no light
+    f0, nc, cands = _exit_candidates(geom, k, poly, nv, tol)
+    over = float(0.0)
+    if nc == 0:
+        q, t_mean = _project(geom, k, poly, nv, f0)
+        buf, nb, over, rng = _put_piece(buf, nb, q, nv, 1.0, f0, t_mean, 0.0, rng)
+        return buf, nb, rng
+    for attempt in range(2):
+        if attempt == 1:
+            # the candidates missed a facet the beam meets: all planes
+            nc = count
+            for g in range(count):
+                cands[g] = g
+        nb = int(0)
+        over = float(0.0)
+        covered = float(0.0)
+        for ci in range(nc):
+            f = cands[ci]
+            q, m = _exit_region(geom, k, f, poly, nv, cands, nc)
+            if m >= 3:
+                a_f = polygon_area(q, m)
+                if a_f > 0.0:
+                    frac = a_f / area
+                    covered += frac
+                    qp, t_mean = _project(geom, k, q, m, f)
+                    buf, nb, over, rng = _put_piece(buf, nb, qp, m, frac, f, t_mean, over, rng)
+        if wp.abs(covered - 1.0) < 1.0e-3:
+            break
+    return buf, nb, rng
+
+
+@wp.func
+def _lookup_direction(poly: BeamPolygon, nv: int, rng: wp.uint32):
+    """The (unit) direction of a point uniform in the part, interpolated from its vertices'."""
+    b = random_point(poly, nv, wp.randf(rng), wp.randf(rng), wp.randf(rng))
+    d = wp.vec3f(0.0, 0.0, 0.0)
+    for i in range(nv):
+        d = d + _d(poly, i) * b[i]
+    return wp.normalize(d), rng
+
+
+@wp.func(inline=False)  # out of line, like trace_bundle (compile time)
+def trace_beam(
+    p: TraceParams,
+    geom: SceneGeometry,
+    mats: MaterialTable,
+    env: Environment,
+    tables: SpectralTables,
+    polarized: int,
+    k: int,
+    poly: BeamPolygon,
+    nv: int,
+    basis_x: wp.vec3f,
+    wavelengths: LaneWavelengths,
+    weights: LaneWeights,
+    count: int,
+    rng: wp.uint32,
+):
+    """The light reaching the camera through one pixel's beam (:func:`pixel_beam`) at ``count``
+    wavelengths: (coherency matrices J_X, J_Y, J_Z summed over the lanes, lane j's light weighted
+    by ``weights[j]``, averaged over the pixel; the fraction of the pixel that meets the stone;
+    the beam parts traced; rng).  Module docstring for the method."""
+    acc_x = jones_zero()
+    acc_y = jones_zero()
+    acc_z = jones_zero()
+    scalar_xyz = wp.vec3f(0.0, 0.0, 0.0)
+    m_w = geom.world_to_object[k]
+    s = geom.plane_start[k]
+    tol = 1.0e-6 * geom.bounding_sphere[k][3]
+    eps = geom.epsilon[k]
+    mat = p.object_material[k]
+    # the entry cut is the same for every wavelength
+    entry, n_entry, miss, rng = _entry_split(geom, k, poly, nv, rng)
+    x_pix, d_pix = _centre(poly, nv)
+    parts = int(0)
+    cand = Cand()
+    st = BeamStack()
+    one = Jones()
+    one.re = wp.mat22(1.0, 0.0, 0.0, 1.0)
+    one.im = wp.mat22(0.0, 0.0, 0.0, 0.0)
+    for j in range(count):
+        wl = wavelengths[j]
+        b3 = environment_basis(env, tables, wl)
+        xyz_w = wp.vec3f(weights[j, 0], weights[j, 1], weights[j, 2])
+        med, no, ne, alpha = object_medium(mats, mat, p.object_axis[k], wl)
+        n_in = no[0]
+        kappa = segment_kappa(
+            mats,
+            mat,
+            wp.vec2f(alpha[0], alpha[0]),
+            -1,
+            -1,
+            wp.vec3f(0.0, 0.0, 1.0),
+            uniaxial_medium(no[0], no[0], wp.vec3f(0.0, 0.0, 0.0)),
+            p.object_absorption_scale[k],
+        )
+        if miss > 0.0:
+            # the part of the pixel that misses the stone: a direction of the pixel's spread
+            d_m, rng = _lookup_direction(poly, nv, rng)
+            rad = wp.dot(b3, environment_coefficients(env, d_m))
+            acc_x, acc_y, acc_z, scalar_xyz = add_leaf(
+                acc_x, acc_y, acc_z, scalar_xyz, polarized, one, miss, env.polarizer, -d_pix, basis_x,
+                xyz_w * rad,
+            )  # fmt: skip
+        n = int(0)
+        over = float(0.0)  # the reservoir in the stack's last row: the fractions that met it
+        # the pieces of the cut being traced: first the entry's, then those of popped parts
+        buf = entry
+        nb = n_entry
+        inside = int(-1)
+        depth = int(0)
+        b_w = basis_x
+        m_j = one
+        w_j = float(1.0)
+        while True:
+            for i in range(nb):
+                if depth >= p.max_depth:
+                    break
+                nq = int(buf[i, _P_NV])
+                frac = buf[i, _P_FRAC]
+                f = int(buf[i, _P_FACET])
+                q = BeamPolygon()
+                for r in range(nq):
+                    for c in range(_C):
+                        q[r, c] = buf[i, _C * r + c]
+                parts += 1
+                x_c, d_c = _centre(q, nq)
+                pl = geom.planes[s + f]
+                n_out = world_normal(m_w, wp.vec3f(pl[0], pl[1], pl[2]))
+                n_a = wp.vec2f(p.ambient[0], 0.0)
+                n_b = wp.vec2f(n_in, 0.0)
+                nrm = n_out
+                in_b = k
+                w_i = w_j
+                if inside >= 0:
+                    n_a = wp.vec2f(n_in, 0.0)
+                    n_b = wp.vec2f(p.ambient[0], 0.0)
+                    nrm = -n_out
+                    in_b = -1
+                    if kappa != 0.0:
+                        # Bouguer-Lambert along the centre ray's segment (module docstring)
+                        w_i = w_i * bouguer_lambert(kappa, buf[i, _P_T] * wp.length(_d(q, 0)))
+                b_i = wp.normalize(b_w - d_c * wp.dot(b_w, d_c))
+                cand, energies, kc = backward_isotropic(
+                    cand, m_j, w_i, b_i, d_c, n_out, nrm, n_a, n_b, x_c, eps, inside, in_b, depth, polarized
+                )
+                for ci in range(kc):
+                    d_ch = wp.vec3f(cand[ci, ROW_D], cand[ci, ROW_D + 1], cand[ci, ROW_D + 2])
+                    b_ch = wp.vec3f(cand[ci, ROW_B], cand[ci, ROW_B + 1], cand[ci, ROW_B + 2])
+                    reflected = int(cand[ci, ROW_IN]) == inside
+                    # every vertex's ray reflected or refracted by the same laws as the centre's
+                    qc = q
+                    for r in range(nq):
+                        d_r = wp.normalize(_d(q, r))
+                        d_n = reflect_direction(d_r, n_out)
+                        if not reflected:
+                            d_n = refract_direction(d_r, nrm, n_a[0], n_b[0])
+                            if wp.dot(d_n, d_n) == 0.0:
+                                d_n = d_ch  # total internal reflection at this vertex alone
+                        qc = _set_ray(qc, r, _p(q, r), d_n)
+                    w_c = cand[ci, ROW_W]
+                    m_c = Jones()
+                    m_c.re = wp.mat22(
+                        cand[ci, ROW_MR], cand[ci, ROW_MR + 1], cand[ci, ROW_MR + 2], cand[ci, ROW_MR + 3]
+                    )
+                    m_c.im = wp.mat22(
+                        cand[ci, ROW_MI], cand[ci, ROW_MI + 1], cand[ci, ROW_MI + 2], cand[ci, ROW_MI + 3]
+                    )
+                    if int(cand[ci, ROW_IN]) < 0:
+                        # leaves the convex stone (reflected off it or refracted out): a leaf
+                        d_l, rng = _lookup_direction(qc, nq, rng)
+                        rad = wp.dot(b3, environment_coefficients(env, d_l))
+                        acc_x, acc_y, acc_z, scalar_xyz = add_leaf(
+                            acc_x, acc_y, acc_z, scalar_xyz, polarized, m_c, w_c * frac, env.polarizer,
+                            -d_ch, b_ch, xyz_w * rad,
+                        )  # fmt: skip
+                        continue
+                    if depth + 1 >= p.max_depth:
+                        continue  # its next interface would be one too many
+                    # roulette: a part carrying less than split_threshold of the pixel's light
+                    # continues with probability e / split_threshold (weighted by its inverse)
+                    e = energies[ci] * frac
+                    if e < p.split_threshold:
+                        alive, boost = roulette(e, p.split_threshold, wp.randf(rng))
+                        if alive == 0:
+                            continue
+                        w_c = w_c * boost
+                    row = n
+                    frac_row = frac
+                    if n < _STACK:
+                        n += 1
+                    else:
+                        # the stack is full: its last row is a reservoir of the parts beyond it,
+                        # keeping one with probability frac / (all that met it), which then
+                        # carries their whole fraction (unbiased)
+                        row = _STACK - 1
+                        if over == 0.0:
+                            over = st[row, _P_FRAC]
+                        over = over + frac
+                        frac_row = over
+                        if wp.randf(rng) * over >= frac:
+                            st[row, _P_FRAC] = over
+                            continue
+                    for r in range(nq):
+                        for c in range(_C):
+                            st[row, _C * r + c] = qc[r, c]
+                    st[row, _P_NV] = float(nq)
+                    st[row, _P_FRAC] = frac_row
+                    st[row, _P_FACET] = float(f)
+                    for c in range(3):
+                        st[row, _S_B + c] = b_ch[c]
+                    for c in range(4):
+                        st[row, _S_MR + c] = cand[ci, ROW_MR + c]
+                        st[row, _S_MI + c] = cand[ci, ROW_MI + c]
+                    st[row, _S_W] = w_c
+                    st[row, _S_DEPTH] = float(depth + 1)
+            if n == 0:
+                break
+            # pop a part inside the stone and cut it by the facets its rays leave through
+            n -= 1
+            if n == _STACK - 1:
+                over = float(0.0)  # the reservoir row is popped
+            nq = int(st[n, _P_NV])
+            frac = st[n, _P_FRAC]
+            q = BeamPolygon()
+            for r in range(nq):
+                for c in range(_C):
+                    q[r, c] = st[n, _C * r + c]
+            b_w = wp.vec3f(st[n, _S_B], st[n, _S_B + 1], st[n, _S_B + 2])
+            m_j = Jones()
+            m_j.re = wp.mat22(st[n, _S_MR], st[n, _S_MR + 1], st[n, _S_MR + 2], st[n, _S_MR + 3])
+            m_j.im = wp.mat22(st[n, _S_MI], st[n, _S_MI + 1], st[n, _S_MI + 2], st[n, _S_MI + 3])
+            w_j = st[n, _S_W]
+            depth = int(st[n, _S_DEPTH])
+            inside = k
+            f0, nc, cands = _exit_candidates(geom, k, q, nq, tol)
+            if nq < 3 or polygon_area(q, nq) <= 0.0:
+                nb = 0  # a degenerate part carries no light
+            elif nc == 0:
+                # the whole part leaves through one facet (the common case: written here, not
+                # through _exit_split, whose piece buffer is copied by value)
+                pl0 = geom.planes[s + f0]
+                n0 = wp.vec3f(pl0[0], pl0[1], pl0[2])
+                t_sum = float(0.0)
+                for r in range(nq):
+                    xo, do = _obj(geom, k, q, r)
+                    t = (pl0[3] - wp.dot(n0, xo)) / wp.dot(n0, do)
+                    t_sum += t
+                    buf[0, _C * r] = q[r, 0]
+                    buf[0, _C * r + 1] = q[r, 1]
+                    for c in range(3):
+                        buf[0, _C * r + 2 + c] = q[r, 2 + c] + q[r, 5 + c] * t
+                        buf[0, _C * r + 5 + c] = q[r, 5 + c]
+                buf[0, _P_NV] = float(nq)
+                buf[0, _P_FRAC] = frac
+                buf[0, _P_FACET] = float(f0)
+                buf[0, _P_T] = t_sum / float(nq)
+                nb = 1
+            else:
+                buf, nb, rng = _exit_split(geom, k, q, nq, tol, rng)
+                for i in range(nb):
+                    buf[i, _P_FRAC] = buf[i, _P_FRAC] * frac
+    if polarized == 0:
+        acc_x = coherency_unpolarized(scalar_xyz[0])
+        acc_y = coherency_unpolarized(scalar_xyz[1])
+        acc_z = coherency_unpolarized(scalar_xyz[2])
+    return acc_x, acc_y, acc_z, 1.0 - miss, parts, rng
+
+
+def beam_applies(scene, geometry, *, file=None) -> None:
+    """Check that ``render.pixel_beam`` can trace ``scene`` (already traced in spectral bundles:
+    ``stages.bundle.bundle_applies``): one closed convex solid of at most :data:`MAX_PLANES`
+    facet planes, seen through a pinhole or orthographic camera.  Raises ``InputError`` naming
+    what does not fit."""
+    from ..errors import InputError
+
+    why = None
+    if len(scene.objects) != 1:
+        why = f"one solid (the scene has {len(scene.objects)})"
+    elif not geometry._convex_possible[0]:
+        why = "a closed convex solid (this one is not convex)"
+    elif int(geometry.geometry.plane_count.numpy()[0]) > MAX_PLANES:
+        why = f"at most {MAX_PLANES} facet planes"
+    elif scene.camera.type == "thin_lens" and scene.camera.aperture > 0.0:
+        why = "a pinhole or orthographic camera (not a thin lens with an aperture)"
+    if why is not None:
+        raise InputError(
+            "pixel beams trace " + why,
+            file=file,
+            field="render.pixel_beam",
+            value=True,
+            allowed="false for this scene",
+        )
