@@ -93,7 +93,10 @@ the pixel over the facet tree (beam tracing) would remove.  Nor is it mostly the
 facets the camera meets first, which clipping each pixel against the projected front facets
 would integrate exactly: the 38 % of the stone's pixels that hold such an edge (64x64) carry
 49-50 % of the variance but only 1.5x the other stone pixels' per pixel, so that step would
-remove ~1/6 of it; the rest comes from the edges seen deeper in the tree.
+remove ~1/6 of it; the rest comes from the edges seen deeper in the tree.  Session 12 removes
+it: ``render.pixel_beam`` traces a bundle's lanes through the pixel's whole footprint
+(``stages/pixel_beam.py``), which on this stone at 64x64 reaches 1 % in half the time of the
+point-sampled bundles (``scripts/bench/results/bench_fire_64_beams.*``).
 
 Scope.  Isotropic, uncoated solids in an environment light (no surfaces, lamps or films, no
 solid inside another: a bundle keeps one solid's indices; not rgb3): :func:`bundle_applies` is

@@ -254,6 +254,18 @@ def _project(geom: SceneGeometry, k: int, poly: BeamPolygon, nv: int, f: int):
 
 
 @wp.func
+def _reservoir(over: float, held: float, frac: float, u: float):
+    """One step of weighted reservoir sampling (Chao 1982) over the parts that find no free row:
+    ``over`` is the sum of the fractions met so far (0: none yet, then the part held in the row,
+    of fraction ``held``, is the first).  Returns (keep the new part of fraction ``frac``, the new
+    sum); the part kept at the end carries the whole sum, which is unbiased."""
+    if over == 0.0:
+        over = held
+    over = over + frac
+    return u * over < frac, over
+
+
+@wp.func
 def _put_piece(
     buf: PieceBuf,
     nb: int,
@@ -272,10 +284,7 @@ def _put_piece(
         nb += 1
     else:
         row = _PIECES - 1
-        if over == 0.0:
-            over = buf[row, _P_FRAC]
-        over = over + frac
-        keep = wp.randf(rng) * over < frac
+        keep, over = _reservoir(over, buf[row, _P_FRAC], frac, wp.randf(rng))
         buf[row, _P_FRAC] = over
         if not keep:
             return buf, nb, over, rng
@@ -630,11 +639,9 @@ def trace_beam(
                         # keeping one with probability frac / (all that met it), which then
                         # carries their whole fraction (unbiased)
                         row = _STACK - 1
-                        if over == 0.0:
-                            over = st[row, _P_FRAC]
-                        over = over + frac
+                        keep, over = _reservoir(over, st[row, _P_FRAC], frac, wp.randf(rng))
                         frac_row = over
-                        if wp.randf(rng) * over >= frac:
+                        if not keep:
                             st[row, _P_FRAC] = over
                             continue
                     for r in range(nq):
