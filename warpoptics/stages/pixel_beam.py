@@ -300,6 +300,33 @@ def _put_piece(
 
 
 @wp.func
+def _add_region(
+    geom: SceneGeometry,
+    k: int,
+    buf: PieceBuf,
+    nb: int,
+    q: BeamPolygon,
+    m: int,
+    f: int,
+    area: float,
+    covered: float,
+    over: float,
+    rng: wp.uint32,
+):
+    """A cut's region ``q`` of the beam (``area`` in all) that meets facet f: moved onto f and
+    added as a piece with its fraction of the beam, unless empty; ``covered`` sums the
+    fractions."""
+    if m >= 3:
+        a_f = polygon_area(q, m)
+        if a_f > 0.0:
+            frac = a_f / area
+            covered += frac
+            qp, t_mean = _project(geom, k, q, m, f)
+            buf, nb, over, rng = _put_piece(buf, nb, qp, m, frac, f, t_mean, over, rng)
+    return buf, nb, covered, over, rng
+
+
+@wp.func
 def _entry_region(geom: SceneGeometry, k: int, f: int, poly: BeamPolygon, nv: int):
     """The part of ``poly`` whose rays enter object k through facet f: f is the last plane they
     cross inward (largest entry parameter) and that comes before every outward crossing."""
@@ -398,13 +425,7 @@ def _entry_split(geom: SceneGeometry, k: int, poly: BeamPolygon, nv: int, rng: w
     over = float(0.0)
     for f in range(count):
         q, m = _entry_region(geom, k, f, poly, nv)
-        if m >= 3:
-            a_f = polygon_area(q, m)
-            if a_f > 0.0:
-                frac = a_f / area
-                covered += frac
-                qp, t_mean = _project(geom, k, q, m, f)
-                buf, nb, over, rng = _put_piece(buf, nb, qp, m, frac, f, t_mean, over, rng)
+        buf, nb, covered, over, rng = _add_region(geom, k, buf, nb, q, m, f, area, covered, over, rng)
     return buf, nb, wp.clamp(1.0 - covered, 0.0, 1.0), rng
 
 
@@ -462,13 +483,7 @@ def _exit_split(geom: SceneGeometry, k: int, poly: BeamPolygon, nv: int, tol: fl
         for ci in range(nc):
             f = cands[ci]
             q, m = _exit_region(geom, k, f, poly, nv, cands, nc)
-            if m >= 3:
-                a_f = polygon_area(q, m)
-                if a_f > 0.0:
-                    frac = a_f / area
-                    covered += frac
-                    qp, t_mean = _project(geom, k, q, m, f)
-                    buf, nb, over, rng = _put_piece(buf, nb, qp, m, frac, f, t_mean, over, rng)
+            buf, nb, covered, over, rng = _add_region(geom, k, buf, nb, q, m, f, area, covered, over, rng)
         if wp.abs(covered - 1.0) < 1.0e-3:
             break
     return buf, nb, rng
