@@ -130,7 +130,6 @@ from ..geometry.query import (
 )
 from ..materials.dispersion import Isotropic, MaterialTable
 from ..optics.absorption import bouguer_lambert
-from ..optics.birefringence import uniaxial_medium
 from ..optics.branches import ROW_B, ROW_D, ROW_IN, ROW_MI, ROW_MR, ROW_O, ROW_W, Cand, roulette
 from ..optics.interface import backward_isotropic
 from ..optics.jones import (
@@ -141,7 +140,7 @@ from ..optics.jones import (
 from ..spectra import SpectralTables
 from .environment import Environment, environment_basis, environment_coefficients
 from .fluorescence import has_fluorescence
-from .media import object_medium, segment_kappa
+from .media import isotropic_optics
 from .trace import TraceParams
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -341,22 +340,17 @@ def trace_bundle(
                 # every lane's index and absorption in the solid met (entered or left: solids do
                 # not overlap), evaluated again only when the bundle meets another solid; in an
                 # isotropic solid a segment's absorption does not depend on its direction, so
-                # stages.media.segment_kappa is evaluated here once per lane, not per segment
+                # stages.media.isotropic_optics is evaluated here once per lane, not per segment
                 for j in range(count):
-                    med, no, ne, alpha = object_medium(
-                        mats, p.object_material[obj], p.object_axis[obj], wavelengths[j]
-                    )
-                    lane_n[j] = no[0]
-                    lane_kappa[j] = segment_kappa(
+                    n_j, kappa_j = isotropic_optics(
                         mats,
                         p.object_material[obj],
-                        wp.vec2f(alpha[0], alpha[0]),
-                        -1,
-                        -1,
-                        wp.vec3f(0.0, 0.0, 1.0),
-                        uniaxial_medium(no[0], no[0], wp.vec3f(0.0, 0.0, 0.0)),
+                        p.object_axis[obj],
+                        wavelengths[j],
                         p.object_absorption_scale[obj],
                     )
+                    lane_n[j] = n_j
+                    lane_kappa[j] = kappa_j
                 c_obj = obj
             if depth >= p.max_depth:
                 continue

@@ -82,3 +82,23 @@ def segment_kappa(
             a_y = mats.rgb3_alpha_b[mat_id][rgb3_channel]
         return biaxial_kappa(mode, wave_normal, med, a_o, a_y, a_e) * scale
     return wave_kappa(mode, wp.dot(wave_normal, med.axis), a_o, a_e, med.no, med.ne) * scale
+
+
+@wp.func
+def isotropic_optics(mats: MaterialTable, mat_id: int, axis: wp.vec3f, wavelength: float, scale: float):
+    """(real index, absorption coefficient in 1/mm times the object's ``scale``) of an isotropic
+    material at ``wavelength`` nm: :func:`object_medium` and :func:`segment_kappa` for a
+    medium whose every segment absorbs alike (the spectral bundles and pixel beams evaluate it
+    once per lane and solid, not per segment)."""
+    med, no, ne, alpha = object_medium(mats, mat_id, axis, wavelength)
+    kappa = segment_kappa(
+        mats,
+        mat_id,
+        wp.vec2f(alpha[0], alpha[0]),
+        -1,
+        -1,
+        wp.vec3f(0.0, 0.0, 1.0),
+        uniaxial_medium(no[0], no[0], wp.vec3f(0.0, 0.0, 0.0)),
+        scale,
+    )
+    return no[0], kappa

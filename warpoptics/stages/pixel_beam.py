@@ -62,7 +62,6 @@ from ..geometry.polygon import (
 from ..geometry.query import SceneGeometry, world_normal
 from ..materials.dispersion import MaterialTable
 from ..optics.absorption import bouguer_lambert
-from ..optics.birefringence import uniaxial_medium
 from ..optics.branches import ROW_B, ROW_D, ROW_IN, ROW_MI, ROW_MR, ROW_W, Cand, roulette
 from ..optics.fresnel import reflect_direction, refract_direction
 from ..optics.interface import backward_isotropic
@@ -71,7 +70,7 @@ from ..spectra import SpectralTables
 from .bundle import LaneWavelengths, LaneWeights
 from .camera import CameraParams, camera_ray
 from .environment import Environment, environment_basis, environment_coefficients
-from .media import object_medium, segment_kappa
+from .media import isotropic_optics
 from .trace import TraceParams
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -456,16 +455,25 @@ def _exit_candidates(geom: SceneGeometry, k: int, poly: BeamPolygon, nv: int, to
 
 
 @wp.func
-def _exit_split(geom: SceneGeometry, k: int, poly: BeamPolygon, nv: int, tol: float, rng: wp.uint32):
-    """Cut a beam inside convex object k by the facets its rays leave through: (pieces on their
-    facets with fractions of the beam and mean path lengths, count)."""
+def _exit_split(
+    geom: SceneGeometry,
+    k: int,
+    poly: BeamPolygon,
+    nv: int,
+    f0: int,
+    nc: int,
+    cands: PlaneList,
+    rng: wp.uint32,
+):
+    """Cut a beam inside convex object k by the facets its rays leave through, given the
+    candidates :func:`_exit_candidates` found: (pieces on their facets with fractions of the
+    beam and mean path lengths, count)."""
     count = geom.plane_count[k]
     buf = PieceBuf()
     nb = int(0)
     area = polygon_area(poly, nv)
     if area <= 0.0:
         return buf, 0, rng  # a degenerate part carries no light
-    f0, nc, cands = _exit_candidates(geom, k, poly, nv, tol)
     over = float(0.0)
     if nc == 0:
         q, t_mean = _project(geom, k, poly, nv, f0)
@@ -542,18 +550,7 @@ def trace_beam(
         wl = wavelengths[j]
         b3 = environment_basis(env, tables, wl)
         xyz_w = wp.vec3f(weights[j, 0], weights[j, 1], weights[j, 2])
-        med, no, ne, alpha = object_medium(mats, mat, p.object_axis[k], wl)
-        n_in = no[0]
-        kappa = segment_kappa(
-            mats,
-            mat,
-            wp.vec2f(alpha[0], alpha[0]),
-            -1,
-            -1,
-            wp.vec3f(0.0, 0.0, 1.0),
-            uniaxial_medium(no[0], no[0], wp.vec3f(0.0, 0.0, 0.0)),
-            p.object_absorption_scale[k],
-        )
+        n_in, kappa = isotropic_optics(mats, mat, p.object_axis[k], wl, p.object_absorption_scale[k])
         if miss > 0.0:
             # the part of the pixel that misses the stone: a direction of the pixel's spread
             d_m, rng = _lookup_direction(poly, nv, rng)
@@ -715,7 +712,7 @@ def trace_beam(
                 buf[0, _P_T] = t_sum / float(nq)
                 nb = 1
             else:
-                buf, nb, rng = _exit_split(geom, k, q, nq, tol, rng)
+                buf, nb, rng = _exit_split(geom, k, q, nq, f0, nc, cands, rng)
                 for i in range(nb):
                     buf[i, _P_FRAC] = buf[i, _P_FRAC] * frac
     if polarized == 0:
