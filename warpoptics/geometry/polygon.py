@@ -98,15 +98,19 @@ def polygon_area(poly: BeamPolygon, nv: int):
 
 
 @wp.func
-def random_point(poly: BeamPolygon, nv: int, u1: float, u2: float, u3: float):
-    """Barycentric weights (as a VertexValues over the vertices) of a point uniform in the
-    polygon's (u, v) area: a fan triangle picked by area with ``u1``, a point uniform in it with
-    ``u2, u3``.  Interpolating any column with them gives its value at that point."""
+def random_point(poly: BeamPolygon, nv: int, u1: float, u2: float):
+    """Barycentric weights (as a VertexValues over the vertices) of the point that ``(u1, u2)``
+    in the unit square maps to, uniform in the polygon's (u, v) area: ``u1`` picks a fan
+    triangle by area and, rescaled within that triangle's share, with ``u2`` a point in it
+    (Turk's square-to-triangle map).  The map keeps area ratios, so stratified or
+    low-discrepancy points of the square stay so in the polygon.  Interpolating any column with
+    the weights gives its value at that point."""
     w = VertexValues()
     total = polygon_area(poly, nv)
     target = u1 * total
     acc = float(0.0)
     k = int(1)
+    at = float(0.0)
     for t in range(1, nv - 1):
         at = 0.5 * wp.abs(
             (poly[t, 0] - poly[0, 0]) * (poly[t + 1, 1] - poly[0, 1])
@@ -116,10 +120,14 @@ def random_point(poly: BeamPolygon, nv: int, u1: float, u2: float, u3: float):
         if acc + at >= target:
             break
         acc += at
-    r = wp.sqrt(u2)
+    # u1's place within the picked triangle's share: uniform again
+    s = float(0.0)
+    if at > 0.0:
+        s = wp.clamp((target - acc) / at, 0.0, 1.0)
+    r = wp.sqrt(s)
     w[0] = 1.0 - r
-    w[k] = r * (1.0 - u3)
-    w[k + 1] = r * u3
+    w[k] = r * (1.0 - u2)
+    w[k + 1] = r * u2
     if nv < 3:
         w = VertexValues()
         w[0] = 1.0
@@ -187,9 +195,9 @@ def clip_polygon(vertices, a, b, device=None) -> tuple[list[np.ndarray], np.ndar
 
 
 @wp.kernel
-def _point_kernel(poly: BeamPolygon, nv: int, u: wp.array(dtype=wp.vec3f), out: wp.array(dtype=wp.vec2f)):
+def _point_kernel(poly: BeamPolygon, nv: int, u: wp.array(dtype=wp.vec2f), out: wp.array(dtype=wp.vec2f)):
     i = wp.tid()
-    b = random_point(poly, nv, u[i][0], u[i][1], u[i][2])
+    b = random_point(poly, nv, u[i][0], u[i][1])
     x = wp.vec2f(0.0, 0.0)
     for k in range(nv):
         x = x + wp.vec2f(poly[k, 0], poly[k, 1]) * b[k]
@@ -197,7 +205,7 @@ def _point_kernel(poly: BeamPolygon, nv: int, u: wp.array(dtype=wp.vec3f), out: 
 
 
 def random_points(vertices, u, device=None) -> np.ndarray:
-    """The (u, v) points :func:`random_point` gives for the uniform triples ``u`` (``(n, 3)``) in
+    """The (u, v) points :func:`random_point` gives for the points ``u`` of the unit square (``(n, 2)``) in
     the convex polygon ``vertices`` (``(nv, 2)``)."""
     dev = get_device(device)
     pts = np.asarray(vertices, dtype=np.float32)
@@ -208,7 +216,7 @@ def random_points(vertices, u, device=None) -> np.ndarray:
     wp.launch(
         _point_kernel,
         dim=len(u_np),
-        inputs=[BeamPolygon(buf), len(pts), wp.array(u_np, dtype=wp.vec3f, device=dev), out],
+        inputs=[BeamPolygon(buf), len(pts), wp.array(u_np, dtype=wp.vec2f, device=dev), out],
         device=dev,
     )
     return out.numpy()

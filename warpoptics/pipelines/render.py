@@ -213,6 +213,11 @@ def _make_render_pixels(trace, module=None):
                 lv = wp.randf(rng)
                 o, d, bx = camera_ray(cam, float(px) + jx, float(py) + jy, lu, lv)
                 ju = rot_u + float(kb) * 0.6180339887498949
+                if film.beam != 0:
+                    # pixel beams: all bundles of the sample share the jitter, so the pixel's
+                    # wavelengths are one rotated lattice; a beam's light is continuous in the
+                    # wavelength, and a lattice integrates that far better (stages/pixel_beam.py)
+                    ju = rot_u + float(kb // film.groups) * 0.6180339887498949
                 ju = ju - wp.floor(ju)
                 lanes = LaneWavelengths()
                 lane_w = LaneWeights()
@@ -239,9 +244,13 @@ def _make_render_pixels(trace, module=None):
                     # pixel beams: the whole pixel at once (stages/pixel_beam.py; the R2 point
                     # is not used)
                     b_poly, b_bx = pixel_beam(cam, px, py)
+                    # the lanes' lookups rotated by the sample's R2 point (the pixel's
+                    # position jitter, unused here, independent of the wavelengths)
+                    smp = float(kb // film.groups)
+                    rot_b = wp.vec2f(rot_x + smp * 0.7548776662466927, rot_y + smp * 0.5698402909980532)
                     coh_x, coh, coh_z, cover, nr, rng_trace = trace_beam(
                         tp, geom, mats, env, tables, polarized, film.beam_object, b_poly, 4, b_bx,
-                        lanes, lane_w, nl, rng_trace,
+                        lanes, lane_w, nl, grp, film.groups, rot_b, rng_trace,
                     )  # fmt: skip
                 else:
                     coh_x, coh, coh_z, hit_i, nr, rng_trace = trace_bundle(

@@ -17,12 +17,20 @@ leaf, its internal reflection continues.  Every vertex's ray is reflected and re
 (``optics.fresnel``: the same laws as a ray's); the piece's Fresnel amplitudes, Jones matrix and
 weight are those of its centre ray (the mean of its vertices': the event of
 ``optics.interface.backward_isotropic``).  A leaf adds the piece's fraction of the pixel (its
-area in pixel coordinates) times the light a ray of it carries, looked up along the direction
-of a point drawn uniformly in the piece (so the environment is averaged over the spread of
-directions a pixel's rays leave in).  The only other random choices are Russian roulette on
-parts carrying less than ``split_threshold`` of the pixel's light and, should more parts be
-pending than the stack holds, a pick among them by their fractions (weighted by the inverse
-probability): both unbiased.
+area in pixel coordinates) times the light a ray of it carries, averaged over the directions
+of 8 points uniform in the piece (so the environment is averaged over the spread of directions
+a pixel's rays leave in).  Those points follow the R2 sequence over the pixel's wavelengths in
+the order of their strata, and the pixel's wavelengths form one rotated lattice (the strata
+share one jitter, ``pipelines/render.py``): a beam's light is a continuous function of the
+wavelength, so neighbouring wavelengths see nearly the same parts and the two sequences spread
+their samples evenly over both.  Measured on the issue-19 stone at 64x64 (one pass, 64
+wavelengths, split 0.001): one lookup per leaf from independent random numbers, 1.34 %
+relative RMSE; 8 lookups on the R2 sequence, 0.68 %; with the lattice as well, 0.24 %.  The
+only other random choices are Russian roulette on parts carrying less than ``split_threshold``
+of the pixel's light and, should more parts be pending than the stack holds, a pick among them
+by their fractions (weighted by the inverse probability): both unbiased.  (Roulette numbers
+stratified over the lanes were tried and dropped: with one number per lane, a lane's parts
+live or die together, and the noise rose from 1.20 % to 1.69 %; with a per-path shift, 1.42 %.)
 
 Accuracy.  Orthographic camera: the pixel's rays share one direction, every cut and every
 interpolated ray is exact, so the estimate is unbiased.  Pinhole camera: the rays are exact at
@@ -88,6 +96,8 @@ _PIECES = wp.constant(MAX_PIECES)
 _STACK = wp.constant(STACK_ROWS)
 _C = wp.constant(COLS)
 _BIG = wp.constant(1.0e20)
+#: environment lookups per leaf
+_LOOKUPS = wp.constant(8)
 # piece columns: the polygon (vertex i at COLS i), vertex count, fraction of the pixel, facet, the
 # mean ray parameter from where the cut beam started (the centre ray's path, mm)
 _P_NV = wp.constant(COLS * MAX_VERTICES)
@@ -498,13 +508,22 @@ def _exit_split(
 
 
 @wp.func
-def _lookup_direction(poly: BeamPolygon, nv: int, rng: wp.uint32):
-    """The (unit) direction of a point uniform in the part, interpolated from its vertices'."""
-    b = random_point(poly, nv, wp.randf(rng), wp.randf(rng), wp.randf(rng))
-    d = wp.vec3f(0.0, 0.0, 0.0)
-    for i in range(nv):
-        d = d + _d(poly, i) * b[i]
-    return wp.normalize(d), rng
+def _part_light(env: Environment, b3: wp.vec3f, poly: BeamPolygon, nv: int, rot: wp.vec2f, g: float):
+    """The environment's light at one wavelength (basis ``b3``) averaged over the directions of
+    the part's rays, by _LOOKUPS points uniform in the part: those of the R2 sequence (Roberts
+    2018) from index ``g`` _LOOKUPS on, rotated by ``rot``; lane g's points follow lane g-1's, so
+    the lanes of neighbouring wavelengths spread their lookups evenly over similar parts."""
+    acc = float(0.0)
+    for i in range(_LOOKUPS):
+        gi = g * float(_LOOKUPS) + float(i)
+        u = rot + wp.vec2f(gi * 0.7548776662466927, gi * 0.5698402909980532)
+        u = u - wp.vec2f(wp.floor(u[0]), wp.floor(u[1]))
+        b = random_point(poly, nv, u[0], u[1])
+        d = wp.vec3f(0.0, 0.0, 0.0)
+        for r in range(nv):
+            d = d + _d(poly, r) * b[r]
+        acc += wp.dot(b3, environment_coefficients(env, wp.normalize(d)))
+    return acc / float(_LOOKUPS)
 
 
 @wp.func(inline=False)  # out of line, like trace_bundle (compile time)
@@ -522,12 +541,18 @@ def trace_beam(
     wavelengths: LaneWavelengths,
     weights: LaneWeights,
     count: int,
+    first: int,
+    step: int,
+    rot: wp.vec2f,
     rng: wp.uint32,
 ):
     """The light reaching the camera through one pixel's beam (:func:`pixel_beam`) at ``count``
     wavelengths: (coherency matrices J_X, J_Y, J_Z summed over the lanes, lane j's light weighted
     by ``weights[j]``, averaged over the pixel; the fraction of the pixel that meets the stone;
-    the beam parts traced; rng).  Module docstring for the method."""
+    the beam parts traced; rng).  Lane j is the pixel's wavelength ``first + j step`` in the
+    order of its strata: its environment lookups follow the R2 sequence over that index, rotated
+    by ``rot`` (uniform, independent of the wavelengths), so that neighbouring wavelengths'
+    lookups spread evenly over their parts (module docstring).  Module docstring for the method."""
     acc_x = jones_zero()
     acc_y = jones_zero()
     acc_z = jones_zero()
@@ -548,13 +573,14 @@ def trace_beam(
     one.im = wp.mat22(0.0, 0.0, 0.0, 0.0)
     for j in range(count):
         wl = wavelengths[j]
+        # lane j's index among the pixel's wavelengths, in the order of their strata
+        g = float(first + j * step)
         b3 = environment_basis(env, tables, wl)
         xyz_w = wp.vec3f(weights[j, 0], weights[j, 1], weights[j, 2])
         n_in, kappa = isotropic_optics(mats, mat, p.object_axis[k], wl, p.object_absorption_scale[k])
         if miss > 0.0:
             # the part of the pixel that misses the stone: a direction of the pixel's spread
-            d_m, rng = _lookup_direction(poly, nv, rng)
-            rad = wp.dot(b3, environment_coefficients(env, d_m))
+            rad = _part_light(env, b3, poly, nv, rot, g)
             acc_x, acc_y, acc_z, scalar_xyz = add_leaf(
                 acc_x, acc_y, acc_z, scalar_xyz, polarized, one, miss, env.polarizer, -d_pix, basis_x,
                 xyz_w * rad,
@@ -625,8 +651,7 @@ def trace_beam(
                     )
                     if int(cand[ci, ROW_IN]) < 0:
                         # leaves the convex stone (reflected off it or refracted out): a leaf
-                        d_l, rng = _lookup_direction(qc, nq, rng)
-                        rad = wp.dot(b3, environment_coefficients(env, d_l))
+                        rad = _part_light(env, b3, qc, nq, rot, g)
                         acc_x, acc_y, acc_z, scalar_xyz = add_leaf(
                             acc_x, acc_y, acc_z, scalar_xyz, polarized, m_c, w_c * frac, env.polarizer,
                             -d_ch, b_ch, xyz_w * rad,
