@@ -47,6 +47,7 @@ def main() -> None:
     ap.add_argument("--ref-spp", type=int, default=256, help="point samples per pixel of each reference half")
     ap.add_argument("--ref-wavelengths", type=int, default=64)
     ap.add_argument("--beam-wavelengths", type=int, default=128)
+    ap.add_argument("--beam-split", type=float, default=0.01, help="the beams' split_threshold (roulette)")
     ap.add_argument("--cameras", nargs="+", default=["perspective", "orthographic"])
     ap.add_argument(
         "--ref-cache", default=None, help="keep the references in this .npz (reused when it matches)"
@@ -54,7 +55,15 @@ def main() -> None:
     ap.add_argument("--json", default=None)
     a = ap.parse_args()
     base = Scene.load(a.scene)
-    out = {"scene": a.scene, "res": a.res, "ref_spp": a.ref_spp, "rows": []}
+    out = {
+        "scene": a.scene,
+        "res": a.res,
+        "ref_spp": a.ref_spp,
+        "ref_wavelengths": a.ref_wavelengths,
+        "beam_wavelengths": a.beam_wavelengths,
+        "beam_split": a.beam_split,
+        "rows": [],
+    }
     for cam in a.cameras:
         sc = base
         if cam == "orthographic":
@@ -93,7 +102,7 @@ def main() -> None:
                 wavelengths=a.beam_wavelengths,
                 bundle_lanes=16,
                 pixel_beam=True,
-                **common,
+                **{**common, "split_threshold": a.beam_split},
             )
             beam.append(img)
             t_beam += t

@@ -70,6 +70,11 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--ref-spp", type=int, default=24)
     ap.add_argument("--ladder", type=int, nargs="+", default=[1, 2, 4, 8])
+    ap.add_argument(
+        "--ladder-key",
+        default="render.spp",
+        help="the setting the ladder's values go to, e.g. render.wavelengths for pixel beams (spp 1)",
+    )
     ap.add_argument("--target", type=float, default=0.02)
     ap.add_argument("--json", type=Path)
     ap.add_argument("--adaptive", action="store_true", help="the ladder with render.adaptive = true")
@@ -80,6 +85,13 @@ def main(argv=None) -> int:
         default=[],
         metavar="KEY=VALUE",
         help="a sampling setting of the ladder's renders, e.g. render.wavelengths=16 (TOML value)",
+    )
+    ap.add_argument(
+        "--ref-set",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="a setting of the reference's renders (default: the scene's own)",
     )
     ap.add_argument(
         "--scene",
@@ -103,8 +115,9 @@ def main(argv=None) -> int:
         z = np.load(args.reference)
         h1, h2, s1, s2 = z["h1"], z["h2"], float(z["seconds"]) / 2, float(z["seconds"]) / 2
     else:
-        h1, s1, c1, _ = render(sc, args.ref_spp, 900001)
-        h2, s2, c2, _ = render(sc, args.ref_spp, 900002)
+        ref_settings = parse_set_options(args.ref_set)
+        h1, s1, c1, _ = render(sc, args.ref_spp, 900001, settings=ref_settings)
+        h2, s2, c2, _ = render(sc, args.ref_spp, 900002, settings=ref_settings)
         if args.reference is not None:
             from warpoptics.atomic import atomic_path
 
@@ -119,13 +132,18 @@ def main(argv=None) -> int:
     )
     rows = []
     for k, spp in enumerate(args.ladder):
-        img, sec, cpu, rays = render(sc, spp, 1000 + k, adaptive=args.adaptive, settings=settings)
+        if args.ladder_key == "render.spp":
+            img, sec, cpu, rays = render(sc, spp, 1000 + k, adaptive=args.adaptive, settings=settings)
+        else:
+            step = {**settings, args.ladder_key: spp}
+            img, sec, cpu, rays = render(sc, 1, 1000 + k, adaptive=args.adaptive, settings=step)
         err, raw = error_vs_reference(img, ref, mean, ref_noise)
         rows.append(
             {"spp": spp, "render_seconds": sec, "cpu_seconds": cpu, "rays": rays, "rel_rmse": err, "raw": raw}
         )
         print(
-            f"spp {spp:3d}: {sec:6.2f} s render, {cpu:6.2f} CPU-s, {rays / 1e6:6.1f} M rays,"
+            f"{args.ladder_key.split('.')[-1]} {spp:3d}: {sec:6.2f} s render, {cpu:6.2f} CPU-s,"
+            f" {rays / 1e6:6.1f} M rays,"
             f" {100 * err:.2f} %",
             flush=True,
         )
@@ -146,8 +164,14 @@ def main(argv=None) -> int:
             "slope": float(-slope),
             "seconds_to_target": t_target,
             "target": args.target,
-            "reference": {"spp": 2 * args.ref_spp, "noise": ref_noise, "render_seconds": s1 + s2},
+            "reference": {
+                "spp": 2 * args.ref_spp,
+                "noise": ref_noise,
+                "render_seconds": s1 + s2,
+                "settings": parse_set_options(args.ref_set),
+            },
             "settings": settings,
+            "ladder_key": args.ladder_key,
         }
         with atomic_path(args.json) as tmp, open(tmp, "w") as f:
             json.dump(out, f, indent=1)
