@@ -137,3 +137,21 @@ def test_scenes_beams_cannot_trace_are_refused(device):
     )
     with pytest.raises(InputError, match="render.pixel_beam"):
         Renderer(two, device=device)
+
+
+def test_the_fire_scene_renders_in_beams(device):
+    """scenes/diamond_fire.toml (the main job's stone in pixel beams) is traced by the beams
+    and gives a physical image: finite, coverage within [0, 1] with partly covered silhouette
+    pixels, Stokes vectors with DOP <= 1."""
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "scenes" / "diamond_fire.toml"
+    sc = wo.Scene.load(path).with_overrides({"camera.width": 20, "camera.height": 20})
+    r = Renderer(sc, device=device)
+    assert r.pixel_beam
+    img = r.run()
+    assert np.all(np.isfinite(img.xyz)) and img.xyz.mean() > 0.0
+    assert img.alpha.min() >= 0.0 and img.alpha.max() <= 1.0 + 1e-6
+    assert ((img.alpha > 0.01) & (img.alpha < 0.99)).sum() > 4
+    s = img.stokes
+    assert np.all(np.linalg.norm(s[..., 1:], axis=-1) <= s[..., 0] * (1 + 1e-5) + 1e-7)
