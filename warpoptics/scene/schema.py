@@ -89,7 +89,9 @@ class RenderConfig:
     bundle: bool = True
     bundle_lanes: int = 8
     # pixel beams (stages/pixel_beam.py): a bundle traces the pixel's whole footprint through one
-    # convex stone as exact parallel beams instead of a point of it
+    # convex stone as beams (a ray per polygon vertex) instead of a point of it; the noise left
+    # is spectral, so pair it with >= 32 stratified wavelengths, bundle_lanes = 16, spp = 1 and
+    # split_threshold = 0.001 (scenes/diamond_fire.toml; scripts/bench/beam_noise.py)
     pixel_beam: bool = False
     source: str | None = field(default=None, compare=False)  # scene file, for messages
 
