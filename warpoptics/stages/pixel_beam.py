@@ -82,7 +82,7 @@ from ..optics.absorption import bouguer_lambert
 from ..optics.branches import ROW_B, ROW_D, ROW_IN, ROW_MI, ROW_MR, ROW_W, Cand, roulette
 from ..optics.fresnel import reflect_direction, refract_direction
 from ..optics.interface import backward_isotropic
-from ..optics.jones import Jones, coherency_unpolarized, jones_zero
+from ..optics.jones import Jones, coherency_unpolarized, jones_identity, jones_zero
 from ..spectra import SpectralTables
 from .bundle import LaneWavelengths, LaneWeights
 from .camera import CameraParams, camera_ray
@@ -573,13 +573,11 @@ def trace_beam(
     mat = p.object_material[k]
     # the entry cut is the same for every wavelength
     entry, n_entry, miss, rng = _entry_split(geom, k, poly, nv, rng)
-    x_pix, d_pix = _centre(poly, nv)
+    _x_pix, d_pix = _centre(poly, nv)  # (the centre's direction: the missing part's basis)
     parts = int(0)
     cand = Cand()
     st = BeamStack()
-    one = Jones()
-    one.re = wp.mat22(1.0, 0.0, 0.0, 1.0)
-    one.im = wp.mat22(0.0, 0.0, 0.0, 0.0)
+    one = jones_identity()
     for j in range(count):
         wl = wavelengths[j]
         # lane j's index among the pixel's wavelengths, in the order of their strata
