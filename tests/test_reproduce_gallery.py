@@ -70,11 +70,13 @@ def test_fig7_gem_sizes_readout(tmp_path, device):
 
 def test_seed001_rgb3_readout(tmp_path, device):
     out = tmp_path / "s1.png"
-    _run("seed001_rgb3_vs_spectral.py", out, device=device)
+    # rgb3's spp fixed: the equal-time spp of a --quick render is a ratio of milliseconds, which
+    # a loaded CI machine does not keep (it measured 1 there once); the figure itself measures it
+    _run("seed001_rgb3_vs_spectral.py", out, "--rgb3-spp", 4, device=device)
     ro = json.loads(out.with_suffix(".json").read_text())
     r = ro["renders"]
-    # equal time gives rgb3 more samples, which cut its error against the reference
-    assert r["rgb3"]["spp"] > 1
+    # more samples (what equal time gives rgb3) cut its error against the reference
+    assert r["rgb3"]["spp"] == 4
     assert r["rgb3"]["rmse_display"] < r["rgb3_1spp"]["rmse_display"]
     # the diamond's n at the rgb3 wavelengths rises toward the blue, within 0.01 of the seed's IORs
     assert ro["n_rgb3"] == sorted(ro["n_rgb3"])

@@ -64,12 +64,21 @@ def main(argv: list[str] | None = None) -> int:
     )
     ap.add_argument("--ref-spp", type=int, default=8, help="spp of the reference (even: two halves)")
     ap.add_argument("--quick", action="store_true", help="tiny images (for tests)")
+    ap.add_argument(
+        "--rgb3-spp",
+        type=int,
+        default=None,
+        help="fix rgb3's spp instead of measuring the equal-time spp (for tests: a --quick render "
+        "takes milliseconds, whose ratio a loaded machine does not keep)",
+    )
     ap.add_argument("--device", default=None)
     args = ap.parse_args(argv)
     if args.quick:
         args.size, args.wavelengths, args.ref_spp = 32, 15, 4
     if args.size < 8 or args.wavelengths < 3 or args.ref_spp < 2 or args.ref_spp % 2:
         ap.error("--size must be >= 8, --wavelengths >= 3 and --ref-spp an even number >= 2")
+    if args.rgb3_spp is not None and args.rgb3_spp < 1:
+        ap.error(f"--rgb3-spp must be >= 1, got {args.rgb3_spp}")
 
     import warpoptics as wo
     from warpoptics import metrics as wm
@@ -89,7 +98,7 @@ def main(argv: list[str] | None = None) -> int:
     with Timer() as total:
         spec, t_spec = _timed(base, args.device, repeats, spectral)
         probe, t_probe = _timed(base, args.device, repeats, rgb3)
-        spp_eq = max(1, int(round(t_spec / t_probe)))
+        spp_eq = args.rgb3_spp or max(1, int(round(t_spec / t_probe)))
         fast = wo.render(base, device=args.device, spp=spp_eq, seed=0, **rgb3)
         # second independent copies: noise = RMSE(copy 1, copy 2) / sqrt(2)
         spec2 = wo.render(base, device=args.device, spp=1, seed=1, **spectral)
@@ -144,7 +153,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     labels = {
         "spectral": f"spectral ({args.wavelengths} stratified)",
-        "rgb3": "rgb3, equal time",
+        "rgb3": "rgb3, fixed spp" if args.rgb3_spp else "rgb3, equal time",
         "rgb3_1spp": "rgb3, 1 spp",
     }
     for k in ("spectral", "rgb3", "rgb3_1spp"):
