@@ -28,7 +28,9 @@ from warpoptics.scene import Scene
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def one_pass(base: Scene, res: int, wavelengths: int, split: float, seed: int) -> tuple[np.ndarray, float]:
+def one_pass(
+    base: Scene, res: int, wavelengths: int, split: float, seed: int, block: int = 1
+) -> tuple[np.ndarray, float]:
     over = {
         "camera.width": res,
         "camera.height": res,
@@ -39,6 +41,7 @@ def one_pass(base: Scene, res: int, wavelengths: int, split: float, seed: int) -
         "render.adaptive": False,
         "render.split_threshold": split,
         "render.seed": seed,
+        "render.beam_block": block,
     }
     r = Renderer(base.with_overrides(over))
     r.load_kernels()
@@ -57,6 +60,7 @@ def main() -> None:
         default=["16,0.001", "32,0.001", "64,0.001"],
         help="WAVELENGTHS,SPLIT_THRESHOLD pairs",
     )
+    ap.add_argument("--block", type=int, default=1, help="render.beam_block (pixels per beam side)")
     ap.add_argument("--json", default=None)
     a = ap.parse_args()
     base = Scene.load(a.scene)
@@ -64,7 +68,7 @@ def main() -> None:
     for item in a.settings:
         wl_s, split_s = item.split(",")
         wl, split = int(wl_s), float(split_s)
-        (im1, t1), (im2, t2) = (one_pass(base, a.res, wl, split, seed) for seed in (1, 2))
+        (im1, t1), (im2, t2) = (one_pass(base, a.res, wl, split, seed, a.block) for seed in (1, 2))
         noise = float(np.sqrt(((im1 - im2) ** 2).mean() / 2.0) / (0.5 * (im1 + im2)).mean())
         rows.append({"wavelengths": wl, "split_threshold": split, "noise": noise, "seconds": [t1, t2]})
         print(
@@ -75,8 +79,11 @@ def main() -> None:
     if a.json:
         from warpoptics.film.image import atomic_path
 
-        command = f"python scripts/bench/beam_noise.py --res {a.res} --settings " + " ".join(a.settings)
-        out = {"scene": a.scene, "res": a.res, "rows": rows, "command": command}
+        command = (
+            f"python scripts/bench/beam_noise.py --res {a.res} --block {a.block} --settings "
+            + " ".join(a.settings)
+        )
+        out = {"scene": a.scene, "res": a.res, "block": a.block, "rows": rows, "command": command}
         with atomic_path(a.json) as tmp, open(tmp, "w") as f:
             json.dump(out, f, indent=1)
 

@@ -92,7 +92,16 @@ from .trace import TraceParams
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
-__all__ = ["MAX_PLANES", "MAX_PIECES", "STACK_ROWS", "pixel_beam", "trace_beam", "beam_applies"]
+__all__ = [
+    "MAX_PLANES",
+    "MAX_PIECES",
+    "STACK_ROWS",
+    "SINK_COLS",
+    "pixel_beam",
+    "trace_beam",
+    "sink_sums",
+    "beam_applies",
+]
 
 #: facet planes of the stone a beam can handle
 MAX_PLANES = 128
@@ -107,6 +116,7 @@ _C = wp.constant(COLS)
 _BIG = wp.constant(1.0e20)
 #: environment lookups per leaf
 _LOOKUPS = wp.constant(8)
+_LOOKUP_ANGLE = wp.constant(0.0015)
 # piece columns: the polygon (vertex i at COLS i), vertex count, fraction of the pixel, facet, the
 # mean ray parameter from where the cut beam started (the centre ray's path, mm)
 _P_NV = wp.constant(COLS * MAX_VERTICES)
@@ -121,6 +131,15 @@ _S_MI = wp.constant(_PIECE_COLS + 7)
 _S_W = wp.constant(_PIECE_COLS + 11)
 _S_DEPTH = wp.constant(_PIECE_COLS + 12)
 _STACK_COLS = _PIECE_COLS + 13
+# the sink's columns (a row per pixel): J_X, J_Y, J_Z (re 4, im 4 each), the scalar renderer's
+# X, Y, Z, the fraction of the pixel that met the stone
+_K_X = wp.constant(0)
+_K_Y = wp.constant(8)
+_K_Z = wp.constant(16)
+_K_S = wp.constant(24)
+_K_COVER = wp.constant(27)
+SINK_COLS = 28
+_SINK = wp.constant(SINK_COLS)
 
 PieceBuf = wp.types.matrix(shape=(MAX_PIECES, _PIECE_COLS), dtype=wp.float32)
 BeamStack = wp.types.matrix(shape=(STACK_ROWS, _STACK_COLS), dtype=wp.float32)
@@ -157,20 +176,21 @@ def _centre(poly: BeamPolygon, nv: int):
 
 
 @wp.func
-def pixel_beam(cam: CameraParams, px: int, py: int):
-    """The beam of pixel (px, py): its corners (u, v) = (0, 0), (1, 0), (1, 1), (0, 1) with the
+def pixel_beam(cam: CameraParams, px: int, py: int, bw: int, bh: int):
+    """The beam of the block of ``bw`` x ``bh`` pixels from pixel (px, py) on: its corners
+    (u, v) = (0, 0), (bw, 0), (bw, bh), (0, bh) in the block's pixel coordinates, with the
     camera's rays through them, the directions scaled to unit length along the camera's axis
     (then a pinhole's are linear in (u, v), and so exact when interpolated), and the basis x of
-    the pixel centre's ray."""
-    o_c, d_c, bx = camera_ray(cam, float(px) + 0.5, float(py) + 0.5, 0.5, 0.5)
+    the block centre's ray."""
+    o_c, d_c, bx = camera_ray(cam, float(px) + 0.5 * float(bw), float(py) + 0.5 * float(bh), 0.5, 0.5)
     poly = BeamPolygon()
     for i in range(4):
         u = float(0.0)
         v = float(0.0)
         if i == 1 or i == 2:
-            u = 1.0
+            u = float(bw)
         if i >= 2:
-            v = 1.0
+            v = float(bh)
         o, d, b = camera_ray(cam, float(px) + u, float(py) + v, 0.5, 0.5)
         poly[i, 0] = u
         poly[i, 1] = v
@@ -389,7 +409,8 @@ def _exit_region(geom: SceneGeometry, k: int, f: int, poly: BeamPolygon, nv: int
 @wp.func
 def _entry_split(geom: SceneGeometry, k: int, poly: BeamPolygon, nv: int, rng: wp.uint32):
     """Cut a beam arriving from outside convex object k by the facets its rays enter through:
-    (pieces on their facets with their fractions of the beam, count, fraction that misses)."""
+    (pieces on their facets with their fractions of the beam, count, the fraction of the pieces
+    beyond the buffer's rows that one of them carries: 0 when every piece has its row)."""
     s0 = geom.plane_start[k]
     count = geom.plane_count[k]
     buf = PieceBuf()
@@ -419,7 +440,7 @@ def _entry_split(geom: SceneGeometry, k: int, poly: BeamPolygon, nv: int, rng: w
     if same != 0 and first >= 0:
         q, t_mean = _project(geom, k, poly, nv, first)
         buf, nb, over, rng = _put_piece(buf, nb, q, nv, 1.0, first, t_mean, 0.0, rng)
-        return buf, nb, 0.0, rng
+        return buf, nb, over, rng
     if hits == 0:
         # no corner's ray hits: the whole beam misses unless the solid's bounding sphere comes
         # closer to the centre ray than the corners' rays spread there (object space)
@@ -437,14 +458,14 @@ def _entry_split(geom: SceneGeometry, k: int, poly: BeamPolygon, nv: int, rng: w
             x, d = _obj(geom, k, poly, i)
             reach = wp.max(reach, wp.length(x + d * (wp.dot(c - x, d) / wp.dot(d, d)) - near))
         if wp.length(c - near) > sph[3] + reach:
-            return buf, 0, 1.0, rng
+            return buf, 0, 0.0, rng
     area = polygon_area(poly, nv)
     covered = float(0.0)
     over = float(0.0)
     for f in range(count):
         q, m = _entry_region(geom, k, f, poly, nv)
         buf, nb, covered, over, rng = _add_region(geom, k, buf, nb, q, m, f, area, covered, over, rng)
-    return buf, nb, wp.clamp(1.0 - covered, 0.0, 1.0), rng
+    return buf, nb, over, rng
 
 
 @wp.func
@@ -517,13 +538,26 @@ def _exit_split(
 
 
 @wp.func
+def _lookup_count(env: Environment, poly: BeamPolygon, nv: int):
+    """How many environment lookups a part's light takes: one per _LOOKUP_ANGLE of the angular
+    diameter of its rays' directions, 1 to _LOOKUPS."""
+    _x, d_c = _centre(poly, nv)
+    spread = float(0.0)
+    for r in range(nv):
+        spread = wp.max(spread, wp.length(wp.normalize(_d(poly, r)) - d_c))
+    return wp.clamp(int(wp.ceil(2.0 * spread / _LOOKUP_ANGLE)), 1, _LOOKUPS)
+
+
+@wp.func
 def _part_light(env: Environment, b3: wp.vec3f, poly: BeamPolygon, nv: int, rot: wp.vec2f, g: float):
     """The environment's light at one wavelength (basis ``b3``) averaged over the directions of
-    the part's rays, by _LOOKUPS points uniform in the part: those of the R2 sequence (Roberts
-    2018) from index ``g`` _LOOKUPS on, rotated by ``rot``; lane g's points follow lane g-1's, so
-    the lanes of neighbouring wavelengths spread their lookups evenly over similar parts."""
+    the part's rays, by up to _LOOKUPS points uniform in the part (:func:`_lookup_count`): those
+    of the R2 sequence (Roberts 2018) from index ``g`` _LOOKUPS on, rotated by ``rot``; lane g's
+    points follow lane g-1's, so the lanes of neighbouring wavelengths spread their lookups
+    evenly over similar parts."""
     acc = float(0.0)
-    for i in range(_LOOKUPS):
+    n = _lookup_count(env, poly, nv)
+    for i in range(n):
         gi = g * float(_LOOKUPS) + float(i)
         u = rot + wp.vec2f(gi * 0.7548776662466927, gi * 0.5698402909980532)
         u = u - wp.vec2f(wp.floor(u[0]), wp.floor(u[1]))
@@ -532,11 +566,122 @@ def _part_light(env: Environment, b3: wp.vec3f, poly: BeamPolygon, nv: int, rot:
         for r in range(nv):
             d = d + _d(poly, r) * b[r]
         acc += wp.dot(b3, environment_coefficients(env, wp.normalize(d)))
-    return acc / float(_LOOKUPS)
+    return acc / float(n)
+
+
+@wp.func
+def _sink_jones(sink: wp.array2d(dtype=wp.float32), pix: int, c: int):
+    m = Jones()
+    m.re = wp.mat22(sink[pix, c], sink[pix, c + 1], sink[pix, c + 2], sink[pix, c + 3])
+    m.im = wp.mat22(sink[pix, c + 4], sink[pix, c + 5], sink[pix, c + 6], sink[pix, c + 7])
+    return m
+
+
+@wp.func
+def _sink_set_jones(sink: wp.array2d(dtype=wp.float32), pix: int, c: int, m: Jones):
+    for i in range(2):
+        for j in range(2):
+            sink[pix, c + 2 * i + j] = m.re[i, j]
+            sink[pix, c + 4 + 2 * i + j] = m.im[i, j]
+
+
+@wp.func
+def sink_sums(sink: wp.array2d(dtype=wp.float32), pix: int, polarized: int):
+    """Pixel ``pix``'s sums in the beams' sink (:func:`trace_beam`): (coherency matrices J_X,
+    J_Y, J_Z, the fraction of the pixel that met the stone), and the row cleared for the next
+    bundle."""
+    acc_x = jones_zero()
+    acc_y = jones_zero()
+    acc_z = jones_zero()
+    if polarized != 0:
+        acc_x = _sink_jones(sink, pix, _K_X)
+        acc_y = _sink_jones(sink, pix, _K_Y)
+        acc_z = _sink_jones(sink, pix, _K_Z)
+    else:
+        acc_x = coherency_unpolarized(sink[pix, _K_S])
+        acc_y = coherency_unpolarized(sink[pix, _K_S + 1])
+        acc_z = coherency_unpolarized(sink[pix, _K_S + 2])
+    cover = sink[pix, _K_COVER]
+    for c in range(_SINK):
+        sink[pix, c] = 0.0
+    return acc_x, acc_y, acc_z, cover
+
+
+@wp.func
+def _sink_leaf(
+    sink: wp.array2d(dtype=wp.float32),
+    pix: int,
+    polarized: int,
+    m: Jones,
+    w: float,
+    polarizer: wp.vec3f,
+    k: wp.vec3f,
+    basis_x: wp.vec3f,
+    xyz: wp.vec3f,
+):
+    """A leaf's light into pixel ``pix``'s sums (``film.leaf.add_leaf``, the one rule)."""
+    zero = jones_zero()
+    if polarized != 0:
+        acc_x, acc_y, acc_z, _s = add_leaf(
+            _sink_jones(sink, pix, _K_X), _sink_jones(sink, pix, _K_Y), _sink_jones(sink, pix, _K_Z),
+            wp.vec3f(0.0, 0.0, 0.0), polarized, m, w, polarizer, k, basis_x, xyz,
+        )  # fmt: skip
+        _sink_set_jones(sink, pix, _K_X, acc_x)
+        _sink_set_jones(sink, pix, _K_Y, acc_y)
+        _sink_set_jones(sink, pix, _K_Z, acc_z)
+    else:
+        sc = wp.vec3f(sink[pix, _K_S], sink[pix, _K_S + 1], sink[pix, _K_S + 2])
+        _ax, _ay, _az, sc = add_leaf(zero, zero, zero, sc, polarized, m, w, polarizer, k, basis_x, xyz)
+        for c in range(3):
+            sink[pix, _K_S + c] = sc[c]
+
+
+@wp.func
+def _cells(q: BeamPolygon, nq: int, bw: int, bh: int):
+    """The block's pixels that part ``q`` may overlap: (first column, last, first row, last)."""
+    u0 = float(_BIG)
+    u1 = float(-_BIG)
+    v0 = float(_BIG)
+    v1 = float(-_BIG)
+    for r in range(nq):
+        u0 = wp.min(u0, q[r, 0])
+        u1 = wp.max(u1, q[r, 0])
+        v0 = wp.min(v0, q[r, 1])
+        v1 = wp.max(v1, q[r, 1])
+    ix0 = wp.clamp(int(wp.floor(u0)), 0, bw - 1)
+    iy0 = wp.clamp(int(wp.floor(v0)), 0, bh - 1)
+    return ix0, wp.clamp(int(wp.ceil(u1)) - 1, ix0, bw - 1), iy0, wp.clamp(int(wp.ceil(v1)) - 1, iy0, bh - 1)
+
+
+@wp.func
+def _in_cell(q: BeamPolygon, nq: int, ix: int, iy: int, ix0: int, ix1: int, iy0: int, iy1: int):
+    """The part of ``q`` in the block's pixel (ix, iy), of the cells [ix0, ix1] x [iy0, iy1] it
+    may overlap (only the cells' inner edges cut it)."""
+    c = q
+    m = nq
+    for side in range(4):
+        s = VertexValues()
+        cut = int(0)
+        for r in range(m):
+            if side == 0 and ix > ix0:
+                s[r] = c[r, 0] - float(ix)
+                cut = 1
+            elif side == 1 and ix < ix1:
+                s[r] = float(ix + 1) - c[r, 0]
+                cut = 1
+            elif side == 2 and iy > iy0:
+                s[r] = c[r, 1] - float(iy)
+                cut = 1
+            elif side == 3 and iy < iy1:
+                s[r] = float(iy + 1) - c[r, 1]
+                cut = 1
+        if cut != 0:
+            c, m = clip_by_values(c, m, s)
+    return c, m
 
 
 @wp.func(inline=False)  # out of line, like trace_bundle (compile time)
-def trace_beam(
+def _trace_entry(
     p: TraceParams,
     geom: SceneGeometry,
     mats: MaterialTable,
@@ -544,9 +689,16 @@ def trace_beam(
     tables: SpectralTables,
     polarized: int,
     k: int,
-    poly: BeamPolygon,
-    nv: int,
+    cam: CameraParams,
+    px0: int,
+    py0: int,
+    bw: int,
+    bh: int,
+    width: int,
+    sink: wp.array2d(dtype=wp.float32),
     basis_x: wp.vec3f,
+    entry: PieceBuf,
+    n_entry: int,
     wavelengths: LaneWavelengths,
     weights: LaneWeights,
     count: int,
@@ -555,29 +707,52 @@ def trace_beam(
     rot: wp.vec2f,
     rng: wp.uint32,
 ):
-    """The light reaching the camera through one pixel's beam (:func:`pixel_beam`) at ``count``
-    wavelengths: (coherency matrices J_X, J_Y, J_Z summed over the lanes, lane j's light weighted
-    by ``weights[j]``, averaged over the pixel; the fraction of the pixel that meets the stone;
-    the beam parts traced; rng).  Lane j is the pixel's wavelength ``first + j step`` in the
-    order of its strata: its environment lookups follow the R2 sequence over that index, rotated
-    by ``rot`` (uniform, independent of the wavelengths), so that neighbouring wavelengths'
-    lookups spread evenly over their parts (module docstring).  Module docstring for the method."""
-    acc_x = jones_zero()
-    acc_y = jones_zero()
-    acc_z = jones_zero()
-    scalar_xyz = wp.vec3f(0.0, 0.0, 0.0)
+    """:func:`trace_beam` for the block's beam cut by its entry (``entry``, ``n_entry`` pieces,
+    every one with its own row) and the block centre's basis x."""
+    a_beam = float(bw * bh)  # the block's pixels (fractions are of the block)
     m_w = geom.world_to_object[k]
     s = geom.plane_start[k]
     tol = 1.0e-6 * geom.bounding_sphere[k][3]
     eps = geom.epsilon[k]
     mat = p.object_material[k]
-    # the entry cut is the same for every wavelength
-    entry, n_entry, miss, rng = _entry_split(geom, k, poly, nv, rng)
-    _x_pix, d_pix = _centre(poly, nv)  # (the centre's direction: the missing part's basis)
+    one = jones_identity()
+    # each pixel's share of the entry is its cover
+    for i in range(n_entry):
+        nq = int(entry[i, _P_NV])
+        q = BeamPolygon()
+        for r in range(nq):
+            for c in range(_C):
+                q[r, c] = entry[i, _C * r + c]
+        share = entry[i, _P_FRAC] * a_beam
+        ix0, ix1, iy0, iy1 = _cells(q, nq, bw, bh)
+        if ix0 == ix1 and iy0 == iy1:
+            sink[px0 + ix0 + (py0 + iy0) * width, _K_COVER] += share
+        else:
+            a_q = polygon_area(q, nq)
+            for iy in range(iy0, iy1 + 1):
+                for ix in range(ix0, ix1 + 1):
+                    cq, cm = _in_cell(q, nq, ix, iy, ix0, ix1, iy0, iy1)
+                    if cm >= 3 and a_q > 0.0:
+                        sink[px0 + ix + (py0 + iy) * width, _K_COVER] += share * polygon_area(cq, cm) / a_q
+    # each pixel's part that misses the stone: the directions of the pixel's spread
+    for iy in range(bh):
+        for ix in range(bw):
+            pix = px0 + ix + (py0 + iy) * width
+            miss_c = wp.clamp(1.0 - sink[pix, _K_COVER], 0.0, 1.0)
+            sink[pix, _K_COVER] = 1.0 - miss_c
+            if miss_c > 1.0e-6:
+                cell, bx_c = pixel_beam(cam, px0 + ix, py0 + iy, 1, 1)
+                _x_c, d_cell = _centre(cell, 4)
+                for j in range(count):
+                    b3 = environment_basis(env, tables, wavelengths[j])
+                    xyz_w = wp.vec3f(weights[j, 0], weights[j, 1], weights[j, 2])
+                    rad = _part_light(env, b3, cell, 4, rot, float(first + j * step))
+                    _sink_leaf(sink, pix, polarized, one, miss_c, env.polarizer, -d_cell, bx_c, xyz_w * rad)
     parts = int(0)
+    if n_entry == 0:
+        return parts, rng
     cand = Cand()
     st = BeamStack()
-    one = jones_identity()
     for j in range(count):
         wl = wavelengths[j]
         # lane j's index among the pixel's wavelengths, in the order of their strata
@@ -585,13 +760,6 @@ def trace_beam(
         b3 = environment_basis(env, tables, wl)
         xyz_w = wp.vec3f(weights[j, 0], weights[j, 1], weights[j, 2])
         n_in, kappa = isotropic_optics(mats, mat, p.object_axis[k], wl, p.object_absorption_scale[k])
-        if miss > 0.0:
-            # the part of the pixel that misses the stone: a direction of the pixel's spread
-            rad = _part_light(env, b3, poly, nv, rot, g)
-            acc_x, acc_y, acc_z, scalar_xyz = add_leaf(
-                acc_x, acc_y, acc_z, scalar_xyz, polarized, one, miss, env.polarizer, -d_pix, basis_x,
-                xyz_w * rad,
-            )  # fmt: skip
         n = int(0)
         over = float(0.0)  # the reservoir in the stack's last row: the fractions that met it
         # the pieces of the cut being traced: first the entry's, then those of popped parts
@@ -657,18 +825,36 @@ def trace_beam(
                         cand[ci, ROW_MI], cand[ci, ROW_MI + 1], cand[ci, ROW_MI + 2], cand[ci, ROW_MI + 3]
                     )
                     if int(cand[ci, ROW_IN]) < 0:
-                        # leaves the convex stone (reflected off it or refracted out): a leaf
-                        rad = _part_light(env, b3, qc, nq, rot, g)
-                        acc_x, acc_y, acc_z, scalar_xyz = add_leaf(
-                            acc_x, acc_y, acc_z, scalar_xyz, polarized, m_c, w_c * frac, env.polarizer,
-                            -d_ch, b_ch, xyz_w * rad,
-                        )  # fmt: skip
+                        # leaves the convex stone (reflected off it or refracted out): a leaf,
+                        # shared among the pixels it overlaps by their areas of it
+                        share = frac * a_beam
+                        ix0, ix1, iy0, iy1 = _cells(qc, nq, bw, bh)
+                        if ix0 == ix1 and iy0 == iy1:
+                            rad = _part_light(env, b3, qc, nq, rot, g)
+                            _sink_leaf(
+                                sink, px0 + ix0 + (py0 + iy0) * width, polarized, m_c, w_c * share,
+                                env.polarizer, -d_ch, b_ch, xyz_w * rad,
+                            )  # fmt: skip
+                        else:
+                            a_q = polygon_area(qc, nq)
+                            for iy in range(iy0, iy1 + 1):
+                                for ix in range(ix0, ix1 + 1):
+                                    cq, cm = _in_cell(qc, nq, ix, iy, ix0, ix1, iy0, iy1)
+                                    a_c = float(0.0)
+                                    if cm >= 3 and a_q > 0.0:
+                                        a_c = polygon_area(cq, cm)
+                                    if a_c > 0.0:
+                                        rad = _part_light(env, b3, cq, cm, rot, g)
+                                        _sink_leaf(
+                                            sink, px0 + ix + (py0 + iy) * width, polarized, m_c,
+                                            w_c * share * a_c / a_q, env.polarizer, -d_ch, b_ch, xyz_w * rad,
+                                        )  # fmt: skip
                         continue
                     if depth + 1 >= p.max_depth:
                         continue  # its next interface would be one too many
-                    # roulette: a part carrying less than split_threshold of the pixel's light
+                    # roulette: a part carrying less than split_threshold of a pixel's light
                     # continues with probability e / split_threshold (weighted by its inverse)
-                    e = energies[ci] * frac
+                    e = energies[ci] * frac * a_beam
                     if e < p.split_threshold:
                         alive, boost = roulette(e, p.split_threshold, wp.randf(rng))
                         if alive == 0:
@@ -747,11 +933,65 @@ def trace_beam(
                 buf, nb, rng = _exit_split(geom, k, q, nq, f0, nc, cands, rng)
                 for i in range(nb):
                     buf[i, _P_FRAC] = buf[i, _P_FRAC] * frac
-    if polarized == 0:
-        acc_x = coherency_unpolarized(scalar_xyz[0])
-        acc_y = coherency_unpolarized(scalar_xyz[1])
-        acc_z = coherency_unpolarized(scalar_xyz[2])
-    return acc_x, acc_y, acc_z, 1.0 - miss, parts, rng
+    return parts, rng
+
+
+@wp.func
+def trace_beam(
+    p: TraceParams,
+    geom: SceneGeometry,
+    mats: MaterialTable,
+    env: Environment,
+    tables: SpectralTables,
+    polarized: int,
+    k: int,
+    cam: CameraParams,
+    px0: int,
+    py0: int,
+    bw: int,
+    bh: int,
+    width: int,
+    sink: wp.array2d(dtype=wp.float32),
+    wavelengths: LaneWavelengths,
+    weights: LaneWeights,
+    count: int,
+    first: int,
+    step: int,
+    rot: wp.vec2f,
+    rng: wp.uint32,
+):
+    """The light reaching the camera through the block of ``bw`` x ``bh`` pixels from pixel
+    (px0, py0) (:func:`pixel_beam`; a film ``width`` pixels wide) at ``count`` wavelengths,
+    added to each pixel's row of ``sink`` (:func:`sink_sums` reads it): coherency matrices J_X,
+    J_Y, J_Z summed over the lanes, lane j's light weighted by ``weights[j]``, averaged over the
+    pixel, and the fraction of the pixel that meets the stone.  Returns (the beam parts traced,
+    rng).  A leaf's part is cut by the pixels it overlaps (in the block's pixel coordinates,
+    which every part carries), each pixel taking its share of the part's fraction of the block.
+    Lane j is the pixel's wavelength ``first + j step`` in the order of its strata: its
+    environment lookups follow the R2 sequence over that index, rotated by ``rot`` (uniform,
+    independent of the wavelengths), so that neighbouring wavelengths' lookups spread evenly
+    over their parts (module docstring).  Module docstring for the method."""
+    poly, basis_x = pixel_beam(cam, px0, py0, bw, bh)
+    # the entry cut is the same for every wavelength
+    entry, n_entry, over, rng = _entry_split(geom, k, poly, 4, rng)
+    if over == 0.0 or bw * bh == 1:
+        return _trace_entry(
+            p, geom, mats, env, tables, polarized, k, cam, px0, py0, bw, bh, width, sink, basis_x, entry,
+            n_entry, wavelengths, weights, count, first, step, rot, rng,
+        )  # fmt: skip
+    # more entry pieces than rows: a piece standing in for others would move their light to its
+    # own pixels, so each pixel of the block is a beam of its own
+    parts = int(0)
+    for iy in range(bh):
+        for ix in range(bw):
+            cell, bx_c = pixel_beam(cam, px0 + ix, py0 + iy, 1, 1)
+            e_c, n_c, _over, rng = _entry_split(geom, k, cell, 4, rng)
+            n_p, rng = _trace_entry(
+                p, geom, mats, env, tables, polarized, k, cam, px0 + ix, py0 + iy, 1, 1, width, sink, bx_c,
+                e_c, n_c, wavelengths, weights, count, first, step, rot, rng,
+            )  # fmt: skip
+            parts += n_p
+    return parts, rng
 
 
 def beam_applies(scene, geometry, *, file=None) -> None:
