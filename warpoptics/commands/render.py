@@ -86,7 +86,10 @@ def run(args) -> int:
         from ..pipelines.render import check_render_memory
 
         check_render_memory(
-            kw.get("width", scene.camera.width), kw.get("height", scene.camera.height), file=args.scene
+            kw.get("width", scene.camera.width),
+            kw.get("height", scene.camera.height),
+            file=args.scene,
+            beams=bool(scene.render.pixel_beam),
         )
     _check_writable(out)
     spp = kw.get("spp", overrides.get("render.spp"))

@@ -208,7 +208,6 @@ def _render_beam_block(
     rot_u = wp.randf(rng)
     for _skip in range(film.spp_begin * film.groups * _DRAWS_PER_TRACE):
         wp.randf(rng)
-    inv_groups = wp.float64(1.0) / wp.float64(film.groups)
     for kb in range(film.spp_begin * film.groups, end * film.groups):
         grp = kb % film.groups
         smp = kb / film.groups
@@ -234,30 +233,26 @@ def _render_beam_block(
             for ix in range(bw):
                 pc = pix + ix + iy * film.width
                 coh_x, coh, coh_z, cover = sink_sums(sink, pc, polarized)
-                rays_out[pc] = rays_out[pc] + wp.int64(nr / cells)
                 if film.adaptive != 0 and smp >= spp_end[pc]:
+                    rays_out[pc] = rays_out[pc] + wp.int64(nr / cells)
                     continue  # this pixel has its samples
                 s = stokes_from_coherency(coh)
                 sx = stokes_from_coherency(coh_x)
                 sz = stokes_from_coherency(coh_z)
-                stokes_out[pc] = stokes_out[pc] + _stokes_d(s)
-                stokes_xyz_out[pc, 0] = stokes_xyz_out[pc, 0] + _stokes_d(sx)
-                stokes_xyz_out[pc, 1] = stokes_xyz_out[pc, 1] + _stokes_d(s)
-                stokes_xyz_out[pc, 2] = stokes_xyz_out[pc, 2] + _stokes_d(sz)
-                alpha_out[pc] = alpha_out[pc] + wp.float64(cover) * inv_groups
+                # the sample's XYZ (its bundles' sum) and its square enter the film at its end
                 sink[pc, _SINK_GROUP] += sx[0]
                 sink[pc, _SINK_GROUP + 1] += s[0]
                 sink[pc, _SINK_GROUP + 2] += sz[0]
+                xyz = wp.vec3d(0.0, 0.0, 0.0)
                 if grp == film.groups - 1:
-                    gv = wp.vec3d(
-                        wp.float64(sink[pc, _SINK_GROUP]),
-                        wp.float64(sink[pc, _SINK_GROUP + 1]),
-                        wp.float64(sink[pc, _SINK_GROUP + 2]),
-                    )
-                    xyz_out[pc] = xyz_out[pc] + gv
-                    sq_out[pc] = sq_out[pc] + wp.cw_mul(gv, gv)
                     for c in range(3):
+                        xyz[c] = wp.float64(sink[pc, _SINK_GROUP + c])
                         sink[pc, _SINK_GROUP + c] = 0.0
+                _add_to_film(
+                    pc, xyz, wp.cw_mul(xyz, xyz), _stokes_d(s), _stokes_d(sx), _stokes_d(sz),
+                    cover / float(film.groups), nr / cells, xyz_out, sq_out, stokes_out, alpha_out, rays_out,
+                    stokes_xyz_out,
+                )  # fmt: skip
 
 
 #: the widest block (degrees) beam_block = 0 gives a pinhole camera's beams: a part's Fresnel
@@ -479,10 +474,12 @@ FILM_BYTES_PER_PIXEL = 24 + 32 + 8 + 8 + 96
 OUTPUT_BYTES_PER_PIXEL = FILM_BYTES_PER_PIXEL + 19 * 8 + 19 * 4
 
 
-def estimate_render_bytes(width: int, height: int) -> int:
-    """Peak memory (bytes) a ``width x height`` render needs for its film and output image; the
-    per-thread trace stack is small (a few kB) and not counted."""
-    return int(width) * int(height) * (FILM_BYTES_PER_PIXEL + OUTPUT_BYTES_PER_PIXEL)
+def estimate_render_bytes(width: int, height: int, *, beams: bool = False) -> int:
+    """Peak memory (bytes) a ``width x height`` render needs for its film and output image, and
+    with ``beams`` the pixel beams' per-pixel sums; the per-thread trace stack is small (a few
+    kB) and not counted."""
+    per_pixel = FILM_BYTES_PER_PIXEL + OUTPUT_BYTES_PER_PIXEL + (4 * BEAM_SINK_COLS if beams else 0)
+    return int(width) * int(height) * per_pixel
 
 
 def available_memory_bytes() -> int | None:
@@ -504,11 +501,11 @@ def available_memory_bytes() -> int | None:
 
 
 def check_render_memory(
-    width: int, height: int, *, available: int | None = None, file: str | None = None
+    width: int, height: int, *, available: int | None = None, file: str | None = None, beams: bool = False
 ) -> int:
     """Refuse (InputError with the estimate in GiB) a render whose film and image would not fit in
     ``available`` bytes (default: :func:`available_memory_bytes`).  Returns the estimate."""
-    need = estimate_render_bytes(width, height)
+    need = estimate_render_bytes(width, height, beams=beams)
     avail = available_memory_bytes() if available is None else int(available)
     if avail is not None and need > avail:
         raise InputError(
@@ -549,7 +546,9 @@ class Renderer:
         self.scene = scene
         self.device = get_device(device)
         r = scene.render
-        check_render_memory(scene.camera.width, scene.camera.height, file=scene.path)
+        check_render_memory(
+            scene.camera.width, scene.camera.height, file=scene.path, beams=bool(r.pixel_beam)
+        )
         built = build_objects(scene.objects, file=scene.path)
         meshes, mats = built.meshes, built.materials
         emission_media_supported(mats, file=scene.path)
@@ -736,8 +735,6 @@ class Renderer:
         for arr in (self.xyz, self.sq, self.stokes, self.alpha, self.rays, self.stokes_xyz):
             arr.zero_()
         h, w = f.height, f.width
-        for sink in self._sinks.values():
-            sink.zero_()  # (an interrupted run may have left sums)
         if rows_per_chunk is None:
             rows_per_chunk = max(1, min(f.height, 16384 // max(f.width, 1)))
         bsz = f.beam_block if f.beam else 1

@@ -558,7 +558,7 @@ def _exit_split(
 
 
 @wp.func
-def _lookup_count(env: Environment, poly: BeamPolygon, nv: int):
+def _lookup_count(poly: BeamPolygon, nv: int):
     """How many environment lookups a part's light takes: one per _LOOKUP_ANGLE of the angular
     diameter of its rays' directions, 1 to _LOOKUPS."""
     _x, d_c = _centre(poly, nv)
@@ -576,7 +576,7 @@ def _part_light(env: Environment, b3: wp.vec3f, poly: BeamPolygon, nv: int, rot:
     points follow lane g-1's, so the lanes of neighbouring wavelengths spread their lookups
     evenly over similar parts."""
     acc = float(0.0)
-    n = _lookup_count(env, poly, nv)
+    n = _lookup_count(poly, nv)
     for i in range(n):
         gi = g * float(_LOOKUPS) + float(i)
         u = rot + wp.vec2f(gi * 0.7548776662466927, gi * 0.5698402909980532)
