@@ -94,7 +94,7 @@ class RenderConfig:
     # split_threshold = 0.001 (scenes/diamond_fire.toml; scripts/bench/beam_noise.py)
     pixel_beam: bool = False
     # pixel beams: each beam follows a block of beam_block x beam_block pixels, shared among the
-    # pixels at its leaves (a facet edge is cut once, not in every pixel: 2.2x faster at 4x4);
+    # pixels at its leaves (a facet edge is cut once, not in every pixel: 2x faster at 4x4);
     # through a pinhole a pixel's share is biased to first order in the block's angle (0.47 %
     # relative RMSE at 0.12 deg).  0: blocks up to 0.12 deg wide (pipelines/render.py
     # beam_block), 1: one beam per pixel

@@ -20,30 +20,30 @@ and weight are those of its centre ray (the mean of its vertices': the event of
 area in pixel coordinates) times the light a ray of it carries, averaged over the directions of
 up to 8 points uniform in the piece (so the environment is averaged over the spread of
 directions a pixel's rays leave in): one per 0.0015 rad of the spread's angular diameter
-(:func:`_lookup_count`). Always 8 cost 1.9x the render time at 512x512 for the same error (1.11
-% against 1.12 % at 32 wavelengths, ``scripts/bench/diamond512.py``); at 64x64, where a pixel
-spreads over about 0.006 rad, the rule's 1.00 / 0.32 % at 32 / 64 wavelengths against 8
-lookups' 0.96 / 0.24 %, where a single lookup gave 1.37 / 0.74 % (``beam_noise.py``). Those
-points follow the R2 sequence over the pixel's wavelengths in the order of their strata, and
-the pixel's wavelengths form one rotated lattice (the strata share one jitter,
-``pipelines/render.py``): a beam's light is a continuous function of the wavelength, so
-neighbouring wavelengths see nearly the same parts and the two sequences spread their samples
-evenly over both. Measured on the issue-19 stone at 64x64 (one pass, 64 wavelengths, split
-0.001; ``scripts/bench/beam_noise.py``): one lookup per leaf from independent random numbers,
-1.34 % relative RMSE; 8 lookups on the R2 sequence, 0.68 %; with the lattice as well, 0.24 %.
-The only other random choices are Russian roulette on parts carrying less than
-``split_threshold`` of the pixel's light and, should more parts be pending than the stack
-holds, a pick among them by their fractions (weighted by the inverse probability): both
-unbiased. (Roulette numbers stratified over the lanes were tried and dropped: with one number
-per lane, a lane's parts live or die together, and the noise at 128 wavelengths, split 0.01,
-rose from 1.20 % to 1.69 %; with a per-path shift, to 1.42 %. Also dropped: issue 19's spectral
-ray differentials. Each part carried its centre ray's exit-direction derivative in the
-wavelength (Igehy's refraction differential with dn/dlambda, checked against finite differences
-of Snell's law), and the lookups were spread along it over the lane's stratum. At 16
-wavelengths the noise stayed 2.3 %; drawing the lookups' own wavelengths and weights in the
-stratum broke the lattice and raised it to 9.4 %. What is left at few wavelengths is the parts
-themselves changing with the wavelength, which only more wavelengths resolve: 16, 24, 32, 48
-per pass give 2.4, 2.1, 0.96, 0.25 %.)
+(:func:`_lookup_count`). At 512x512 in 4x4 blocks (28 wavelengths,
+``scripts/bench/diamond512.py``) always 8 took 14.0 s for 1.04 %, the rule 9.2 s for 1.06 %; at
+64x64, where a pixel spreads over about 0.006 rad, the rule gives 1.03 / 0.31 % at 32 / 64
+wavelengths against 8 lookups' 0.96 / 0.24 % and a single lookup's 1.37 / 0.74 %
+(``beam_noise.py``). Those points follow the R2 sequence over the pixel's wavelengths in the
+order of their strata, and the pixel's wavelengths form one rotated lattice (the strata share
+one jitter, ``pipelines/render.py``): a beam's light is a continuous function of the
+wavelength, so neighbouring wavelengths see nearly the same parts and the two sequences spread
+their samples evenly over both. Measured on the issue-19 stone at 64x64 (one pass, 64
+wavelengths, split 0.001; ``scripts/bench/beam_noise.py``): one lookup per leaf from
+independent random numbers, 1.34 % relative RMSE; 8 lookups on the R2 sequence, 0.68 %; with
+the lattice as well, 0.24 %. The only other random choices are Russian roulette on parts
+carrying less than ``split_threshold`` of the pixel's light and, should more parts be pending
+than the stack holds, a pick among them by their fractions (weighted by the inverse
+probability): both unbiased. (Roulette numbers stratified over the lanes were tried and
+dropped: with one number per lane, a lane's parts live or die together, and the noise at 128
+wavelengths, split 0.01, rose from 1.20 % to 1.69 %; with a per-path shift, to 1.42 %. Also
+dropped: issue 19's spectral ray differentials. Each part carried its centre ray's
+exit-direction derivative in the wavelength (Igehy's refraction differential with dn/dlambda,
+checked against finite differences of Snell's law), and the lookups were spread along it over
+the lane's stratum. At 16 wavelengths the noise stayed 2.3 %; drawing the lookups' own
+wavelengths and weights in the stratum broke the lattice and raised it to 9.4 %. What is left
+at few wavelengths is the parts themselves changing with the wavelength, which only more
+wavelengths resolve: 16, 24, 32, 48 per pass give 2.4, 2.1, 0.96, 0.25 %.)
 
 Accuracy. Orthographic camera: the pixel's rays share one direction, every cut and every
 interpolated ray is exact, so the estimate is unbiased. Pinhole camera: the rays are exact at
@@ -61,15 +61,15 @@ Blocks. ``render.beam_block`` traces the footprint of a block of pixels as one b
 carries the block's pixel coordinates, so at a leaf it is cut by the pixels it covers and each
 pixel takes its area's share (a facet edge is cut once per block, not once per pixel). At
 512x512 4x4 blocks trace 5.8x fewer parts than one beam per pixel; on the issue-19 stone at
-256x256 (32 wavelengths, ``beam_noise.py --block 4``) one pass takes 8.3 s instead of 18 s at
+256x256 (32 wavelengths, ``beam_noise.py --block 4``) one pass takes 9.7 s instead of 19.2 s at
 the same noise (1.12 % against 1.11 %). A pixel's share carries the part's centre-ray Fresnel
 factors, which through a pinhole vary across the block: the bias is first order in the block's
 angle (0.20 % relative RMSE for 2x2, 0.47 % for 4x4 blocks, 0.117 degrees wide, on
-``scenes/diamond_fire.toml``; 9.7 % for 4x4 blocks 1.9 degrees wide at 32x32), so the default
-(0) takes blocks up to 0.12 degrees (``pipelines/render.py`` ``beam_block``). Orthographic
-beams are exact at any block size. When the entry cut gives more pieces than its rows, a
-block's pixels are traced one by one (a piece standing in for others would move their light
-between pixels).
+``scenes/diamond_fire.toml``; 9.6 % for 4x4 blocks 1.9 degrees wide at 32x32,
+``scripts/bench/beam_block_bias.py``), so the default (0) takes blocks up to 0.12 degrees
+(``pipelines/render.py`` ``beam_block``). Orthographic beams are exact at any block size. When
+the entry cut gives more pieces than its rows, a block's pixels are traced one by one (a piece
+standing in for others would move their light between pixels).
 
 Scope: one convex, isotropic, uncoated solid in an environment light, seen through a pinhole or
 orthographic camera (``beam_applies``).
@@ -571,14 +571,16 @@ def _lookup_count(poly: BeamPolygon, nv: int):
 @wp.func
 def _part_light(env: Environment, b3: wp.vec3f, poly: BeamPolygon, nv: int, rot: wp.vec2f, g: float):
     """The environment's light at one wavelength (basis ``b3``) averaged over the directions of
-    the part's rays, by up to _LOOKUPS points uniform in the part (:func:`_lookup_count`): those
-    of the R2 sequence (Roberts 2018) from index ``g`` _LOOKUPS on, rotated by ``rot``; lane g's
-    points follow lane g-1's, so the lanes of neighbouring wavelengths spread their lookups
-    evenly over similar parts."""
+    the part's rays, by n <= _LOOKUPS points uniform in the part (:func:`_lookup_count`): those
+    of the R2 sequence (Roberts 2018) from index ``g`` n on, rotated by ``rot``; lane g's points
+    follow lane g-1's (neighbouring wavelengths' parts are alike, and so is their n), so the
+    lanes of neighbouring wavelengths spread their lookups evenly over similar parts.  (Indexed
+    from g _LOOKUPS instead, single lookups leave gaps of 7 between lanes: 2.7 % instead of
+    1.4 % at 64x64 and 32 wavelengths.)"""
     acc = float(0.0)
     n = _lookup_count(poly, nv)
     for i in range(n):
-        gi = g * float(_LOOKUPS) + float(i)
+        gi = g * float(n) + float(i)
         u = rot + wp.vec2f(gi * 0.7548776662466927, gi * 0.5698402909980532)
         u = u - wp.vec2f(wp.floor(u[0]), wp.floor(u[1]))
         b = random_point(poly, nv, u[0], u[1])
