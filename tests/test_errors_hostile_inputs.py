@@ -1,6 +1,6 @@
-"""Issue 22, reliability round two: each bad or extreme input found by the hostile-user pass is a
+"""Hostile inputs: each bad or extreme input found by a pass over the program as a hostile user is a
 clear one-line error (or, for valid input, a right answer), and sweeps never mix or delete
-results.  Families: 2 (sweeps), 6-10 (limits, overflow, tracebacks, vague errors)."""
+results.  Covered: sweeps, size limits, overflow, tracebacks and vague errors."""
 
 from __future__ import annotations
 
