@@ -35,5 +35,3 @@ autodoc_typehints = "description"
 autodoc_default_options = {"members": True, "show-inheritance": False}
 autosummary_generate = False
 
-# docs/design/ gathers one page per estimator by a glob, which may match nothing while it fills
-suppress_warnings = ["toc.empty_glob"]
