@@ -40,7 +40,7 @@ from .dispersion import (
     rgb3_alpha_of,
 )
 from .kramers_kronig import anomalous, kramers_kronig, rose_bengal_absorption
-from .library import fuchsine_solution, get, names, rose_bengal_solution
+from .library import chromophore_material, fuchsine_solution, get, names, rose_bengal_solution
 from .refractiveindex import from_refractiveindex
 from .rgb_weights import RGB_CMFS
 from .spec import material_from_spec
@@ -53,6 +53,7 @@ __all__ = [
     "material_from_spec",
     "get",
     "names",
+    "chromophore_material",
     "Material",
     "Isotropic",
     "Uniaxial",

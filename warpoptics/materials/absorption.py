@@ -60,6 +60,7 @@ wp.set_module_options({"enable_backward": False})  # no adjoint code (see device
 
 __all__ = [
     "band_profile",
+    "BAND_SHAPES",
     "pleochroic_alpha",
     "Band",
     "AbsorptionSpectrum",
@@ -78,10 +79,15 @@ __all__ = [
 @wp.func
 def band_profile(shape: int, wavelength_nm: float, center_nm: float, width_nm: float):
     """Unit-peak band shape: 0 Gaussian exp(−(λ−c)²/2w²) (w = σ), 1 Lorentzian w²/((λ−c)² + w²)
-    (w = half width at half maximum)."""
+    (w = half width at half maximum), 2 Gaussian in wavenumber exp(−(c²/λ − c)²/2w²), whose σ in
+    wavenumber is w/c² (w: σ in nm at the centre), the shape of crystal-field bands measured on an
+    energy scale (Burns 1993, ch. 3)."""
     x = wavelength_nm - center_nm
     if shape == 0:
         return wp.exp(-0.5 * x * x / (width_nm * width_nm))
+    if shape == 2:
+        y = center_nm * (center_nm / wavelength_nm - 1.0) / width_nm
+        return wp.exp(-0.5 * y * y)
     return width_nm * width_nm / (x * x + width_nm * width_nm)
 
 
@@ -144,7 +150,9 @@ def pleochroic_alpha(alpha_o, alpha_e, n_o, n_e, cos_theta, *, device=None) -> n
 # Spectra
 # ----------------------------------------------------------------------------------------------
 
-_SHAPES = {"gaussian": 0, "lorentzian": 1}
+#: band shape name -> the ``shape`` code of ``band_profile``
+BAND_SHAPES = {"gaussian": 0, "lorentzian": 1, "gaussian_wavenumber": 2}
+_SHAPES = BAND_SHAPES
 
 
 # the largest band peak (1/mm): a metal's is ~1e5; above ~3e38 float32 tables overflow to inf
@@ -154,7 +162,8 @@ _MAX_ALPHA = 1e9
 @dataclass(frozen=True)
 class Band:
     """One absorption band: peak alpha (1/mm) at ``center_nm``; ``width_nm`` is σ for a Gaussian,
-    the half width at half maximum for a Lorentzian."""
+    the half width at half maximum for a Lorentzian, σ at the centre (in nm) for a Gaussian in
+    wavenumber (``band_profile``)."""
 
     center_nm: float
     width_nm: float
@@ -164,7 +173,7 @@ class Band:
     def __post_init__(self):
         if not isinstance(self.shape, str) or self.shape not in _SHAPES:
             raise InputError(
-                "unknown band shape", field="shape", value=self.shape, allowed="gaussian, lorentzian"
+                "unknown band shape", field="shape", value=self.shape, allowed=", ".join(_SHAPES)
             )
         for name in ("center_nm", "width_nm", "peak_alpha_per_mm"):
             v = getattr(self, name)

@@ -45,10 +45,12 @@ import numpy as np
 
 from ..errors import InputError
 from .absorption import AbsorptionSpectrum, Band, guy_soler_2004_spectra, with_absorption
+from .chromophores import host_alpha, host_info, normalize_concentrations
 from .datasets.colour_change import COLOUR_CHANGE_GARNET
 from .datasets.dyes import LIBRARY_SOLUTIONS
 from .datasets.gems import CR3_BANDS_SOURCE, GEMS
 from .datasets.seed002 import GUY_SOLER_2004_ALPHA_PER_MM, GUY_SOLER_2004_GEMS
+from .datasets.varieties import VARIETIES
 from .dispersion import VISIBLE_RANGE_NM, Biaxial, Cauchy, Isotropic, Material, Uniaxial
 from .kramers_kronig import anomalous, fuchsine_absorption, rose_bengal_absorption
 from .refractiveindex import from_refractiveindex
@@ -60,6 +62,8 @@ __all__ = [
     "ALIASES",
     "rose_bengal_solution",
     "fuchsine_solution",
+    "chromophore_material",
+    "variety_chromophores",
 ]
 
 _FRAUNHOFER_D = 589.3
@@ -171,9 +175,10 @@ def _bands(bands, name) -> AbsorptionSpectrum:
     )
 
 
-def _gem(name: str) -> Material:
-    """Build library entry ``name`` from its data (:data:`~.datasets.gems.GEMS`)."""
-    entry = GEMS[name]
+def _gem(name: str, entry: dict | None = None) -> Material:
+    """Build library entry ``name`` from its data (:data:`~.datasets.gems.GEMS`, or ``entry`` in
+    that format)."""
+    entry = GEMS[name] if entry is None else entry
     row = entry.get("seed002", name)  # the seed-002 §6.1 row of "seed002" indices/absorbances
     kind, *args = entry["index"]
     if kind == "page":
@@ -226,6 +231,51 @@ def _gem(name: str) -> Material:
         ke = _bands(absorption["e"], f"{name} K^e")
         return with_absorption(mat, (ko, ke), source=mat.source + "; " + absorption["source"])
     return mat
+
+
+def chromophore_material(
+    host: str,
+    concentrations: dict,
+    *,
+    name: str | None = None,
+    index: tuple | None = None,
+    source: str | None = None,
+) -> Material:
+    """The host crystal ``host`` (:mod:`.chromophores`) coloured by ``concentrations``
+    ({chromophore: concentration in its band set's unit}): the colourless crystal's index (the
+    host's ``index`` entry, or ``index`` in the :data:`~.datasets.gems.GEMS` format) with alpha
+    per polarization from :func:`~.chromophores.host_alpha` (o/e uniaxial, X/Y/Z biaxial).  The
+    result carries ``chromophore_host`` and ``chromophore_concentrations``."""
+    info = host_info(host)
+    conc = normalize_concentrations(host, concentrations)
+    label = name or host
+    base = _gem(label, {"index": index or info["index"], "source": source or info["source"]})
+    spectra = host_alpha(host, conc)
+    src = f"{base.source}; {spectra[0].source}"
+    absorption = spectra[0] if len(spectra) == 1 else spectra
+    out = with_absorption(base, absorption, name=label, source=src)
+    out.name, out.source = label, src
+    out.chromophore_host = host_info(host)["name"]
+    out.chromophore_concentrations = conc
+    return out
+
+
+def _variety(name: str) -> Material:
+    """Library entry ``name`` of :data:`~.datasets.varieties.VARIETIES`."""
+    v = VARIETIES[name]
+    mat = chromophore_material(v["host"], v["concentrations"], name=name, index=v.get("index"))
+    mat.source = f"{mat.source}; concentrations: {v['source']}"
+    return mat
+
+
+def variety_chromophores(name: str) -> tuple[str, dict[str, float], tuple | None] | None:
+    """(host, concentrations, index entry or None) of the library variety ``name`` (any accepted
+    spelling), or None when ``name`` is not a chromophore variety."""
+    key = _key(name) if isinstance(name, str) else None
+    if key not in VARIETIES:
+        return None
+    v = VARIETIES[key]
+    return v["host"], normalize_concentrations(v["host"], v["concentrations"]), v.get("index")
 
 
 def rose_bengal_solution(percent: float = 10.0, *, device=None) -> Isotropic:
@@ -295,6 +345,8 @@ _BUILDERS: dict[str, Callable[[], Material]] = {
     **{name: _dye(kind, percent) for name, (kind, percent) in LIBRARY_SOLUTIONS.items()},
     **{name: functools.partial(_fluorescent, name) for name in FLUORESCENT},
     "colour_change_garnet": _colour_change_garnet,
+    # chromophore varieties last: they replace older entries of the same name
+    **{name: functools.partial(_variety, name) for name in VARIETIES},
 }
 
 #: other accepted spellings
@@ -317,6 +369,16 @@ def names() -> list[str]:
     return list(_BUILDERS)
 
 
+def _key(name: str) -> str:
+    """The library key ``name`` stands for (case, spaces, "-" and aliases normalised)."""
+    key = name.strip().lower().replace(" ", "_")
+    key = ALIASES.get(key, key)
+    if key not in _BUILDERS:
+        key2 = key.replace("-", "_")
+        key = ALIASES.get(key2, key2)
+    return key
+
+
 def get(name: str) -> Material:
     """The library material ``name`` (case-insensitive; "-" and " " read as "_").
 
@@ -324,11 +386,7 @@ def get(name: str) -> Material:
     """
     if not isinstance(name, str):
         raise InputError("material name must be a string", field="material", value=name)
-    key = name.strip().lower().replace(" ", "_")
-    key = ALIASES.get(key, key)
-    if key not in _BUILDERS:
-        key2 = key.replace("-", "_")
-        key = ALIASES.get(key2, key2)
+    key = _key(name)
     if key not in _BUILDERS:
         close = difflib.get_close_matches(key, list(_BUILDERS) + list(ALIASES), n=3, cutoff=0.5)
         hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""

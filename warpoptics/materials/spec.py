@@ -7,10 +7,16 @@ material = { base = "diamond", bands = [{ center_nm = 560, width_nm = 25, peak_a
 material = { cauchy = [1.5, 0.0042] }    # n = A + B / lambda^2 (lambda in um); [2.0] is non-dispersive
 material = { base = "diamond", fluorescence = { centre = "N3", quantum_yield = 0.29, strength = 2.0 } }
 material = { base = "diamond_n3", fluorescence = { quantum_yield = 0.1 } }   # the entry's own centre
+material = { host = "corundum", chromophores = { "Cr3+" = 0.5 } }   # a host crystal and its chromophores
+material = { base = "ruby", chromophores = { Cr = 0.2 } }           # a variety, Cr3+ changed
 ```
 
-Keys of an inline table: ``base`` (library name) or ``cauchy`` (coefficients A, B, ... of a
-Cauchy formula, lambda in micrometres), one of them required; ``bands`` (Gaussian/Lorentzian
+Keys of an inline table: ``base`` (library name), ``cauchy`` (coefficients A, B, ... of a
+Cauchy formula, lambda in micrometres) or ``host`` (a host crystal of
+``materials.chromophores``), one of them required; ``chromophores`` (a table chromophore =
+concentration, in each band set's unit: with ``host``, the crystal's chromophores; with a
+variety as ``base``, those concentrations replace the variety's; "Cr" stands for "Cr3+" where
+the host has one Cr band set); ``bands`` (Gaussian/Lorentzian
 absorption bands, alpha in 1/mm base e); ``absorption_rgb`` (an eq. 9 RGB absorbance triplet in
 1/mm, inverted onto a smooth spectrum, Guy & Soler 2004); ``kramers_kronig`` (add the anomalous
 dispersion of the absorption, Weidlich & Wilkie 2009); ``optic_axis`` (unit vector, uniaxial);
@@ -37,11 +43,21 @@ from .absorption import AbsorptionSpectrum, Band, spectrum_from_rgb, with_absorp
 from .datasets.fluorescence import CENTRES
 from .dispersion import Cauchy, Material, Uniaxial
 from .kramers_kronig import anomalous
-from .library import get
+from .library import chromophore_material, get, variety_chromophores
 
 __all__ = ["material_from_spec"]
 
-_KEYS = {"base", "cauchy", "bands", "absorption_rgb", "kramers_kronig", "optic_axis", "fluorescence"}
+_KEYS = {
+    "base",
+    "cauchy",
+    "host",
+    "chromophores",
+    "bands",
+    "absorption_rgb",
+    "kramers_kronig",
+    "optic_axis",
+    "fluorescence",
+}
 _FLUORESCENCE_KEYS = {"centre", "quantum_yield", "strength", "add_absorption"}
 _FINEST_STEP_NM = 0.1
 _MAX_RGB_ABSORBANCE = 1.0e6  # 1/mm: an absorption depth of a nanometre
@@ -61,12 +77,18 @@ def material_from_spec(spec: Any) -> Material:
             close = difflib.get_close_matches(k, list(_KEYS), n=1)
             hint = f"; did you mean {close[0]!r}?" if close else ""
             raise InputError(f"unknown key{hint}", field=k, allowed=", ".join(sorted(_KEYS)))
-    if ("base" in spec) == ("cauchy" in spec):
+    if sum(k in spec for k in ("base", "cauchy", "host")) != 1:
         raise InputError(
-            'an inline material needs exactly one of base = "<library name>" or cauchy = [A, B, ...]',
+            'an inline material needs exactly one of base = "<library name>", cauchy = [A, B, ...] '
+            'or host = "<host crystal>"',
             field="base",
         )
-    if "cauchy" in spec:
+    if "chromophores" in spec or "host" in spec:
+        for k in ("bands", "absorption_rgb"):
+            if k in spec:
+                raise InputError("give either chromophores or bands/absorption_rgb, not both", field=k)
+        mat = _chromophores(spec)
+    elif "cauchy" in spec:
         c = spec["cauchy"]
         if (
             not isinstance(c, list)
@@ -178,6 +200,31 @@ def material_from_spec(spec: Any) -> Material:
     if "fluorescence" in spec:
         mat = _fluorescence(spec["fluorescence"], mat, host_fl)
     return mat
+
+
+def _chromophores(spec: dict) -> Material:
+    """``host = "corundum", chromophores = {...}`` (a host crystal and its chromophores), or
+    ``base = "ruby", chromophores = {...}`` (a library variety with some concentrations
+    replaced)."""
+    from .chromophores import normalize_concentrations
+
+    conc = spec.get("chromophores", {})
+    if not isinstance(conc, dict):
+        raise InputError("must be a table of chromophore = concentration", field="chromophores", value=conc)
+    if "host" in spec:
+        host = spec["host"]
+        return chromophore_material(host, normalize_concentrations(host, conc))
+    found = variety_chromophores(spec["base"])
+    if found is None:
+        get(spec["base"])  # an unknown name: its own error
+        raise InputError(
+            'has no chromophores to change; name a variety (e.g. "ruby") or give host = "<crystal>"',
+            field="base",
+            value=spec["base"],
+        )
+    host, base_conc, index = found
+    merged = {**base_conc, **normalize_concentrations(host, conc)}
+    return chromophore_material(host, merged, name=get(spec["base"]).name, index=index)
 
 
 def _fluorescence(value: Any, mat: Material, own) -> Material:
