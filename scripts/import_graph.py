@@ -4,7 +4,7 @@
     python scripts/import_graph.py --dot g.dot     # also write it as Graphviz DOT
     python scripts/import_graph.py --png g.png     # also draw it with matplotlib (docs/layers.png)
 
-A module may import only from its own layer or below (DESIGN.md, "Layout"); no module imports
+A module may import only from its own layer or below (the layers listed below); no module imports
 another module's private (``_x``) name; there are no import circles.  Imports are read with ``ast``
 without importing anything: relative imports are resolved, ``from . import x`` of a submodule counts
 as importing that submodule, imports inside functions count too, imports under

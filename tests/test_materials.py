@@ -104,7 +104,7 @@ def test_library_gemological_constants(device, name, channel, nd, disp):
         assert abs(M.dispersion_bg(mat, channel=ch) - disp) < 2e-3
 
 
-def test_seed002_indices_and_types(device):
+def test_guy_soler_indices_and_types(device):
     # Guy & Soler 2004 §6.1: n at the green channel (546.1 nm) and n(435.8) - n(700) = 2 x "±"
     for name, row in M.GUY_SOLER_2004_GEMS.items():
         if name in ("diamond", "sapphire"):
@@ -302,7 +302,7 @@ def test_material_table_mixed_scene(device):
     axes = table.optic_axis.numpy()
     assert np.allclose(axes, [0, 0, 1])
     assert table.uniaxial.numpy().tolist() == [0, 1, 0, 1]
-    # rgb3: the seed-002 triplets (read as 1/mm, GUY_SOLER_2004_ALPHA_PER_MM) for sapphire; eq. 9 of alpha
+    # rgb3: the Guy & Soler triplets (read as 1/mm, GUY_SOLER_2004_ALPHA_PER_MM) for sapphire; eq. 9 of alpha
     # for the dye
     rgb_o, rgb_e = table.rgb3_alpha_o.numpy(), table.rgb3_alpha_e.numpy()
     assert np.allclose(

@@ -47,7 +47,7 @@ def test_fig5_prism_readout(tmp_path, device):
 
 def test_fig6_spinel_readout(tmp_path, device):
     out = tmp_path / "fig6.png"
-    _run("seed000_fig6_spinel.py", out, device=device)
+    _run("weidlich_wilkie_fig6_spinel.py", out, device=device)
     ro = json.loads(out.with_suffix(".json").read_text())
     # Kramers-Kronig lowers n on the short side of the bands and raises it on the long side
     assert ro["dn_min"] < 0.0 < ro["dn_max"] and ro["dn_min_nm"] < ro["dn_max_nm"]
@@ -58,7 +58,7 @@ def test_fig6_spinel_readout(tmp_path, device):
 
 def test_fig7_gem_sizes_readout(tmp_path, device):
     out = tmp_path / "fig7.png"
-    _run("seed000_fig7_gem_sizes.py", out, device=device)
+    _run("weidlich_wilkie_fig7_gem_sizes.py", out, device=device)
     rows = json.loads(out.with_suffix(".json").read_text())["sizes"]
     assert [r["size_mm"] for r in rows] == [10.0, 1.0, 0.1, 0.01]
     # the KK index change scales with the absorbance (x 10 per step) and ΔE grows as the gem shrinks
@@ -72,7 +72,7 @@ def test_seed001_rgb3_readout(tmp_path, device):
     out = tmp_path / "s1.png"
     # rgb3's spp fixed: the equal-time spp of a --quick render is a ratio of milliseconds, which
     # a loaded CI machine does not keep (it measured 1 there once); the figure itself measures it
-    _run("seed001_rgb3_vs_spectral.py", out, "--rgb3-spp", 4, device=device)
+    _run("three_wavelength_rgb3_vs_spectral.py", out, "--rgb3-spp", 4, device=device)
     ro = json.loads(out.with_suffix(".json").read_text())
     r = ro["renders"]
     # more samples (what equal time gives rgb3) cut its error against the reference
@@ -85,7 +85,7 @@ def test_seed001_rgb3_readout(tmp_path, device):
 
 def test_seed003_sampling_readout(tmp_path, device):
     out = tmp_path / "s3.png"
-    _run("seed003_wavelength_sampling.py", out, device=device)
+    _run("wavelength_importance_sampling.py", out, device=device)
     ro = json.loads(out.with_suffix(".json").read_text())
     s = ro["strategies"]
     # importance sampling by the CIE curves is less noisy than uniform at equal samples (the

@@ -23,7 +23,7 @@ def _run(*args, device="cpu"):
 
 def test_fig4_zircon_script(tmp_path, device):
     out = tmp_path / "fig4.png"
-    r = _run(SCRIPTS / "seed002_fig4_zircon_fresnel.py", "-o", out, "--points", "7", device=device)
+    r = _run(SCRIPTS / "guy_soler_fig4_zircon_fresnel.py", "-o", out, "--points", "7", device=device)
     assert r.returncode == 0, r.stderr
     assert out.stat().st_size > 10_000
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -34,7 +34,7 @@ def test_fig4_zircon_script(tmp_path, device):
 
 
 def test_oe_angle_table_script(device):
-    r = _run(SCRIPTS / "seed002_oe_angles.py", "--grid", "6", device=device)
+    r = _run(SCRIPTS / "guy_soler_oe_angles.py", "--grid", "6", device=device)
     assert r.returncode == 0, r.stderr
     table = [ln.split() for ln in r.stdout.splitlines() if "%" in ln]
     rows = {t[0]: t for t in table}
@@ -46,5 +46,5 @@ def test_oe_angle_table_script(device):
 
 
 def test_scripts_reject_bad_options(tmp_path):
-    r = _run(SCRIPTS / "seed002_fig4_zircon_fresnel.py", "-o", tmp_path / "x.png", "--points", "1")
+    r = _run(SCRIPTS / "guy_soler_fig4_zircon_fresnel.py", "-o", tmp_path / "x.png", "--points", "1")
     assert r.returncode == 2

@@ -21,11 +21,11 @@ def _run(*args):
 @pytest.mark.parametrize(
     "script, marker",
     [
-        ("seed002_fig3_pleochroism.py", "axis left-right"),
-        ("seed002_sec61_gems.py", "andalusite"),
-        ("seed002_fig11_garnet_depth.py", "3 internal refl."),
-        ("seed002_fig11_andalusite.py", "dE00"),
-        ("seed002_fig8_dispersion.py", "mean dE00 spectral vs rgb3"),
+        ("guy_soler_fig3_pleochroism.py", "axis left-right"),
+        ("guy_soler_sec61_gems.py", "andalusite"),
+        ("guy_soler_fig11_garnet_depth.py", "3 internal refl."),
+        ("guy_soler_fig11_andalusite.py", "dE00"),
+        ("guy_soler_fig8_dispersion.py", "mean dE00 spectral vs rgb3"),
     ],
 )
 def test_seed002_picture_script(tmp_path, script, marker):
@@ -40,5 +40,5 @@ def test_seed002_picture_script(tmp_path, script, marker):
 
 
 def test_bad_size_is_refused(tmp_path):
-    r = _run(SCRIPTS / "seed002_fig8_dispersion.py", "--size", "3", "-o", tmp_path / "x.png")
+    r = _run(SCRIPTS / "guy_soler_fig8_dispersion.py", "--size", "3", "-o", tmp_path / "x.png")
     assert r.returncode != 0 and "--size" in r.stderr

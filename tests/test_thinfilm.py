@@ -149,7 +149,7 @@ def test_zero_thickness_film_is_bare_interface(device, n1, n2):
 
 def test_zero_layer_stack_equals_fresnel(device):
     """Cross-check with the single-interface law ``wo.optics.fresnel(cos_i, n1, n2) -> (rs, rp, ts,
-    tp)`` (DESIGN.md).  Both follow the Born & Wolf / Hecht signs stated in ``thinfilm.py``;
+    tp)`` (docs/conventions.md).  Both follow the Born & Wolf / Hecht signs stated in ``thinfilm.py``;
     float32 there, hence 1e-5."""
     ang = np.array([0.0, 20.0, 40.0, 60.0, 75.0, 89.0])
     for n1, n2 in ((1.0, 1.5), (1.5, 1.0), (1.0, 2.4 + 0.1j)):
@@ -501,10 +501,10 @@ def test_cli_table(tmp_path, capsys):
 @pytest.mark.parametrize(
     "script,extra",
     [
-        ("seed004_oil_slick.py", ["--size", "24", "--refraction-angle", "--model", "exact"]),
-        ("seed004_soap_film.py", ["--size", "24"]),
-        ("seed004_morpho.py", ["--size", "24"]),
-        ("seed004_model_vs_exact.py", ["--quick"]),
+        ("smits_meyer_oil_slick.py", ["--size", "24", "--refraction-angle", "--model", "exact"]),
+        ("smits_meyer_soap_film.py", ["--size", "24"]),
+        ("smits_meyer_morpho.py", ["--size", "24"]),
+        ("smits_meyer_model_vs_exact.py", ["--quick"]),
     ],
 )
 def test_scripts(tmp_path, script, extra):

@@ -13,7 +13,7 @@ turbulence fields have no closed form: their shape tests compare every element w
 own item-shaped call, and they are checked for determinism and seeding.
 
 Public import paths only (``wo.optics.fresnel``...): the modules are being reorganized.
-Tolerances: the kernels run in float32 (DESIGN.md, "Precision"), so 2e-6 relative plus an absolute
+Tolerances: the kernels run in float32 (docs/conventions.md, "Precision"), so 2e-6 relative plus an absolute
 floor for values near zero covers rounding; compiled with FMA, hence not bit-exact.  Wrappers with
 float64 kernels (the thin-film stacks) are held to 1e-9; looser ones say why beside them.
 """
@@ -827,7 +827,7 @@ WRAPPERS += [
             ("x_from", [_unit([1.0, 0.0, 0.3]), _unit([0.2, 1.0, 0.1]), np.array([1.0, 0.0, 0.0])]),
             ("x_to", [_unit([0.0, 1.0, 0.1]), _unit([-1.0, 0.4, -0.2]), _unit([1.0, 1.0, 0.0])]),
         ],
-        # frame_change's definition B[i, k] = to_i . from_k with y = d x x (Jones basis, DESIGN.md)
+        # frame_change's definition B[i, k] = to_i . from_k with y = d x x (Jones basis, docs/conventions.md)
         lambda d, xf, xt: [
             np.array(
                 [

@@ -1,6 +1,6 @@
 """warpoptics: spectral, polarized light transport in gemstones, prisms and thin films (NVIDIA Warp).
 
-Public API (see DESIGN.md)::
+Public API (the guide is docs/; units and frames in docs/conventions.md)::
 
     import warpoptics as wo
     wo.materials.get("diamond").n(589.3)
@@ -66,7 +66,7 @@ __all__ = [
     "sweep",
     "thinfilm",
     "validate",
-    # DESIGN.md's top-level names: the one sanctioned second path (homes: scene.load, pipelines.render,
+    # the top-level names: the one sanctioned second path (homes: scene.load, pipelines.render,
     # pipelines.bench, film.image, errors)
     "Scene",
     "render",

@@ -60,7 +60,7 @@ from equal_error import converged_difference, log, rel_noise  # noqa: E402
 ROOT = Path(__file__).resolve().parents[2]
 SCENE = ROOT / "scenes" / "bench_fire.toml"
 STUDIO_MAP = ROOT / "scenes" / "bench_studio.exr"
-LAMBDA_MIN, LAMBDA_MAX = 360, 830  # nm, warpoptics' colour integrals (DESIGN.md)
+LAMBDA_MIN, LAMBDA_MAX = 360, 830  # nm, warpoptics' colour integrals (docs/conventions.md)
 CLEAR_INDEX = 2.4173  # any constant: the Mitsuba export needs a clear, isotropic stone
 
 

@@ -11,7 +11,7 @@ Writes into ``--out-dir`` (default ``docs/gallery``):
   ``eigenwave_angle``: fast wave left) separates the two, and across the three views each
   principal colour shows twice.
 - ``biaxial_andalusite.png``: the andalusite of seed 002 fig. 11 e-g (the same long step cut, dome,
-  camera and panels as ``seed002_fig11_andalusite.py``, absorbance x 5 where the paper's weak
+  camera and panels as ``guy_soler_fig11_andalusite.py``, absorbance x 5 where the paper's weak
   triplets show colour): top row the library's biaxial andalusite (Handbook of Mineralogy indices,
   the §6.1 spectra per axis: X o-like, Y = Z e-like), bottom row the paper's uniaxial
   approximation ``andalusite_uniaxial``.  The biaxial Z (its n_gamma ~ the paper's n_e) lies where
@@ -38,7 +38,7 @@ import sys
 import time
 from pathlib import Path
 
-import _seed002_panels as sp
+import _guy_soler_panels as sp
 import numpy as np
 from _gallery import write_json
 

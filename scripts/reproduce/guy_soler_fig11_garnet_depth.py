@@ -8,7 +8,8 @@ render (max_depth 12).  Prints the stone's mean luminance per panel as a fractio
 one and what each extra reflection adds — the paper: "after 2 reflections, very little is added".
 
 Usage:
-    python scripts/reproduce/seed002_fig11_garnet_depth.py [-o docs/gallery/seed002_fig11_garnet_depth.png]
+    python scripts/reproduce/guy_soler_fig11_garnet_depth.py \
+        [-o docs/gallery/guy_soler_fig11_garnet_depth.png]
 """
 
 from __future__ import annotations
@@ -16,11 +17,11 @@ from __future__ import annotations
 import sys
 import time
 
-import _seed002_panels as sp
+import _guy_soler_panels as sp
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = sp.parser(__doc__, "docs/gallery/seed002_fig11_garnet_depth.png").parse_args(argv)
+    args = sp.parser(__doc__, "docs/gallery/guy_soler_fig11_garnet_depth.png").parse_args(argv)
     size, wl = sp.sizes(args, 160, 16)
     t0 = time.perf_counter()
     panels = []

@@ -10,7 +10,7 @@ which the two colours are easier to see.  Prints the mean colour of the stone in
 the CIEDE2000 difference (brightness removed) against the axis-toward-the-eye panel of its row.
 
 Usage:
-    python scripts/reproduce/seed002_fig3_pleochroism.py [-o docs/gallery/seed002_fig3_pleochroism.png]
+    python scripts/reproduce/guy_soler_fig3_pleochroism.py [-o docs/gallery/guy_soler_fig3_pleochroism.png]
 """
 
 from __future__ import annotations
@@ -18,11 +18,11 @@ from __future__ import annotations
 import sys
 import time
 
-import _seed002_panels as sp
+import _guy_soler_panels as sp
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = sp.parser(__doc__, "docs/gallery/seed002_fig3_pleochroism.png").parse_args(argv)
+    args = sp.parser(__doc__, "docs/gallery/guy_soler_fig3_pleochroism.png").parse_args(argv)
     size, wl = sp.sizes(args, 112, 12)
     t0 = time.perf_counter()
     print(

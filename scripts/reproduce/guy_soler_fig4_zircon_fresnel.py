@@ -12,7 +12,7 @@ the plane of incidence) and e = p.  Born & Wolf sign convention (``rp = -rs`` at
 incidence), o/e frames of eq. 2.
 
 Usage:
-    python scripts/reproduce/seed002_fig4_zircon_fresnel.py -o fig4.png [--points 181]
+    python scripts/reproduce/guy_soler_fig4_zircon_fresnel.py -o fig4.png [--points 181]
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ import warpoptics as wo
 
 # High zircon at 589 nm (upper end of the handbook ranges n_o 1.92-1.94, n_e 1.97-2.01;
 # birefringence 0.059).  With these values the maximum o/e ray angle of §4.2 is 2.33 deg, the
-# paper's 2.328 deg (see seed002_oe_angles.py).
+# paper's 2.328 deg (see guy_soler_oe_angles.py).
 ZIRCON_NO = 1.925
 ZIRCON_NE = 1.984
 AXIS = np.array([np.cos(np.pi / 6), 0.0, np.sin(np.pi / 6)])

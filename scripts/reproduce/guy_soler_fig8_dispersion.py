@@ -12,7 +12,7 @@ between the two over the stone, the same for two spectral renders with different
 floor of the comparison), and the mean chroma (fire) of each.
 
 Usage:
-    python scripts/reproduce/seed002_fig8_dispersion.py [-o docs/gallery/seed002_fig8_dispersion.png]
+    python scripts/reproduce/guy_soler_fig8_dispersion.py [-o docs/gallery/guy_soler_fig8_dispersion.png]
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from __future__ import annotations
 import sys
 import time
 
-import _seed002_panels as sp
+import _guy_soler_panels as sp
 import numpy as np
 
 import warpoptics as wo
@@ -38,7 +38,7 @@ def _blocks(a: np.ndarray, k: int) -> np.ndarray:
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = sp.parser(__doc__, "docs/gallery/seed002_fig8_dispersion.png")
+    p = sp.parser(__doc__, "docs/gallery/guy_soler_fig8_dispersion.png")
     p.add_argument("--material", default="moissanite", help="library stone (default moissanite)")
     args = p.parse_args(argv)
     size, wl = sp.sizes(args, 144, 12)

@@ -12,7 +12,7 @@ with Nelder-Mead.  Prints our angles and errors beside the paper's, with the ind
 the birefringence n_e - n_o that would reproduce the paper's angle at the same n_o.
 
 Usage:
-    python scripts/reproduce/seed002_oe_angles.py [--grid 46]
+    python scripts/reproduce/guy_soler_oe_angles.py [--grid 46]
 """
 
 from __future__ import annotations
@@ -85,7 +85,7 @@ def main(argv: list[str] | None = None) -> int:
         "-o",
         "--output",
         default=None,
-        help="also draw the table as a PNG (the gallery's docs/gallery/seed002_oe_angles.png)",
+        help="also draw the table as a PNG (the gallery's docs/gallery/guy_soler_oe_angles.png)",
     )
     args = p.parse_args(argv)
     if args.grid < 4:

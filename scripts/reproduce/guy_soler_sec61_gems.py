@@ -14,7 +14,7 @@ pale tourmaline and peridot then show their body colours.  Prints each stone's m
 the pixels of the stone, reflections included) beside the colour names of the paper's table.
 
 Usage:
-    python scripts/reproduce/seed002_sec61_gems.py [-o docs/gallery/seed002_sec61_gems.png]
+    python scripts/reproduce/guy_soler_sec61_gems.py [-o docs/gallery/guy_soler_sec61_gems.png]
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from __future__ import annotations
 import sys
 import time
 
-import _seed002_panels as sp
+import _guy_soler_panels as sp
 
 # name, the paper's colour names (o, e as printed in the table)
 GEMS = [
@@ -52,7 +52,7 @@ CAMERA = {"position": [0.0, -22.0, 30.0], "look_at": [0.0, 0.0, -0.3], "fov": 17
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = sp.parser(__doc__, "docs/gallery/seed002_sec61_gems.png").parse_args(argv)
+    args = sp.parser(__doc__, "docs/gallery/guy_soler_sec61_gems.png").parse_args(argv)
     size, wl = sp.sizes(args, 112, 8)
     t0 = time.perf_counter()
     rows = []

@@ -15,7 +15,7 @@ D. the Morpho multilayer (twelve mullions n = 1.53, d2 = 50 nm, air gaps d1 = 15
 Colour differences for A and B use one exposure for both models (the exact table's brightest
 entry at Y = 1).
 
-    python scripts/reproduce/seed004_model_vs_exact.py -o model_vs_exact.png [--quick]
+    python scripts/reproduce/smits_meyer_model_vs_exact.py -o model_vs_exact.png [--quick]
 """
 
 from __future__ import annotations

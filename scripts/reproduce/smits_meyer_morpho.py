@@ -6,7 +6,7 @@ surface seen from above, lit from the viewer's direction, shows the colours over
 angles.  Left: the paper's model; right: the exact twelve-layer stack; bottom strips: both
 tables from 0 to 89 degrees.
 
-    python scripts/reproduce/seed004_morpho.py -o morpho.png [--size 192]
+    python scripts/reproduce/smits_meyer_morpho.py -o morpho.png [--size 192]
 """
 
 from __future__ import annotations

@@ -6,7 +6,7 @@ optical thickness is t' = t n cos(theta) (eq. 11, n = 1.5 for oil) and the colou
 table with the phase change (oil on water: the reflection at the top, air -> oil, inverts).
 The asphalt is two noise calls for the scale and roughness of the texture plus fine bumps.
 
-    python scripts/reproduce/seed004_oil_slick.py -o oil.png [--size 256] [--model exact]
+    python scripts/reproduce/smits_meyer_oil_slick.py -o oil.png [--size 256] [--model exact]
 """
 
 from __future__ import annotations

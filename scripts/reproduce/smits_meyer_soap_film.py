@@ -5,7 +5,7 @@ The film hangs in a round wire frame; its thickness is proportional to the norma
 film shows at the top) plus turbulence for air currents;
 seen at normal incidence, t' = t n (n = 1.33), colours from the table with the phase change.
 
-    python scripts/reproduce/seed004_soap_film.py -o soap.png [--size 256] [--model exact]
+    python scripts/reproduce/smits_meyer_soap_film.py -o soap.png [--size 256] [--model exact]
 """
 
 from __future__ import annotations

@@ -23,8 +23,8 @@ Readout: each render's time, and its RMSE against the reference over display-enc
 tinted surround counts) and its mean CIEDE2000 over the stone's pixels (printed and written as
 JSON beside the PNG).
 
-    python scripts/reproduce/seed001_rgb3_vs_spectral.py \
-        [-o docs/gallery/seed001_rgb3_vs_spectral.png] [--quick]
+    python scripts/reproduce/three_wavelength_rgb3_vs_spectral.py \
+        [-o docs/gallery/three_wavelength_rgb3_vs_spectral.png] [--quick]
 """
 
 from __future__ import annotations
@@ -56,7 +56,7 @@ def _timed(base, device, repeats: int, settings: dict):
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument(
-        "-o", "--output", default=str(GALLERY / "seed001_rgb3_vs_spectral.png"), help="PNG to write"
+        "-o", "--output", default=str(GALLERY / "three_wavelength_rgb3_vs_spectral.png"), help="PNG to write"
     )
     ap.add_argument("--size", type=int, default=128, help="image width = height (pixels)")
     ap.add_argument(

@@ -17,7 +17,7 @@ import sys
 import time
 from pathlib import Path
 
-import _seed002_panels as sp
+import _guy_soler_panels as sp
 import numpy as np
 
 import warpoptics as wo

@@ -15,8 +15,8 @@ noise)^2 is how many times more samples uniform needs for the same noise.  The s
 over all seeds, with its standard error over the seeds, checks that both are unbiased (seed
 003's uniform image came out darker from its normalisation; ours must not).
 
-    python scripts/reproduce/seed003_wavelength_sampling.py \
-        [-o docs/gallery/seed003_wavelength_sampling.png] [--quick]
+    python scripts/reproduce/wavelength_importance_sampling.py \
+        [-o docs/gallery/wavelength_importance_sampling.png] [--quick]
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ STRATEGIES = ("uniform", "importance")
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument(
-        "-o", "--output", default=str(GALLERY / "seed003_wavelength_sampling.png"), help="PNG to write"
+        "-o", "--output", default=str(GALLERY / "wavelength_importance_sampling.png"), help="PNG to write"
     )
     ap.add_argument("--size", type=int, default=128, help="image width = height (pixels)")
     ap.add_argument("--samples", type=int, default=8, help="random wavelengths (camera samples) per pixel")

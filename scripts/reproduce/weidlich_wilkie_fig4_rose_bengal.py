@@ -6,7 +6,7 @@ source's curves come from van der Plaats (1915) data; ours from documented Gauss
 the shapes match (n dips on the short side and rises on the long side of the 549 nm band; the
 swing grows with concentration) but the exact values do not.
 
-    python scripts/reproduce/seed000_fig4_rose_bengal.py -o out/seed000_fig4.png
+    python scripts/reproduce/weidlich_wilkie_fig4_rose_bengal.py -o out/weidlich_wilkie_fig4.png
 """
 
 from __future__ import annotations

@@ -12,7 +12,8 @@ Readout: the largest KK change of n in 400-700 nm, and mean / p95 / max ΔE00 ov
 pixels for anomalous vs normal and for the noise floor (printed and written as JSON beside the
 PNG).
 
-    python scripts/reproduce/seed000_fig6_spinel.py [-o docs/gallery/seed000_fig6_spinel.png] [--quick]
+    python scripts/reproduce/weidlich_wilkie_fig6_spinel.py \
+        [-o docs/gallery/weidlich_wilkie_fig6_spinel.png] [--quick]
 """
 
 from __future__ import annotations
@@ -31,7 +32,9 @@ PRESET = ROOT / "scenes" / "sweeps" / "spinel_cobalt.toml"
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("-o", "--output", default=str(GALLERY / "seed000_fig6_spinel.png"), help="PNG to write")
+    ap.add_argument(
+        "-o", "--output", default=str(GALLERY / "weidlich_wilkie_fig6_spinel.png"), help="PNG to write"
+    )
     ap.add_argument("--size", type=int, default=192, help="image width = height (pixels)")
     ap.add_argument("--wavelengths", type=int, default=45, help="stratified wavelengths per pixel")
     ap.add_argument("--scale", type=float, default=5.0, help="ΔE00 at the top of the difference colour map")

@@ -13,7 +13,8 @@ Readout per size: the peak absorption (1/mm), the largest Kramers–Kronig chang
 ΔE00 mean / p95 / max over the stone's pixels (anomalous vs normal) beside the noise floor's mean
 (printed as a table and written as JSON beside the PNG).
 
-    python scripts/reproduce/seed000_fig7_gem_sizes.py [-o docs/gallery/seed000_fig7_gem_sizes.png] [--quick]
+    python scripts/reproduce/weidlich_wilkie_fig7_gem_sizes.py \
+        [-o docs/gallery/weidlich_wilkie_fig7_gem_sizes.png] [--quick]
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ PRESET = ROOT / "scenes" / "sweeps" / "gem_sizes.toml"
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument(
-        "-o", "--output", default=str(GALLERY / "seed000_fig7_gem_sizes.png"), help="PNG to write"
+        "-o", "--output", default=str(GALLERY / "weidlich_wilkie_fig7_gem_sizes.png"), help="PNG to write"
     )
     ap.add_argument("--size", type=int, default=128, help="image width = height (pixels)")
     ap.add_argument("--wavelengths", type=int, default=45, help="stratified wavelengths per pixel")

@@ -11,7 +11,7 @@ Frames: a screen has a centre, a unit ``normal`` pointing toward the light it re
 side) and an ``up`` vector.  Its image is the picture seen *looking toward the light* (from
 behind a translucent screen, like a camera sensor): ``right = normal x up``, ``up``; (right, up,
 d) is right-handed for light arriving against the normal, the camera convention of
-``DESIGN.md``.  Pixel (row 0 = top).  Stokes vectors are given in the frame (x, y) with x the
+``docs/conventions.md``.  Pixel (row 0 = top).  Stokes vectors are given in the frame (x, y) with x the
 screen's ``right`` projected perpendicular to the ray and ``y = d x x``.
 
 Units: power in W (the beam's ``power``), positions in mm; XYZ images are normalised so that the

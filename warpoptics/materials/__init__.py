@@ -1,6 +1,6 @@
 """Materials: dispersion models, refractiveindex.info, the gem library, absorption, Kramers–Kronig.
 
-Public API (DESIGN.md): ``get(name)``, ``mat.n(wavelength_nm)``, ``Sellmeier(B, C)``,
+Public API: ``get(name)``, ``mat.n(wavelength_nm)``, ``Sellmeier(B, C)``,
 ``Cauchy(...)``, ``Tabulated(wavelength_nm, n, k=None)``, ``from_refractiveindex("main/C/Peter")``,
 ``dispersion_bg(mat)``, ``kramers_kronig(wavelength_nm, k, n_background)``.  The renderer's
 device-side interface (``MaterialTable``, ``build_material_table``, ``material_eval``,
@@ -19,7 +19,7 @@ from .absorption import (
     with_absorption,
 )
 from .activity import OpticalActivity, optical_activity
-from .datasets.seed002 import GUY_SOLER_2004_ALPHA_PER_MM, GUY_SOLER_2004_GEMS
+from .datasets.guy_soler_2004 import GUY_SOLER_2004_ALPHA_PER_MM, GUY_SOLER_2004_GEMS
 from .dispersion import (
     CIE_RGB_PRIMARIES_NM,
     Biaxial,

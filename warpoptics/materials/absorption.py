@@ -1,6 +1,6 @@
-"""Absorption spectra: bands, tables, RGB absorbances (seed 002 eq. 9) and unit conversions.
+"""Absorption spectra: bands, tables, RGB absorbances (Guy & Soler 2004, eq. 9) and unit conversions.
 
-An :class:`AbsorptionSpectrum` is alpha(λ): the base-e absorption coefficient in 1/mm (DESIGN.md),
+An :class:`AbsorptionSpectrum` is alpha(λ): the base-e absorption coefficient in 1/mm (docs/conventions.md),
 tabulated and linearly interpolated.  Build one from Gaussian / Lorentzian bands
 (:meth:`AbsorptionSpectrum.from_bands`), from a table in any of the supported units
 (:meth:`AbsorptionSpectrum.from_table`), or from an RGB absorbance triplet by inverting eq. 9 of
@@ -13,7 +13,7 @@ Units (all helpers are ``@wp.func`` with NumPy wrappers):
 - decadic absorbance per cm A_10 (the chemist's absorbance of a 1 cm cell):
   alpha [1/mm] = ln(10) · A_10 / 10.
 
-Seed 002 §6.1 table (:data:`GUY_SOLER_2004_GEMS`): the paper states no unit for its absorbances
+The Guy & Soler 2004 §6.1 table (:data:`GUY_SOLER_2004_GEMS`): the paper states no unit for its absorbances
 (K_r, K_g, K_b), and its worked example ("L = 1 cm and κ = 0.4" giving a 0.00125 % error) is not
 self-consistent (κL = 0.4 gives ~8 %; 0.00125 % needs κL ~ 0.005).  warpoptics reads them as base-e
 absorbance per mm, alpha (1/mm) = K (:data:`GUY_SOLER_2004_ALPHA_PER_MM`, the one place to change this
@@ -44,7 +44,7 @@ from .. import device as _device
 from ..device import device_function
 from ..errors import InputError
 from ..optics.absorption import pleochroic_kappa
-from .datasets.seed002 import GUY_SOLER_2004_ALPHA_PER_MM, GUY_SOLER_2004_GEMS
+from .datasets.guy_soler_2004 import GUY_SOLER_2004_ALPHA_PER_MM, GUY_SOLER_2004_GEMS
 from .dispersion import Biaxial, Material, Uniaxial, rgb3_alpha_of, with_absorption_k
 from .rgb_weights import rgb_weights
 from .units import (
@@ -458,17 +458,17 @@ def with_absorption(
 
 
 # ----------------------------------------------------------------------------------------------
-# Seed 002 §6.1 gem table
+# The Guy & Soler 2004 §6.1 gem table
 # ----------------------------------------------------------------------------------------------
 
 
 def guy_soler_2004_spectra(name: str) -> tuple[AbsorptionSpectrum, AbsorptionSpectrum]:
-    """(K^o(λ), K^e(λ)) in 1/mm for a seed-002 gem, by the eq. 9 inversion of its table triplets."""
+    """(K^o(λ), K^e(λ)) in 1/mm for a gem of Guy & Soler's table, by the eq. 9 inversion of its triplets."""
     try:
         row = GUY_SOLER_2004_GEMS[name]
     except KeyError as exc:
         raise InputError(
-            "not in the seed 002 §6.1 table", field="name", value=name, allowed=", ".join(GUY_SOLER_2004_GEMS)
+            "not in Guy & Soler's table", field="name", value=name, allowed=", ".join(GUY_SOLER_2004_GEMS)
         ) from exc
     cache = _seed_cache.get(name)
     if cache is None:

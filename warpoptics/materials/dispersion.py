@@ -27,7 +27,7 @@ and inside kernels (all wavelengths in nm, vacuum)::
     K_o  = table.rgb3_alpha_o[mat_id]                         # wp.vec3f alpha (1/mm, >= 0) per
     K_e  = table.rgb3_alpha_e[mat_id]                         #   R, G, B channel of the rgb3 mode
 
-``rgb3_alpha_*``: the seed-002 §6.1 triplets verbatim for the six gems of that table (read as
+``rgb3_alpha_*``: the Guy & Soler §6.1 triplets verbatim for the six gems of that table (read as
 1/cm -> 1/mm, see absorption.py), otherwise eq. 9 of the material's alpha(λ) with the linear-sRGB
 colour-matching functions (the channels of warpoptics.spectra.RGB3_WAVELENGTHS), clamped at 0.
 The rgb3 refractive indices are simply ``material_eval`` at those three wavelengths.
@@ -100,10 +100,10 @@ __all__ = [
 _N_MAX = 20.0
 _K_MAX = 100.0
 
-#: the CIE 1931 RGB primaries (nm) behind the seed-002 §6.1 absorbances (Guy & Soler 2004 §4.1;
+#: the CIE 1931 RGB primaries (nm) behind the Guy & Soler §6.1 absorbances (Guy & Soler 2004 §4.1;
 #: Wyszecki & Stiles 1982).  The renderer's rgb3 mode samples warpoptics.spectra.RGB3_WAVELENGTHS.
 CIE_RGB_PRIMARIES_NM = (700.0, 546.1, 435.8)
-#: the colour integration range of warpoptics (DESIGN.md).
+#: the colour integration range of warpoptics (docs/conventions.md, "Units").
 VISIBLE_RANGE_NM = (360.0, 830.0)
 
 _MAX_COEFFS = 32
@@ -825,7 +825,7 @@ def rgb3_alpha_of(mat: Material, *, illuminant: str = "E", cmfs: str = "srgb", d
     warpoptics.spectra.RGB3_WAVELENGTHS).  Both CMF sets have negative lobes (r̄ below ~545 nm),
     so eq. 9 of a narrow band there (e.g. rose bengal at 549 nm) can come out negative in a
     channel; a negative absorbance would amplify light, so each channel is clamped at 0 here
-    (``rgb_absorbance`` itself stays the plain eq. 9).  Materials carrying the seed-002 table
+    (``rgb_absorbance`` itself stays the plain eq. 9).  Materials carrying the Guy & Soler table
     (``mat.rgb3_alpha``) use those triplets verbatim instead (see build_material_table).
     """
     lam, w = rgb_weights(illuminant, cmfs)

@@ -3,7 +3,7 @@
 Dispersion comes from a refractiveindex.info page where one exists (read offline with
 :func:`from_refractiveindex`); otherwise a two-term Cauchy formula n = A + B/λ² (λ in µm) is fitted
 exactly through a published index and dispersion.  The numbers (pages, constants, bands) and their
-provenance are data, in :mod:`warpoptics.materials.datasets` (``gems``, ``seed002``, ``dyes``);
+provenance are data, in :mod:`warpoptics.materials.datasets` (``gems``, ``guy_soler_2004``, ``dyes``);
 this module composes the materials from them.  Biaxial
 stones (peridot, andalusite, topaz, tanzanite, iolite, chrysoberyl, alexandrite, kyanite) are
 :class:`Biaxial` with three principal indices.  The uniaxial approximation that Guy & Soler 2004
@@ -49,7 +49,7 @@ from .chromophores import host_alpha, host_info, normalize_concentrations
 from .datasets.colour_change import COLOUR_CHANGE_GARNET
 from .datasets.dyes import LIBRARY_SOLUTIONS
 from .datasets.gems import CR3_BANDS_SOURCE, GEMS
-from .datasets.seed002 import GUY_SOLER_2004_ALPHA_PER_MM, GUY_SOLER_2004_GEMS
+from .datasets.guy_soler_2004 import GUY_SOLER_2004_ALPHA_PER_MM, GUY_SOLER_2004_GEMS
 from .datasets.varieties import VARIETIES
 from .dispersion import VISIBLE_RANGE_NM, Biaxial, Cauchy, Isotropic, Material, Uniaxial
 from .kramers_kronig import anomalous, fuchsine_absorption, rose_bengal_absorption
@@ -120,7 +120,7 @@ def _uniaxial(o: Isotropic, e: Isotropic, name: str, source: str, rgb3=None) -> 
     return Uniaxial(o, e, optic_axis=(0.0, 0.0, 1.0), name=name, source=source, rgb3_alpha=rgb3)
 
 
-def _seed002_triplets(name: str) -> dict[str, tuple[float, ...]]:
+def _guy_soler_triplets(name: str) -> dict[str, tuple[float, ...]]:
     """The §6.1 absorbance triplets of row ``name`` in 1/mm: {"o": K^o, "e": K^e} (K^e = K^o for
     an isotropic row)."""
     row = GUY_SOLER_2004_GEMS[name]
@@ -129,11 +129,11 @@ def _seed002_triplets(name: str) -> dict[str, tuple[float, ...]]:
     return {"o": ko, "e": ke}
 
 
-def _seed002(name: str, mat: Material) -> Material:
+def _guy_soler_absorption(name: str, mat: Material) -> Material:
     """Attach the §6.1 absorbances of row ``name``: spectra by eq. 9 inversion, the triplets
     for rgb3."""
     so, se = guy_soler_2004_spectra(name)
-    t = _seed002_triplets(name)
+    t = _guy_soler_triplets(name)
     ko, ke = t["o"], t["e"]
     src = mat.source + "; absorbance: Guy & Soler 2004 §6.1 (eq. 9 inversion)"
     if isinstance(mat, Uniaxial):
@@ -145,7 +145,7 @@ def _seed002(name: str, mat: Material) -> Material:
     return out
 
 
-def _seed002_indices(name: str, row_name: str | None = None) -> Material:
+def _guy_soler_indices(name: str, row_name: str | None = None) -> Material:
     """Cauchy fits to the §6.1 indices of row ``row_name`` (default ``name``): n(546.1) = table
     value, n(435.8) − n(700) = 2 ± value."""
     row = GUY_SOLER_2004_GEMS[row_name or name]
@@ -179,7 +179,7 @@ def _gem(name: str, entry: dict | None = None) -> Material:
     """Build library entry ``name`` from its data (:data:`~.datasets.gems.GEMS`, or ``entry`` in
     that format)."""
     entry = GEMS[name] if entry is None else entry
-    row = entry.get("seed002", name)  # the seed-002 §6.1 row of "seed002" indices/absorbances
+    row = entry.get("guy_soler_row", name)  # the §6.1 row of "guy_soler_2004" indices/absorbances
     kind, *args = entry["index"]
     if kind == "page":
         mat = _page(args[0], name)
@@ -204,17 +204,17 @@ def _gem(name: str, entry: dict | None = None) -> Material:
     elif kind == "biaxial_pages":
         ch = [_page(pg, f"{name} ({a})") for pg, a in zip(args, "abg", strict=True)]
         mat = Biaxial(*ch, name=name, source=entry["source"])
-    else:  # "seed002"
-        mat = _seed002_indices(name, row)
+    else:  # "guy_soler_2004"
+        mat = _guy_soler_indices(name, row)
     absorption = entry.get("absorption")
     if isinstance(mat, Biaxial):
         if absorption is None:
             return mat
         if all(absorption[a] in ("o", "e") for a in "xyz"):
-            # the §6.1 spectra of the seed-002 row, one per principal axis, and their triplets
+            # the §6.1 spectra of the Guy & Soler row, one per principal axis, and their triplets
             so, se = guy_soler_2004_spectra(row)
             spec = {"o": so, "e": se}
-            t = _seed002_triplets(row)
+            t = _guy_soler_triplets(row)
             out = with_absorption(
                 mat,
                 tuple(spec[absorption[a]] for a in "xyz"),
@@ -224,8 +224,8 @@ def _gem(name: str, entry: dict | None = None) -> Material:
             return out
         kx, ky, kz = (_bands(absorption[a], f"{name} alpha_{a.upper()}") for a in "xyz")
         return with_absorption(mat, (kx, ky, kz), source=mat.source + "; " + absorption["source"])
-    if absorption == "seed002":
-        return _seed002(row, mat)
+    if absorption == "guy_soler_2004":
+        return _guy_soler_absorption(row, mat)
     if absorption is not None:
         ko = _bands(absorption["o"], f"{name} K^o")
         ke = _bands(absorption["e"], f"{name} K^e")

@@ -8,7 +8,7 @@ positive semi-definite with ``Jxx + Jyy`` the intensity.  Both are stored as :cl
 struct of two ``wp.mat22`` (real and imaginary parts); the operations have explicit names
 (``jones_mul``...) because Warp looks operator overloads up per module.
 
-Conventions (DESIGN.md):
+Conventions (docs/conventions.md, "Polarization and Stokes vectors"):
 
 - time dependence ``exp(-i omega t)``;
 - Stokes vector ``S0 = Jxx + Jyy``, ``S1 = Jxx - Jyy``, ``S2 = 2 Re Jxy``, ``S3 = 2 Im Jxy``

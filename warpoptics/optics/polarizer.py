@@ -1,7 +1,7 @@
 """Ideal linear polarizers: the Mueller matrix (analyzers on Stokes images) and the polarized
 light behind a polarizer sheet (polarized illumination for a polariscope).
 
-Conventions (DESIGN.md, :mod:`warpoptics.optics.jones`): Stokes vectors S0..S3 in a frame
+Conventions (docs/conventions.md, :mod:`warpoptics.optics.jones`): Stokes vectors S0..S3 in a frame
 (x, y, k) with k the direction the light travels; ``S1 = Jxx - Jyy``, ``S2 = 2 Re Jxy``.  An
 angle ``theta`` (radians in the ``@wp.func``s, degrees in the NumPy wrappers and scenes) is the
 transmission axis measured from x toward y — in the camera frame from image right toward image

@@ -1,7 +1,7 @@
 """The tables of a TOML scene -> validated frozen configs, with errors that name file, field and value.
 
 A scene file has the tables ``[camera]``, ``[render]``, ``[[light]]``, ``[[object]]`` and ``[[surface]]`` (see
-DESIGN.md and the files in ``scenes/``).  ``Scene.load(path)`` reads and validates it;
+docs/conventions.md and the files in ``scenes/``).  ``Scene.load(path)`` reads and validates it;
 ``scene.with_overrides({"render.spp": 4, "object.0.diameter": 5.0})`` returns a modified copy
 (dotted paths, as the CLI's ``--set`` and the sweep axes use them).
 """
@@ -51,7 +51,7 @@ MAX_TINT = 1.0e6
 
 @dataclass(frozen=True)
 class RenderConfig:
-    """``[render]``: how to render (see DESIGN.md)."""
+    """``[render]``: how to render (docs/conventions.md has the estimators and modes)."""
 
     spectral: str = "stratified"
     wavelengths: int = 45

@@ -4,7 +4,7 @@ Raster coordinates: x to the right, y down, pixel (i, j) covers [i, i+1) x [j, j
 polarization basis of a primary ray is the image-right axis made perpendicular to the ray; with
 the light travelling toward the camera (k = -direction) the frame (x = right, y = k x right ~ up,
 k) is right-handed, so output Stokes vectors are in the camera frame x = image right, y = image
-up (DESIGN.md).
+up (docs/conventions.md, "Frames").
 """
 
 from __future__ import annotations

@@ -381,7 +381,7 @@ class Deposits:
 
 
 class ForwardStage:
-    """The optical bench's forward trace (DESIGN.md, "Stages"): owns its frozen
+    """The optical bench's forward trace (docs/conventions.md, "Stages"): owns its frozen
     :class:`ForwardConfig`, its device data (:class:`ForwardParams`), its kernel
     (:data:`forward_trace_kernel`) and the deposit buffers it fills — allocated once per launch
     size and reused, so :meth:`run` allocates nothing after the first call of a size."""

@@ -674,7 +674,7 @@ def default_params(
 
 
 class TraceStage:
-    """The camera trace stage (DESIGN.md, "Stages"): owns its frozen :class:`TraceConfig`, its
+    """The camera trace stage (docs/conventions.md, "Stages"): owns its frozen :class:`TraceConfig`, its
     device data (:class:`TraceParams`: each object's material, absorption scale, optic axis,
     coatings, fluorescent re-emission) and the device function a pipeline's pixel kernel calls,
     :attr:`function` — :data:`trace_radiance`, or the variant with the re-emission pass

@@ -1,6 +1,6 @@
 """Material data, apart from the code that computes with it (as colour-science keeps its data under
 ``datasets/``): the gem library's entries (:mod:`.gems`: refractiveindex.info pages, gemological
-constants, Cr³⁺ bands), the seed-002 gem table (:mod:`.seed002`) and the dye solutions' data
+constants, Cr³⁺ bands), the Guy & Soler gem table (:mod:`.guy_soler_2004`) and the dye solutions' data
 (:mod:`.dyes`), each with its provenance.
 
 Kept as Python modules of plain literals rather than TOML/CSV package data: the values are short

@@ -1,29 +1,6 @@
 """The gem library's data: where each material's index comes from, and its absorption, as plain data.
 
-Each entry of :data:`GEMS` (in library order) has
-
-``index``     how n(λ) is obtained:
-              ``("page", page)``: a refractiveindex.info page (read offline), isotropic;
-              ``("pages", o_page, e_page)``: the ordinary and extraordinary pages of a uniaxial
-              crystal (optic axis +z);
-              ``("constants", n_o, n_e, dispersion)``: gemological constants at the sodium D line
-              and the dispersion n(430.8) − n(686.7), fitted by a two-term Cauchy formula;
-              ``("seed002",)``: the indices of the Guy & Soler §6.1 table (:mod:`.seed002`);
-              ``("biaxial", n_alpha, n_beta, n_gamma, dispersion)``: the three principal indices
-              at the sodium D line, each a Cauchy fit with the one dispersion;
-              ``("biaxial_pages", alpha_page, beta_page, gamma_page)``: three refractiveindex.info
-              pages (principal axes X, Y, Z of the object frame)
-``two_v``     biaxial: the literature optic-axial angle ``(low, high, sign, source)`` (degrees; the
-              range is the stated uncertainty) that the indices must reproduce
-``source``    the provenance string the material carries (index entries other than "page")
-``seed002``   the row of the seed-002 §6.1 table an entry takes its ``("seed002",)`` indices and its
-              ``"seed002"`` absorbances from (default: the entry's own name)
-``absorption`` absent (colourless, k = 0), ``"seed002"`` (the §6.1 absorbances), or
-              ``{"o": bands, "e": bands, "source": ...}`` with bands (centre nm, width nm,
-              peak alpha 1/mm) of Gaussian profiles; biaxial: ``{"x": ..., "y": ..., "z": ...,
-              "source": ...}`` for D along X, Y, Z, each bands or ``"o"`` / ``"e"``: that seed-002
-              §6.1 spectrum (eq. 9 inversion) of the row named by ``seed002`` (and its triplet
-              for rgb3)
+Each entry's fields are described above :data:`GEMS`.
 
 Provenance
 ----------
@@ -67,12 +44,38 @@ BIAXIAL_SOURCES = (
 #: the source string of every Cr³⁺ band spectrum
 CR3_BANDS_SOURCE = "Cr3+ bands (positions: literature; amplitudes illustrative)"
 
+#: Each entry of :data:`GEMS` (in library order) has
+#:
+#: ``index``     how n(λ) is obtained:
+#:               ``("page", page)``: a refractiveindex.info page (read offline), isotropic;
+#:               ``("pages", o_page, e_page)``: the ordinary and extraordinary pages of a uniaxial
+#:               crystal (optic axis +z);
+#:               ``("constants", n_o, n_e, dispersion)``: gemological constants at the sodium D line
+#:               and the dispersion n(430.8) − n(686.7), fitted by a two-term Cauchy formula;
+#:               ``("guy_soler_2004",)``: the indices of the Guy & Soler §6.1 table
+#:               (:mod:`.guy_soler_2004`);
+#:               ``("biaxial", n_alpha, n_beta, n_gamma, dispersion)``: the three principal indices
+#:               at the sodium D line, each a Cauchy fit with the one dispersion;
+#:               ``("biaxial_pages", alpha_page, beta_page, gamma_page)``: three refractiveindex.info
+#:               pages (principal axes X, Y, Z of the object frame)
+#: ``two_v``     biaxial: the literature optic-axial angle ``(low, high, sign, source)`` (degrees; the
+#:               range is the stated uncertainty) that the indices must reproduce
+#: ``source``    the provenance string the material carries (index entries other than "page")
+#: ``guy_soler_row``
+#:               the row of the Guy & Soler §6.1 table an entry takes its ``("guy_soler_2004",)``
+#:               indices and its ``"guy_soler_2004"`` absorbances from (default: the entry's own name)
+#: ``absorption`` absent (colourless, k = 0), ``"guy_soler_2004"`` (the §6.1 absorbances), or
+#:               ``{"o": bands, "e": bands, "source": ...}`` with bands (centre nm, width nm,
+#:               peak alpha 1/mm) of Gaussian profiles; biaxial: ``{"x": ..., "y": ..., "z": ...,
+#:               "source": ...}`` for D along X, Y, Z, each bands or ``"o"`` / ``"e"``: that Guy & Soler
+#:               §6.1 spectrum (eq. 9 inversion) of the row named by ``guy_soler_row`` (and its triplet
+#:               for rgb3)
 GEMS: dict[str, dict] = {
-    "diamond": dict(index=("page", "main/C/Peter"), absorption="seed002"),
+    "diamond": dict(index=("page", "main/C/Peter"), absorption="guy_soler_2004"),
     "sapphire": dict(
         index=("pages", "main/Al2O3/Malitson-o", "main/Al2O3/Malitson-e"),
         source="refractiveindex.info main/Al2O3/Malitson-o/-e",
-        absorption="seed002",
+        absorption="guy_soler_2004",
     ),
     "ruby": dict(
         index=("pages", "main/Al2O3/Malitson-o", "main/Al2O3/Malitson-e"),
@@ -95,7 +98,7 @@ GEMS: dict[str, dict] = {
         index=("constants", 1.925, 1.984, 0.039),
         source="high zircon, GIA: n_o 1.925, n_e 1.984 (nD), dispersion 0.039; Cauchy fit",
     ),
-    "tourmaline": dict(index=("seed002",), absorption="seed002"),
+    "tourmaline": dict(index=("guy_soler_2004",), absorption="guy_soler_2004"),
     "emerald": dict(
         index=("constants", 1.583, 1.577, 0.014),
         source="emerald (beryl), GIA: n_o 1.583, n_e 1.577 (nD), dispersion 0.014; Cauchy fit",
@@ -105,10 +108,11 @@ GEMS: dict[str, dict] = {
             source="Cr3+ bands after Wood & Nassau 1968 (illustrative strength)",
         ),
     ),
-    # biaxial since issue 20; the *_uniaxial entries keep the seed-002 uniaxial model (the
-    # paper's §6.1 indices and absorbances, n_o / n_e = two of the three principal indices)
-    "peridot_uniaxial": dict(index=("seed002",), absorption="seed002", seed002="peridot"),
-    "garnet": dict(index=("seed002",), absorption="seed002"),
+    # peridot, andalusite and topaz are biaxial (below); the *_uniaxial entries keep Guy & Soler's
+    # uniaxial model (the paper's §6.1 indices and absorbances, n_o / n_e = two of the three
+    # principal indices)
+    "peridot_uniaxial": dict(index=("guy_soler_2004",), absorption="guy_soler_2004", guy_soler_row="peridot"),
+    "garnet": dict(index=("guy_soler_2004",), absorption="guy_soler_2004"),
     "spinel": dict(index=("page", "main/MgAl2O4/Tropf")),
     "topaz_uniaxial": dict(
         index=("constants", 1.619, 1.627, 0.014),
@@ -122,7 +126,9 @@ GEMS: dict[str, dict] = {
         index=("pages", "main/SiC/Wang-6H-o", "main/SiC/Wang-6H-e"),
         source="refractiveindex.info main/SiC/Wang-6H-o/-e (6H-SiC), extrapolated below 435.8 nm",
     ),
-    "andalusite_uniaxial": dict(index=("seed002",), absorption="seed002", seed002="andalusite"),
+    "andalusite_uniaxial": dict(
+        index=("guy_soler_2004",), absorption="guy_soler_2004", guy_soler_row="andalusite"
+    ),
     # biaxial stones (optics/biaxial.py): principal axes X, Y, Z = the object's x, y, z by default
     "tanzanite": dict(
         index=("biaxial", 1.692, 1.694, 1.700, 0.019),
@@ -219,7 +225,7 @@ GEMS: dict[str, dict] = {
                 "identical'; the stronger one, as olivine absorbs most for D along Y)"
             ),
         ),
-        seed002="peridot",
+        guy_soler_row="peridot",
     ),
     "andalusite": dict(
         index=("biaxial", 1.632, 1.636, 1.643, 0.016),
@@ -241,7 +247,7 @@ GEMS: dict[str, dict] = {
                 "n_gamma) and Y (Handbook of Mineralogy pleochroism: Y = Z)"
             ),
         ),
-        seed002="andalusite",
+        guy_soler_row="andalusite",
     ),
     "topaz": dict(
         index=("biaxial", 1.619, 1.621, 1.627, 0.014),

@@ -1,4 +1,4 @@
-"""Guy & Soler 2004 §6.1 "System parameters": the seed-002 gem table, verbatim, as plain data.
+"""Guy & Soler 2004 §6.1 "System parameters": the gem table, verbatim, as plain data.
 
 Provenance: S. Guy, C. Soler, "Graphics gems revisited", ACM TOG 23(3), 2004, §6.1 table.  The
 paper states no unit for the absorbances (K_r, K_g, K_b); warpoptics reads them as base-e
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 __all__ = ["GUY_SOLER_2004_ALPHA_PER_MM", "GUY_SOLER_2004_GEMS"]
 
-#: alpha (1/mm) per unit of the seed-002 table's absorbances (read as base-e per mm; see module doc)
+#: alpha (1/mm) per unit of the Guy & Soler table's absorbances (read as base-e per mm; see module doc)
 GUY_SOLER_2004_ALPHA_PER_MM = 1.0
 
 #: Guy & Soler 2004 §6.1 "System parameters", verbatim: type (I/U/B), (K_r, K_g, K_b) for the o
