@@ -1,4 +1,4 @@
-"""Atomic writers: a write that fails midway leaves the old file and no temporary behind (issue 12)."""
+"""Atomic writers: a write that fails midway leaves the old file and no temporary behind."""
 
 from __future__ import annotations
 
@@ -62,7 +62,7 @@ def test_no_writer_bypasses_atomic_path():
     assert not offenders, "\n".join(offenders)
 
 
-# -- issue 22, family 1: a full disk must never replace a good file -------------------------------
+# -- a full disk must never replace a good file --------------------------------------------------
 
 # every writer of the package, on a file that already holds good bytes; run on a full disk
 _WRITERS = r"""
@@ -160,7 +160,7 @@ def _on_tiny_tmpfs(script: str, *args: str, size: str = "64k", timeout: int = 24
 
 @pytest.mark.skipif(not _unshare_ok(), reason="needs unshare -rm to mount a small tmpfs")
 def test_full_disk_every_writer_keeps_old_file():
-    """Issue 22 #1, on a real full disk (a tmpfs): every writer raises one OutputError naming the
+    """On a real full disk (a tmpfs): every writer raises one OutputError naming the
     user's path, the old file keeps its bytes, no temporary file is left.  (Before: a PNG was
     replaced by a truncated 4 KiB file with exit 0.)"""
     r = _on_tiny_tmpfs(_WRITERS, size="256k")

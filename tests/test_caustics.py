@@ -379,7 +379,7 @@ def test_light_path_counts_stay_inside_int32():
     """``caustic_paths = 2^34`` was inside the validated range, but the kernels number light paths
     (and seed their random streams) in int32: past 2^31 the index wraps negative.  The range is
     now what one run can index, rounding up to the wavelength strata included; a count past it,
-    given or the default (one path per pixel sample), is one clear line (issue 22, family 7)."""
+    given or the default (one path per pixel sample), is one clear line."""
     from warpoptics.errors import InputError
     from warpoptics.stages.caustics import MAX_PATHS
 

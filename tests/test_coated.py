@@ -410,7 +410,7 @@ def test_bad_coatings_name_file_field_value(tmp_path):
 
 @pytest.mark.parametrize("material", ["topaz", "topaz_uniaxial", "tanzanite"])
 def test_coated_birefringent_stone_is_refused(tmp_path, material):
-    """Uniaxial and biaxial stones (topaz is biaxial since issue 20) are not coated here."""
+    """Uniaxial and biaxial stones (topaz is biaxial) are not coated here."""
     data = {
         "object": [
             {"shape": "round_brilliant", "material": material, "coating": [{"n": 2.0, "thickness_nm": 100.0}]}

@@ -1,4 +1,4 @@
-"""The coherent birefringence mode of the camera trace (issue 24, stages/coherence.py).
+"""The coherent birefringence mode of the camera trace (stages/coherence.py).
 
 (a) a thin quartz plate (a box solid) between crossed polarizers, rendered in narrow-band light at
     589 nm, transmits sin^2(2 phi) sin^2(pi Delta / lambda) (Delta = d |n_e - n_o|, the closed form);
@@ -193,7 +193,7 @@ def _assert_psd(img) -> None:
 def test_thick_tourmaline_coherent_matches_exact_within_noise(device, scene, min_changed):
     """(b) Thick tourmalines in white D65 between crossed polarizers: the 8 x 6 mm step cut of
     scenes/tourmaline_polariscope.toml and the 5 mm round brilliant of
-    scenes/tourmaline_brilliant_polariscope.toml (issue 24's done-when stone).  Over the spectrum
+    scenes/tourmaline_brilliant_polariscope.toml (the thick stone the coherent mode was checked on).  Over the spectrum
     the phase differences of the coherently added leaves average out.  The coherence width is
     0.1 mm (100x the default; 0.16 lambda / alpha for a lamp of angular radius 0.9 mrad), so that
     coherent sums really happen: the o and e leaves of a pixel leave microns apart after the

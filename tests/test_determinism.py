@@ -1,4 +1,4 @@
-"""Determinism: the rendered EXR is byte-identical for any thread count (issue 12)."""
+"""Determinism: the rendered EXR is byte-identical for any thread count."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The command line on bad input: one line on stderr, exit 2, no traceback (issue 12)."""
+"""The command line on bad input: one line on stderr, exit 2, no traceback."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """Bad mesh and GemCAD files, bad materials and bad environment maps are refused with a clear
-InputError naming the file, the field and the value (issue 12)."""
+InputError naming the file, the field and the value."""
 
 from __future__ import annotations
 

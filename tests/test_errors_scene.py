@@ -1,5 +1,5 @@
 """Bad scene input (TOML values, scene files, ``--set`` overrides, bench scenes) is refused with a
-clear InputError naming the file, the field and the value (issue 12)."""
+clear InputError naming the file, the field and the value."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The dispersive benchmark stone against Mitsuba 3 rendered band by band (issue 19).
+"""The dispersive benchmark stone against Mitsuba 3 rendered band by band.
 
 ``scripts/bench/fire_reference.py`` (read its docstring) builds the reference: for each of a
 set of wavelength bands, Mitsuba's ``scalar_spectral_polarized`` renders the stone with the

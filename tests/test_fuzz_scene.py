@@ -1,4 +1,4 @@
-"""Property-based fuzz of scene TOML (issue 22, "Done when"): random keys, types and extreme values
+"""Property-based fuzz of scene TOML: random keys, types and extreme values
 over every schema field of a small valid scene.  Each case must end in exactly one of two ways:
 
 - a one-line :class:`~warpoptics.errors.InputError` (the CLI's exit 2), or

@@ -308,7 +308,7 @@ def test_corpus_lists_every_design():
 def test_astryx_star_as_another_reader_measures_it():
     """OpenGemCutting's reader (yuyou-dev/OpenGemCutting, src/domain/gemcadAsc.test.js, MIT) on the
     same file: 57 facets, L/W 1 within 1e-10, height/width 0.71696825 within 1e-7.  The file's gear
-    line is the bare ``96 0.0`` (issue 21 item 4)."""
+    line is the bare ``96 0.0``."""
     assert (DATA / "astryx_star.asc").read_text().splitlines()[1] == "96 0.0"
     mesh = gemcad.read(DATA / "astryx_star.asc", diameter=6.5)
     prop = mesh.metadata["proportions"]
@@ -408,7 +408,7 @@ def test_design_exposes_index_title_footnotes():
 
 
 def test_many_planes_scale_and_too_many_refused():
-    # issue 22 item 7: a 600-facet-per-tier design (1200 pavilion/crown planes + girdle) builds
+    # a 600-facet-per-tier design (1200 pavilion/crown planes + girdle) builds
     k = 600
     phi = 2 * np.pi * (np.arange(k) + 0.5) / k
     rows = []
@@ -426,8 +426,7 @@ def test_many_planes_scale_and_too_many_refused():
 
 
 def test_scene_uses_the_design_index_unless_it_names_a_material(tmp_path):
-    """A ``shape = "gemcad"`` object without ``material`` takes the design's own I line (issue 21
-    item 4); naming a material overrides it; the render command's summary says which."""
+    """A ``shape = "gemcad"`` object without ``material`` takes the design's own I line; naming a material overrides it; the render command's summary says which."""
     from warpoptics.scene import Scene
 
     src = DATA / "Turkey.asc"

@@ -36,7 +36,7 @@ from warpoptics.scene.load import Scene
 from warpoptics.stages.environment import EnvironmentConfig, EnvironmentLight
 
 DIAMOND = {"shape": "round_brilliant", "diameter": 6.5, "material": "diamond"}
-# the gallery's deep stone (issue 23: "deep pavilion 43 deg with crown 34.5"; table 55 %)
+# the gallery's deep stone ("deep pavilion 43 deg with crown 34.5"; table 55 %)
 DEEP = {**DIAMOND, "table": 0.55, "crown_angle": 34.5, "pavilion_angle": 43.0}
 
 # the independent NumPy path tree and the meridional closed form (scripts/reproduce)
@@ -131,7 +131,7 @@ def test_aset_zone_fractions():
 
 
 def test_aset_deep_pavilion_leaks_under_the_crown_not_through_the_centre():
-    # Issue 23's Done-when ("ASET of a deep-pavilion (43 deg) brilliant shows leakage through the
+    # The grading work's acceptance check ("ASET of a deep-pavilion (43 deg) brilliant shows leakage through the
     # pavilion centre and the Tolkowsky does not") against the physics.  Leakage "shows" where it
     # dominates a pixel (area_*, the white of the ASET image); energy shares (leak_*) count every
     # path order.  Regions in girdle radii: centre r < 0.3, crown r >= table.

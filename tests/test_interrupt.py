@@ -1,4 +1,4 @@
-"""Ctrl-C (issue 22, family 3): at any moment of a command's first seconds it ends the command
+"""Ctrl-C: at any moment of a command's first seconds it ends the command
 with status 130 and one line — no traceback, no render run to the end over the file the user
 meant to keep — and an interrupt a library swallowed still keeps the old file."""
 
@@ -105,7 +105,7 @@ def test_library_import_leaves_sigint_alone():
 
 def test_no_cuda_driver_warning_on_cpu():
     """Without a GPU, Warp's native code prints "Could not find or load the NVIDIA CUDA driver"
-    at start-up; a CPU user did not ask for CUDA and sees nothing (issue 22, family 9)."""
+    at start-up; a CPU user did not ask for CUDA and sees nothing."""
     env = {k: v for k, v in os.environ.items() if k != "WARPOPTICS_DEVICE"}
     r = subprocess.run(
         [sys.executable, "-c", "from warpoptics import device; device.init(); print('ok')"],
@@ -120,7 +120,7 @@ def test_no_cuda_driver_warning_on_cpu():
 def test_sigint_stops_a_long_caustic_pass(tmp_path):
     """``caustic_paths`` at its largest (2^31 - 4096: hours of light tracing) runs in launches of
     65,536 paths with a progress bar; Ctrl-C during it ends the command in seconds with status 130
-    and one line, the old file kept and no temporary file left (issue 22, family 7)."""
+    and one line, the old file kept and no temporary file left."""
     import threading
 
     from warpoptics.stages.caustics import MAX_PATHS

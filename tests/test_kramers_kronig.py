@@ -178,7 +178,7 @@ def test_fig4_script(tmp_path):
     assert "rose bengal  10 %" in r.stdout
 
 
-# -- issue 22, family 6: bands anywhere, of any width ---------------------------------------------
+# -- bands anywhere, of any width ----------------------------------------------------------------
 
 
 def _pv_delta_n(band, lam_nm: float) -> float:

@@ -1,4 +1,4 @@
-"""Renders too large for memory are refused before anything is allocated (issue 12)."""
+"""Renders too large for memory are refused before anything is allocated."""
 
 from __future__ import annotations
 

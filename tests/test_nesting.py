@@ -1,4 +1,4 @@
-"""Nested solids (issue 22, family 4): a stone inside water, a glass or another solid.
+"""Nested solids: a stone inside water, a glass or another solid.
 
 References the tracers are checked against, each independent of the code under test:
 
@@ -72,8 +72,8 @@ def _stack(ns):
 
 
 def test_diamond_in_index_matched_cube_is_the_bare_diamond(device):
-    """Issue 22: a clear diamond inside an invisible n = 1.0 cube rendered nearly black (stone Y
-    0.0098 vs 0.489).  Now the image is the bare stone's to float32 round-off."""
+    """A clear diamond inside an invisible n = 1.0 cube once rendered nearly black
+    (stone Y 0.0098 vs 0.489).  Now the image is the bare stone's to float32 round-off."""
     bare = copy.deepcopy(DIAMOND)
     nested = copy.deepcopy(DIAMOND)
     nested["render"]["max_depth"] = 10  # the cube's entry and exit are two more interfaces

@@ -1,5 +1,5 @@
 """Physical edge cases stay finite and are what they should be; a NaN/Inf scan of tiny renders
-over random scenes (issue 12)."""
+over random scenes."""
 
 from __future__ import annotations
 

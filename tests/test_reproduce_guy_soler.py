@@ -1,4 +1,4 @@
-"""The seed 002 reproduction scripts run as subprocesses with tiny options."""
+"""The Guy & Soler 2004 reproduction scripts run as subprocesses with tiny options."""
 
 import os
 import subprocess

@@ -1,4 +1,4 @@
-"""The seed 002 picture reproductions run as subprocesses with ``--quick`` (24 px panels)."""
+"""The Guy & Soler 2004 picture reproductions run as subprocesses with ``--quick`` (24 px panels)."""
 
 import os
 import subprocess

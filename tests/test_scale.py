@@ -1,4 +1,4 @@
-"""Scale-relative ray offsets and the one size/placement rule (issue 22, family 5).
+"""Scale-relative ray offsets and the one size/placement rule.
 
 The reference is the same stone at the reference size (6.5 mm at the origin) with the camera (or
 the bench's beam and screens) scaled and moved with it, and its absorption scaled by 6.5 / size
@@ -56,7 +56,7 @@ def _y(data, device):
 
 @pytest.mark.parametrize("size", [0.003, 0.001])
 def test_micron_stones_render_as_the_reference_stone(device, size):
-    """Issue 22: 4.9 % off at 3 um, 60 % at 1 um (a fixed 1e-4 mm offset skipped most of the stone).
+    """Once 4.9 % off at 3 um, 60 % at 1 um (a fixed 1e-4 mm offset skipped most of the stone).
     Non-dispersive stone: the same deterministic path trees, so float32 round-off only."""
     ref = _y(_scene(6.5), device)
     img = _y(_scene(size), device)

@@ -1,5 +1,5 @@
 """Self-intersecting meshes are refused with a witness; every valid mesh of the repository is
-accepted (issue 22, family 4: they were accepted silently)."""
+accepted (they were accepted silently)."""
 
 from __future__ import annotations
 

@@ -153,7 +153,7 @@ def test_expressions():
     ],
 )
 def test_expressions_refuse_what_would_hang_or_exhaust_memory(text, msg):
-    # Issue 22 item 7: each is refused with the field and the expression named, before the work
+    # Each is refused with the field and the expression named, before the work
     # is done.  A refusal takes microseconds (the unguarded evaluation: minutes, or the memory);
     # one second is a bound that a loaded CI machine meets and a hang does not.
     t0 = time.perf_counter()

@@ -1,5 +1,5 @@
 """Property-based checks of the Fresnel and thin-film wrappers: energy is conserved and every
-output is physical over random inputs (hypothesis; issue 12)."""
+output is physical over random inputs (hypothesis)."""
 
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """Ctrl-C for the ``warpoptics`` command: prompt, without a traceback, and never clobbering an
 output.
 
-Two things made Ctrl-C in the first seconds of a command fail (issue 22): a ``KeyboardInterrupt``
+Two things made Ctrl-C in the first seconds of a command fail: a ``KeyboardInterrupt``
 raised inside the package's imports printed a traceback, and trimesh's optional imports catch
 ``BaseException`` (``trimesh.exceptions.ExceptionWrapper``) — an interrupt that lands there is
 swallowed, and the render ran to the end and replaced the file the user meant to keep.  So:

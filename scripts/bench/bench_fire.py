@@ -1,4 +1,4 @@
-"""Fire at speed (issue 19): the dispersive, polarized diamond against its clear twin and a peer.
+"""Fire at speed: the dispersive, polarized diamond against its clear twin and a peer.
 
 Scenes: ``scenes/bench_fire.toml`` (Tolkowsky round brilliant, library ``diamond`` with its
 dispersion, ``absorption_scale = 0``, polarized, the studio lat-long EXR, 256x256, 16 scattering

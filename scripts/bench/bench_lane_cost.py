@@ -1,4 +1,4 @@
-"""What a spectral-bundle lane costs (issue 19): the per-lane laws, timed one by one.
+"""What a spectral-bundle lane costs: the per-lane laws, timed one by one.
 
 A bundle (``stages/bundle.py``) traces one path tree for several wavelengths; every lane pays,
 at every node, its own interface event and, at every leaf, its own environment lookup and film

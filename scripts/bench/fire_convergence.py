@@ -1,4 +1,4 @@
-"""Fire convergence: relative RMSE against a long reference vs cost, per spectral estimator (issue 19).
+"""Fire convergence: relative RMSE against a long reference vs cost, per spectral estimator.
 
 Scene: the issue-19 benchmark stone -- ``scenes/bench_diamond.toml`` (Tolkowsky brilliant, the
 studio map as a lat-long EXR, 16 scattering events, split threshold 0.05) with the library's

@@ -1,4 +1,4 @@
-"""Spectral bundles: how many wavelengths per bundle, and how many bundles per sample (issue 19).
+"""Spectral bundles: how many wavelengths per bundle, and how many bundles per sample.
 
 The bundle estimator (``stages/bundle.py``) traces one path tree for ``lanes`` wavelengths at one
 pixel position.  Its noise has two parts: where the positions fall in the pixel (facet edges,

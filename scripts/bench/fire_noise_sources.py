@@ -1,4 +1,4 @@
-"""Where a gem render's noise comes from: the map's edges or the facets' edges (issue 19).
+"""Where a gem render's noise comes from: the map's edges or the facets' edges.
 
 A pixel's samples fall on different facet sequences of the stone (facet edges in the pixel's
 footprint, at every depth of the path tree) and, within one sequence, leave toward nearby

@@ -1,4 +1,4 @@
-"""An independent reference for the dispersive benchmark stone: Mitsuba 3, band by band (issue 19).
+"""An independent reference for the dispersive benchmark stone: Mitsuba 3, band by band.
 
 Mitsuba's ``dielectric`` has one index: it cannot render a dispersive stone in one go.  But a
 clear stone's image is a sum over wavelength bands, and inside a narrow band the index is

@@ -1,4 +1,4 @@
-"""Shared helpers of the seed 002 (Guy & Soler 2004) gem-picture reproductions.
+"""Shared helpers of the Guy & Soler 2004 gem-picture reproductions.
 
 ``gem_scene`` builds a small studio scene around one stone, ``render_panel`` renders it and
 measures the stone (mean colour over the pixels whose primary ray hit it), ``montage`` writes the

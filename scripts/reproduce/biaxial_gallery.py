@@ -1,4 +1,4 @@
-"""Biaxial gallery (issue 20): trichroic step cuts along X, Y, Z; andalusite biaxial vs uniaxial;
+"""Biaxial gallery: trichroic step cuts along X, Y, Z; andalusite biaxial vs uniaxial;
 a peridot brilliant's doubled back facets.
 
 Writes into ``--out-dir`` (default ``docs/gallery``):

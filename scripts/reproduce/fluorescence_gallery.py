@@ -1,4 +1,4 @@
-"""Fluorescence and colour change (issue 25): renders of scenes/fluorescence/ with their numbers.
+"""Fluorescence and colour change: renders of scenes/fluorescence/ with their numbers.
 
 Writes ``docs/gallery/fluorescence_diamond.png`` (a round brilliant with no N3 centre, medium
 and very strong N3 fluorescence, and the very strong stone without its fluorescence

@@ -1,4 +1,4 @@
-"""The tourmaline of scenes/tourmaline_polariscope.toml in a polariscope and a dichroscope (issue 8).
+"""The tourmaline of scenes/tourmaline_polariscope.toml in a polariscope and a dichroscope.
 
 Renders the scene once with polarized light (the sheet polarizer at 45 deg to the optic axis) and
 writes, from that one Stokes image, parallel polarizers | crossed polarizers | the dichroscope

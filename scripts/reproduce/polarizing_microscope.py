@@ -1,4 +1,4 @@
-"""The polarizing microscope (issue 24): the Michel-Lévy chart and conoscopic figures.
+"""The polarizing microscope: the Michel-Lévy chart and conoscopic figures.
 
 Writes into the output directory (default docs/gallery):
 

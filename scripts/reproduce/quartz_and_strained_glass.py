@@ -1,4 +1,4 @@
-"""Optical activity and strained glass between polarizers (issue 24).
+"""Optical activity and strained glass between polarizers.
 
 Writes into the output directory (default docs/gallery):
 

@@ -1,4 +1,4 @@
-"""The gem polariscope with a conoscope sphere over a faceted stone (issue 24).
+"""The gem polariscope with a conoscope sphere over a faceted stone.
 
 Renders scenes/tourmaline_conoscope.toml (a BK7 sphere over the table of a 5 mm tourmaline
 brilliant, optic axis along the view, crossed polarizers) in the coherent mode and in the

@@ -2,8 +2,8 @@
 (polar angle, azimuth), for the environment map lookup and its sampling table.
 
 Why not ``wp.acos`` and ``wp.atan2``: on the CPU device they are libm's ``acosf`` and ``atan2f``,
-~6 % of a dispersive render's samples in a ``perf`` profile (issue 19: every lane of a spectral
-bundle looks the map up at every leaf).  :func:`fast_atan2` is the Cephes ``atanf`` polynomial
+~6 % of a dispersive render's samples in a ``perf`` profile (every lane of a spectral bundle
+looks the map up at every leaf).  :func:`fast_atan2` is the Cephes ``atanf`` polynomial
 (Moshier 1989, ``atanf.c``: relative error 1.9e-7 on |t| <= tan(pi/8)) after the usual octant
 reduction, with the two divisions of that reduction merged into one.  The polar angle is
 ``atan2(sqrt(x^2 + y^2), z)`` rather than ``acos(z)``: accurate near the poles, where acos loses

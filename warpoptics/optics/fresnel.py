@@ -138,8 +138,8 @@ def fresnel_reverse(f: FresnelAmplitudes, cos_t: float, n1: wp.vec2f, n2: wp.vec
     (real indices) the reverse crossing swaps a = n1 cos i and b = n2 cos t: rs' = -rs, rp' = -rp
     (Stokes relations, Born & Wolf §1.5.2), ts' = 2 b / (a + b), tp' = 2 n1 n2 b / (n2^2 a +
     n1^2 b) -- two real divisions instead of a complex square root and four complex ones, and
-    exact where the re-solve loses digits near grazing (issue 19: every backward isotropic event
-    needs both crossings).  With an absorbing side it is the direct solve."""
+    exact where the re-solve loses digits near grazing (every backward isotropic event needs
+    both crossings).  With an absorbing side it is the direct solve."""
     if n1[1] != 0.0 or n2[1] != 0.0:
         return fresnel_amplitudes(cos_t, n2, n1)
     a = f.n1_cos_i[0]

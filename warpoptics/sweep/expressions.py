@@ -6,12 +6,12 @@ of :data:`FUNCTIONS` with the constants of :data:`CONSTANTS`.  Anything else (at
 other names, comprehensions, lambdas, slices, keyword arguments) is refused with an
 :class:`~warpoptics.errors.InputError` naming the field and the expression.
 
-Why not a library (issue 21 item 9; PyPI's ``simpleeval`` 1.0.8 and ``asteval`` 1.0 were
+Why not a library (PyPI's ``simpleeval`` 1.0.8 and ``asteval`` 1.0 were
 evaluated):
 
 - ``asteval`` is a whole interpreter (statements, loops, function definitions, NumPy) - far more
   surface than a sweep needs, which is the opposite of what a restricted evaluator is for.
-- ``simpleeval`` is the closest fit but not safe against what issue 22 item 7 asks: its power
+- ``simpleeval`` is the closest fit but not safe against hostile expressions: its power
   guard only bounds the operands (``MAX_POWER = 4e6``), so ``3999999**3999999`` (a 26-million-digit
   integer) still runs for minutes, and ``round(5, -10**9)`` hangs (CPython computes
   ``10**10**9``); its errors would need wrapping into ``InputError`` with field, expression and
