@@ -80,7 +80,7 @@ def _reversals(u):
 
 def test_prism_spots_follow_snell_and_order(device):
     """Spot positions match a NumPy Snell trace (same indices); BK7 and water keep the colour
-    order, the 10 % rose bengal prism reverses it and fans out wider (seed 000 §4)."""
+    order, the 10 % rose bengal prism reverses it and fans out wider (Weidlich & Wilkie 2009 §4)."""
     z0 = APEX_Z - 0.007
     fans = {}
     for mat in ("bk7", "water", "rose_bengal_10"):

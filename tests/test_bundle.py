@@ -33,7 +33,7 @@ STONE = {
         "split_threshold": 0.05,
     },
     "light": [{"type": "environment", "map": "studio"}],
-    # the library diamond: dispersive and (seed 002's 0.001/mm) absorbing, so the bundle's lanes
+    # the library diamond: dispersive and (Guy & Soler's 0.001/mm) absorbing, so the bundle's lanes
     # differ in index and in absorption
     "object": [
         {"shape": "round_brilliant", "diameter": 6.5, "material": "diamond", "absorption_scale": 50.0}

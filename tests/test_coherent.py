@@ -193,8 +193,9 @@ def _assert_psd(img) -> None:
 def test_thick_tourmaline_coherent_matches_exact_within_noise(device, scene, min_changed):
     """(b) Thick tourmalines in white D65 between crossed polarizers: the 8 x 6 mm step cut of
     scenes/tourmaline_polariscope.toml and the 5 mm round brilliant of
-    scenes/tourmaline_brilliant_polariscope.toml (the thick stone the coherent mode was checked on).  Over the spectrum
-    the phase differences of the coherently added leaves average out.  The coherence width is
+    scenes/tourmaline_brilliant_polariscope.toml (the thick stone the coherent mode was checked
+    on).  Over the spectrum the phase differences of the coherently added leaves average out.
+    The coherence width is
     0.1 mm (100x the default; 0.16 lambda / alpha for a lamp of angular radius 0.9 mrad), so that
     coherent sums really happen: the o and e leaves of a pixel leave microns apart after the
     walk-off across the stone, and with the default 1 um none is summed (measured on the

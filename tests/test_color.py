@@ -37,7 +37,7 @@ def test_clipped_colours_keep_y_and_land_on_the_boundary(device):
     xyz = xyz[keep]
     out = color.gamut_clip(xyz, 1.0, device=device)
     out_xyz = color.srgb_linear_to_xyz(out)
-    np.testing.assert_allclose(out_xyz[:, 1], xyz[:, 1], atol=3e-6)  # Y held (seed 004 §3)
+    np.testing.assert_allclose(out_xyz[:, 1], xyz[:, 1], atol=3e-6)  # Y held (Smits & Meyer 1990 §3)
     # on the boundary: one channel at 0 or 1 within float32 round-off
     dist = np.minimum(np.abs(out), np.abs(out - 1)).min(axis=1)
     assert dist.max() < 3e-6

@@ -426,7 +426,8 @@ def test_many_planes_scale_and_too_many_refused():
 
 
 def test_scene_uses_the_design_index_unless_it_names_a_material(tmp_path):
-    """A ``shape = "gemcad"`` object without ``material`` takes the design's own I line; naming a material overrides it; the render command's summary says which."""
+    """A ``shape = "gemcad"`` object without ``material`` takes the design's own I line;
+    naming a material overrides it; the render command's summary says which."""
     from warpoptics.scene import Scene
 
     src = DATA / "Turkey.asc"

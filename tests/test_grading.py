@@ -131,8 +131,8 @@ def test_aset_zone_fractions():
 
 
 def test_aset_deep_pavilion_leaks_under_the_crown_not_through_the_centre():
-    # The grading work's acceptance check ("ASET of a deep-pavilion (43 deg) brilliant shows leakage through the
-    # pavilion centre and the Tolkowsky does not") against the physics.  Leakage "shows" where it
+    # The grading work's acceptance check ("ASET of a deep-pavilion (43 deg) brilliant shows leakage
+    # through the pavilion centre and the Tolkowsky does not") against the physics.  Leakage "shows" where it
     # dominates a pixel (area_*, the white of the ASET image); energy shares (leak_*) count every
     # path order.  Regions in girdle radii: centre r < 0.3, crown r >= table.
     from aset_hand_trace import centre_leak_onset, trace_zones

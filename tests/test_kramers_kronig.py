@@ -166,7 +166,14 @@ def test_fig4_script(tmp_path):
     out = tmp_path / "fig4.png"
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     r = subprocess.run(
-        [sys.executable, "scripts/reproduce/weidlich_wilkie_fig4_rose_bengal.py", "-o", str(out), "--step", "5"],
+        [
+            sys.executable,
+            "scripts/reproduce/weidlich_wilkie_fig4_rose_bengal.py",
+            "-o",
+            str(out),
+            "--step",
+            "5",
+        ],
         capture_output=True,
         text=True,
         env=env,

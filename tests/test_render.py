@@ -26,7 +26,7 @@ FURNACE = {
         "rr_threshold": 1e-4,
     },
     "light": [{"type": "constant", "intensity": 1.0}],
-    # absorption_scale = 0: a clear stone (the library diamond has seed 002's 0.001/mm)
+    # absorption_scale = 0: a clear stone (the library diamond has Guy & Soler's 0.001/mm)
     "object": [{"shape": "round_brilliant", "diameter": 6.5, "material": "diamond", "absorption_scale": 0.0}],
 }
 
@@ -91,7 +91,7 @@ def test_white_furnace_uniaxial(device, material, mode, polarization):
 
 
 def test_pleochroism_depends_on_the_optic_axis(device):
-    """Tourmaline (seed 002 §6.1, eq. 7): the e-wave sees K^e, the o-wave K^o, so the colour of the
+    """Tourmaline (Guy & Soler 2004 §6.1, eq. 7): the e-wave sees K^e, the o-wave K^o, so the colour of the
     stone changes when its optic axis turns from the view direction to across it."""
     base = {
         **FURNACE,

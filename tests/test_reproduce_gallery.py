@@ -68,7 +68,7 @@ def test_fig7_gem_sizes_readout(tmp_path, device):
     assert de == sorted(de) and de[-1] > 10 * max(de[0], 1e-6)
 
 
-def test_seed001_rgb3_readout(tmp_path, device):
+def test_three_wavelength_rgb3_readout(tmp_path, device):
     out = tmp_path / "s1.png"
     # rgb3's spp fixed: the equal-time spp of a --quick render is a ratio of milliseconds, which
     # a loaded CI machine does not keep (it measured 1 there once); the figure itself measures it
@@ -83,7 +83,7 @@ def test_seed001_rgb3_readout(tmp_path, device):
     assert max(abs(a - b) for a, b in zip(ro["n_rgb3"], (2.40, 2.43, 2.46), strict=True)) < 0.012
 
 
-def test_seed003_sampling_readout(tmp_path, device):
+def test_wavelength_importance_sampling_readout(tmp_path, device):
     out = tmp_path / "s3.png"
     _run("wavelength_importance_sampling.py", out, device=device)
     ro = json.loads(out.with_suffix(".json").read_text())

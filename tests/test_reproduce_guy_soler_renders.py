@@ -28,7 +28,7 @@ def _run(*args):
         ("guy_soler_fig8_dispersion.py", "mean dE00 spectral vs rgb3"),
     ],
 )
-def test_seed002_picture_script(tmp_path, script, marker):
+def test_guy_soler_picture_script(tmp_path, script, marker):
     out = tmp_path / "fig.png"
     r = _run(SCRIPTS / script, "--quick", "-o", out, "--device", "cpu")
     assert r.returncode == 0, r.stderr

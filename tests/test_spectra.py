@@ -74,14 +74,15 @@ def test_rgb3_is_exact_for_constant_and_biased_for_narrow_band(device):
     ones = lambda wl: np.ones_like(wl)  # noqa: E731
     per_path = estimate("rgb3", ones, 1, 3, seed=0, device=device)[0]
     np.testing.assert_allclose(per_path, reference_xyz(G, np.ones_like(G)), rtol=1e-5)
-    # on D65 the three-wavelength estimate is near but not equal to the truth (seed 001's baseline)
+    # on D65 the three-wavelength estimate is near but not equal to the truth (the three-wavelength
+    # paper's baseline)
     d65 = lambda wl: spectra.illuminant("D65", wl)  # noqa: E731
     est = estimate("rgb3", d65, 1, 3, seed=0, device=device)[0]
     ref = reference_xyz(G, SPECTRA["D65"])
     rel = np.abs(est - ref) / ref
     print("rgb3 relative error on D65:", rel)
     assert rel.max() < 0.1
-    # a narrow band between the rgb3 wavelengths is lost almost entirely: the banding of seed 001
+    # a narrow band between the rgb3 wavelengths is lost almost entirely: the three-wavelength paper's banding
     nb = lambda wl: narrow_band(wl, 580.0)  # noqa: E731
     est = estimate("rgb3", nb, 1, 3, seed=0, device=device)[0]
     ref = reference_xyz(G, narrow_band(G, 580.0))

@@ -255,7 +255,7 @@ def _plate_reference_xyz(mat, thickness: float, polarization: str) -> np.ndarray
 
 
 def test_dichroscope_shows_tourmaline_pleochroism(device):
-    """A 4 mm tourmaline plate (seed 002 §6.1 spectra), optic axis across the view (image
+    """A 4 mm tourmaline plate (Guy & Soler 2004 §6.1 spectra), optic axis across the view (image
     horizontal): the dichroscope's left window (analyzer at 0 deg, along the axis) shows the e
     colour, the right one the o colour, each within dE00 1.5 of the reference integrated here; the
     two windows differ by as much as the references do (measured: e 0.38, o 0.77 from the

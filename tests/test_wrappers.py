@@ -584,14 +584,15 @@ def _sample_ref(strategy, count):
             wl = lo + u * width
         else:  # stratified: stratum ``index`` of ``count`` equal ones, jittered by u
             wl = lo + (index + u) * width / count
-        # the estimator weight cmf(l) / (count p(l)) with p = 1 / width (seed 003)
+        # the estimator weight cmf(l) / (count p(l)) with p = 1 / width (wavelength importance sampling)
         return [wl, _cmf_ref(wl) * width / count]
 
     return ref
 
 
 def _rgb3_ref(u, index):
-    # rgb3: fixed wavelengths (seed 001) whose weights k_c cmf(l_c) make a constant spectrum exact
+    # rgb3: fixed wavelengths (the three-wavelength paper) whose weights k_c cmf(l_c) make a constant
+    # spectrum exact
     lam = np.array([700.0, 546.1, 435.8])
     m = np.stack([_cmf_ref(x) for x in lam])
     white = _CMFS.values.sum(axis=0) / _CMFS.values[:, 1].sum()  # XYZ of E (Y = 1)

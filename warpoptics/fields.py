@@ -6,7 +6,7 @@ References
 ----------
 * K. Perlin, "An image synthesizer", SIGGRAPH 1985 (turbulence).
 * B. E. Smits and G. W. Meyer, "Newton's colors: simulating interference phenomena in
-  realistic image synthesis", 1990 (seed 004), eq. 12–13 and §4.2.
+  realistic image synthesis", 1990, eq. 12–13 and §4.2.
 """
 
 from __future__ import annotations

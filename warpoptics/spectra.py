@@ -17,11 +17,12 @@ is an estimator of XYZ[S]:
 - ``rgb3`` — three fixed wavelengths, the CIE 1931 RGB primaries 700, 546.1 and 435.8 nm (Guy &
   Soler 2004 §4.1), each weighted by its colour-matching values times a constant chosen so that
   a constant spectrum comes out exact.
-  Biased for anything but smooth spectra: this is the three-IOR baseline of seed 001, whose
-  banding it reproduces.
-- ``uniform`` — a random wavelength, pdf 1/470 nm (seed 003).
-- ``importance`` — pdf proportional to xbar + ybar + zbar, by inverse CDF of a table (seed 003).
-- ``stratified`` — ``count`` jittered strata of equal width (seed 000 "stratified spectral
+  Biased for anything but smooth spectra: this is the three-IOR baseline of the three-wavelength
+  diamond paper, whose banding it reproduces.
+- ``uniform`` — a random wavelength, pdf 1/470 nm (the wavelength-importance-sampling paper).
+- ``importance`` — pdf proportional to xbar + ybar + zbar, by inverse CDF of a table (the same
+  paper).
+- ``stratified`` — ``count`` jittered strata of equal width (Weidlich & Wilkie 2009, "stratified spectral
   sub-rays"; 45 by default in the renderer).
 
 Two wavelength ranges (both explicit, both tested):
@@ -54,8 +55,8 @@ watts):
   step resolves it; the line is far narrower), with the visible mercury lines removed, as the
   filter of a gemmological short-wave lamp does: nothing at or above 360 nm.
 
-References: CIE 015:2018 (colorimetry); Weidlich & Wilkie 2009 §4 (stratified sub-rays); seed 003
-(importance sampling by the CIE curves).
+References: CIE 015:2018 (colorimetry); Weidlich & Wilkie 2009 §4 (stratified sub-rays); "Spectral
+dispersion with Sellmeier and wavelength importance sampling" (importance sampling by the CIE curves).
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Pixel beams against point sampling: the bias of ``render.pixel_beam`` (stages/pixel_beam.py).
 
-Renders the issue-19 fire scene (scenes/bench_fire.toml: dispersive, clear, polarized diamond
+Renders the fire benchmark scene (scenes/bench_fire.toml: dispersive, clear, polarized diamond
 under the lat-long studio map) with its perspective camera and with an orthographic one of the
 same view, each (a) by point sampling (the unbiased estimator: spectral bundles at R2 pixel
 positions) as a long reference in two independent halves, and (b) by pixel beams in two

@@ -1,6 +1,6 @@
 """Pixel beams' noise of one pass against the settings that set it (stages/pixel_beam.py).
 
-For each setting (wavelengths per pass, split threshold), renders the issue-19 fire scene
+For each setting (wavelengths per pass, split threshold), renders the fire benchmark scene
 (scenes/bench_fire.toml: dispersive, clear, polarized diamond under the lat-long studio map)
 with ``render.pixel_beam`` twice with independent seeds, one beam per pixel, and reports the
 relative RMSE of one pass in linear sRGB over the whole image (rms of the difference / sqrt 2,

@@ -25,7 +25,7 @@ the binary (scene and map loading excluded).  CPU seconds: ``time.process_time``
 process for ours (all threads), the child's user + system time (``getrusage``) for indicatrix.
 Both use every core: warpoptics its tile pool, indicatrix one interleaved partition per thread.
 The converged images are also compared (split halves, noise-free): ours dispersive vs
-indicatrix (the 10 % of issue 19), and our clear twin vs our dispersive render (what the fire
+indicatrix (the fire-at-speed target's 10 %), and our clear twin vs our dispersive render (what the fire
 changes).  XYZ units: indicatrix's XYZ are divided by the Y it gives a white (1, 1, 1) texel
 seen directly, since ours gives that texel Y = 1.
 

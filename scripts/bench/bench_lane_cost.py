@@ -14,7 +14,7 @@ the "rng only" row is the cost of drawing them, to subtract):
 - ``environment_basis`` + ``cmf_xyz`` (the spectral tables a leaf point would add);
 - ``add_leaf`` (``film.leaf``), polarized.
 
-Then the whole bundle per pixel position on the issue-19 stone
+Then the whole bundle per pixel position on the fire benchmark stone
 (``fire_convergence.scene_for``, 32x32, 8 spp, one thread) for 1, 2, 4, 8 and 16 lanes and the
 clear twin: the marginal cost of a lane against the cost of the laws above.
 
@@ -156,7 +156,7 @@ def time_kernel(kernel, inputs, out) -> float:
 
 
 def position_cost(est: str, lanes: int, spp: int, res: int = 32) -> tuple[float, float]:
-    """(process CPU microseconds, rays) per pixel position of the issue-19 stone, one thread."""
+    """(process CPU microseconds, rays) per pixel position of the fire benchmark stone, one thread."""
     sc = scene_for(est, res, lanes, lanes).with_overrides({"render.spp": spp, "render.seed": 3})
     rr = Renderer(sc)
     rr.load_kernels()

@@ -1,4 +1,4 @@
-"""warpoptics against Mitsuba 3 at equal error on the non-dispersive diamond (issue 7, "Performance").
+"""warpoptics against Mitsuba 3 at equal error on the non-dispersive diamond.
 
 Scene: ``scenes/bench_diamond.toml`` (Tolkowsky round brilliant, n = 2.4173, studio light as a
 lat-long EXR read by both renderers, 256x256, 16 scattering events: our max_depth 16, Mitsuba's

@@ -1,7 +1,7 @@
 """The README's main job, ``scenes/diamond.toml`` (512x512, dispersive, polarized): seconds to 2 %.
 
-Issue 19 asks that this render reach 2 % relative RMSE (linear sRGB, whole image, against a long
-reference) in under 10 s of render time on the 2-core machine.  The reference is two renders of
+The fire-at-speed target asks that this render reach 2 % relative RMSE (linear sRGB, whole image,
+against a long reference) in under 10 s of render time on the 2-core machine.  The reference is two renders of
 ``--ref-spp`` samples per pixel with independent seeds; their difference measures its own noise,
 which is subtracted in quadrature (``equal_error``'s convention: err^2 = rmse(a, r)^2 -
 rmse(h1, h2)^2 / 4).  A ladder of renders of 1, 2, 4, ... spp (other seeds) gives error against

@@ -1,6 +1,6 @@
 """Fire convergence: relative RMSE against a long reference vs cost, per spectral estimator.
 
-Scene: the issue-19 benchmark stone -- ``scenes/bench_diamond.toml`` (Tolkowsky brilliant, the
+Scene: the fire benchmark stone -- ``scenes/bench_diamond.toml`` (Tolkowsky brilliant, the
 studio map as a lat-long EXR, 16 scattering events, split threshold 0.05) with the library's
 dispersive ``diamond`` (``absorption_scale = 0``), polarized; uniform sampling (no adaptive
 pass) so that the estimators' rates show.  Estimators:

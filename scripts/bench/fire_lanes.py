@@ -4,7 +4,7 @@ The bundle estimator (``stages/bundle.py``) traces one path tree for ``lanes`` w
 pixel position.  Its noise has two parts: where the positions fall in the pixel (facet edges,
 falling like N^-0.75 over the R2 sequence) and how well ``lanes`` wavelengths integrate the
 spectrum at one position; its cost grows with the lanes (each lane has its own rays, Fresnel
-amplitudes and Jones matrices).  This script renders the issue-19 benchmark stone
+amplitudes and Jones matrices).  This script renders the fire benchmark stone
 (``fire_convergence.scene_for``: ``scenes/bench_diamond.toml`` with the library's dispersive
 ``diamond``, polarized, uniform sampling) with several (wavelengths per sample, lanes) settings
 at about equal cost, twice with independent seeds, and reports per setting: single-threaded CPU

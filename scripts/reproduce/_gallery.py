@@ -16,8 +16,9 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
 GALLERY = ROOT / "docs" / "gallery"
-# the sampling the seed001/seed003 figures were made with (scenes/diamond.toml's until it moved to
-# adaptive sampling and splits down to 5 %): every pixel the same samples, splits down to 0.2 %
+# the sampling the three-wavelength and wavelength-sampling figures were made with
+# (scenes/diamond.toml's until it moved to adaptive sampling and splits down to 5 %): every pixel
+# the same samples, splits down to 0.2 %
 FIGURE_SAMPLING = {"render.adaptive": False, "render.split_threshold": 0.002}
 
 

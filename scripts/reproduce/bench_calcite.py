@@ -1,4 +1,4 @@
-"""Optical bench: double refraction in calcite (Guy & Soler 2004, seed 002, §3.1).
+"""Optical bench: double refraction in calcite (Guy & Soler 2004, §3.1).
 
 One unpolarized 589.3 nm beam at normal incidence on a 10 mm calcite plate whose optic axis lies
 at 45 degrees to the faces leaves as two spots: the ordinary one straight through, the

@@ -1,4 +1,4 @@
-"""Optical bench after Weidlich & Wilkie 2009 (seed 000) §4, fig. 3 and 5: prisms of BK7, water
+"""Optical bench after Weidlich & Wilkie 2009 §4, fig. 3 and 5: prisms of BK7, water
 and three rose bengal solutions lit by a white beam at the thin edge, traced forward onto a wall.
 
 For each material the beam runs 7 um below the apex (thin edge, about 5 um of liquid) and then
@@ -142,7 +142,9 @@ def main(argv: list[str] | None = None) -> int:
     a.set_ylabel("spot position on the wall u (mm), right = more deviated")
     a.grid(alpha=0.3)
     a.legend(fontsize=8)
-    fig.suptitle("Forward-traced prism experiment (seed 000 §4, fig. 5): thin edge vs thick edge")
+    fig.suptitle(
+        "Forward-traced prism experiment (Weidlich & Wilkie 2009 §4, fig. 5): thin edge vs thick edge"
+    )
     fig.tight_layout()
     from warpoptics.film.image import save_figure
 

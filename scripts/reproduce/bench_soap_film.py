@@ -1,4 +1,4 @@
-"""Optical bench: the coloured reflection of a soap film (Smits & Meyer 1990, seed 004).
+"""Optical bench: the coloured reflection of a soap film (Smits & Meyer 1990).
 
 A white D65 beam meets a free-standing 500 nm water film at 45 degrees; the front-surface spot
 on the screen (light that met one interface) takes the film's interference colour.  Readout: the

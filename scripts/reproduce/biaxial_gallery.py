@@ -10,7 +10,7 @@ Writes into ``--out-dir`` (default ``docs/gallery``):
   principal spectra mixed two at a time; under each view its dichroscope (``dichroscope`` at
   ``eigenwave_angle``: fast wave left) separates the two, and across the three views each
   principal colour shows twice.
-- ``biaxial_andalusite.png``: the andalusite of seed 002 fig. 11 e-g (the same long step cut, dome,
+- ``biaxial_andalusite.png``: the andalusite of Guy & Soler 2004 fig. 11 e-g (the same long step cut, dome,
   camera and panels as ``guy_soler_fig11_andalusite.py``, absorbance x 5 where the paper's weak
   triplets show colour): top row the library's biaxial andalusite (Handbook of Mineralogy indices,
   the §6.1 spectra per axis: X o-like, Y = Z e-like), bottom row the paper's uniaxial
@@ -128,7 +128,7 @@ def _dichroscope_row(stone: str, panels, probe, axes, entry: dict) -> list:
 
 
 def andalusite(size: int, wavelengths: int, device, out: dict, scale: float = 5.0) -> list:
-    """Biaxial andalusite (top) beside the seed-002 uniaxial approximation (bottom)."""
+    """Biaxial andalusite (top) beside the Guy & Soler uniaxial approximation (bottom)."""
     probe = sp.gem_scene({"shape": "emerald", "material": "bk7"}, size=size, wavelengths=1, **DOME)
     axes = sp.camera_axes(probe)
     eye, lr, ud = axes["toward the eye"], axes["left-right"], axes["up-down"]
@@ -237,7 +237,7 @@ def main(argv: list[str] | None = None) -> int:
         trichroism(size, wl, args.device, numbers),
         title="trichroism: principal axis X | Y | Z toward the eye",
     )
-    print("andalusite (seed 002 fig. 11 e-g): biaxial vs the uniaxial approximation")
+    print("andalusite (Guy & Soler 2004 fig. 11 e-g): biaxial vs the uniaxial approximation")
     sp.montage(
         str(out_dir / "biaxial_andalusite.png"),
         andalusite(size, wl, args.device, numbers),

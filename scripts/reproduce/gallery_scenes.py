@@ -5,9 +5,9 @@ lamps, lenses, films, polarizers), so the "script" for each is the scene file it
 a gallery size; this wrapper picks the size, prints the render statistics and writes the PNG
 atomically.
 
-    python scripts/reproduce/gallery_scenes.py dof                  # seed 003: instanced diamonds, thin lens
-    python scripts/reproduce/gallery_scenes.py soap_bubble          # seed 004 fig. 6: a bubble in 3D
-    python scripts/reproduce/gallery_scenes.py diamonds_on_table    # seed 001: two gems, two light boxes
+    python scripts/reproduce/gallery_scenes.py dof                  # instanced diamonds, thin lens
+    python scripts/reproduce/gallery_scenes.py soap_bubble          # Smits & Meyer fig. 6: a bubble in 3D
+    python scripts/reproduce/gallery_scenes.py diamonds_on_table    # two gems, two light boxes
     python scripts/reproduce/gallery_scenes.py calcite              # the double image of a calcite rhomb
     python scripts/reproduce/gallery_scenes.py caustics             # a gem's fire on the table (light tracer)
     python scripts/reproduce/gallery_scenes.py mystic_topaz | oil_slick | morpho

@@ -1,4 +1,4 @@
-"""Reproduce the andalusite of Guy & Soler 2004 (seed 002) fig. 11 (e)-(g).
+"""Reproduce the andalusite of Guy & Soler 2004 fig. 11 (e)-(g).
 
 A long step-cut andalusite (14 x 7 mm; §6.1: biaxial treated as uniaxial, n_o 1.635, n_e 1.644
 ± .005, K^o = (0.0056, 0.006, 0.0183), K^e = (0.170, 0.175, 0.257) per mm as eq. 9 spectra) seen

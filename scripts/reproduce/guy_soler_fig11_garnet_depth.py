@@ -1,4 +1,4 @@
-"""Reproduce the garnet depth series of Guy & Soler 2004 (seed 002) fig. 11 (a)-(d).
+"""Reproduce the garnet depth series of Guy & Soler 2004 fig. 11 (a)-(d).
 
 A garnet (§6.1: isotropic, n 1.730 ± .014, K = (0.136, 0.153, 0.175)) round brilliant rendered with
 0, 1, 2 and 3 internal reflections: ``max_depth`` counts interfaces per path, and a path through

@@ -1,4 +1,4 @@
-"""Reproduce fig. 3 of Guy & Soler 2004 (seed 002): pleochroism of a green tourmaline.
+"""Reproduce fig. 3 of Guy & Soler 2004: pleochroism of a green tourmaline.
 
 A long step-cut tourmaline (14 x 7 mm, §6.1 absorbance spectra, eq. 7 for the e-wave, exact o/e
 transport), seen from above on a white dome (diffuse light from the whole upper hemisphere),

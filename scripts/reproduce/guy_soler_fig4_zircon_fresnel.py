@@ -1,4 +1,4 @@
-"""Reproduce fig. 4 of Guy & Soler 2004 (seed 002): the eight air -> zircon Fresnel coefficients.
+"""Reproduce fig. 4 of Guy & Soler 2004: the eight air -> zircon Fresnel coefficients.
 
 Exact generalized coefficients (eq. 5, two solutions for s- and p-polarized incidence) against
 the approximation of eq. 10 (isotropic Fresnel amplitudes rotated into the o/e frames), for an

@@ -1,4 +1,4 @@
-"""Reproduce fig. 8 of Guy & Soler 2004 (seed 002): a highly dispersive stone and a difference image.
+"""Reproduce fig. 8 of Guy & Soler 2004: a highly dispersive stone and a difference image.
 
 The paper compares its exact ray tracer with its hardware algorithm (one facet tree, three colour
 channels) on a highly dispersive stone and shows that some rainbow effects are missed.  warpoptics

@@ -1,4 +1,4 @@
-"""Reproduce the o/e angle table of Guy & Soler 2004 (seed 002, §4.2).
+"""Reproduce the o/e angle table of Guy & Soler 2004 (§4.2).
 
 "We computed the maximum angle between the o-ray and e-ray for all incidence angles in
 [0, pi/2] and any orientation of the optical axis": light refracted from air into the crystal,

@@ -1,4 +1,4 @@
-"""Reproduce the six gems of Guy & Soler 2004 (seed 002) §6.1 from that section's table.
+"""Reproduce the six gems of Guy & Soler 2004 §6.1 from that section's table.
 
 Garnet, tourmaline (dravite), peridot, diamond, sapphire and andalusite, each a round brilliant
 (6.5 mm) in the same studio light, with the library materials built from the §6.1 table: the
@@ -35,7 +35,7 @@ GEMS = [
 ]
 
 
-#: the library entry of each table row: the seed-002 uniaxial approximation of the biaxial stones
+#: the library entry of each table row: the Guy & Soler uniaxial approximation of the biaxial stones
 LIBRARY = {"peridot": "peridot_uniaxial", "andalusite": "andalusite_uniaxial"}
 
 

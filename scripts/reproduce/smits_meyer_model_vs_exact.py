@@ -1,4 +1,4 @@
-"""Seed 004: the Smits–Meyer interference model against the exact thin-film stack.
+"""The Smits & Meyer 1990 interference model against the exact thin-film stack.
 
 Four comparisons, each printed as the largest difference and where it occurs, and plotted:
 

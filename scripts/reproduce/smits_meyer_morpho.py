@@ -1,4 +1,4 @@
-"""Seed 004 fig. 7: the iridescent blue of a Morpho wing (Smits & Meyer 1990, §4.3).
+"""Smits & Meyer 1990, fig. 7: the iridescent blue of a Morpho wing (§4.3).
 
 Twelve mullions (n = 1.53, d2 = 50 nm) separated by d1 = 150 nm of air; the colour is looked up
 by angle in a table (eq. 9 with the effective thickness of eq. 14, or the exact stack).  A wavy

@@ -1,4 +1,4 @@
-"""Seed 004 fig. 5: an oil drop on wet asphalt (Smits & Meyer 1990, §4.1, eq. 12–13).
+"""Smits & Meyer 1990, fig. 5: an oil drop on wet asphalt (§4.1, eq. 12–13).
 
 The oil thickness is t = t_max exp(-k1 (x^2 + y^2 + k2 turb(x, y))) (eq. 13, Perlin turbulence);
 the viewer looks at the ground at an angle that grows toward the top of the picture, the

@@ -1,4 +1,4 @@
-"""Seed 004 fig. 6: a soap film thinning under gravity (Smits & Meyer 1990, §4.2).
+"""Smits & Meyer 1990, fig. 6: a soap film thinning under gravity (§4.2).
 
 The film hangs in a round wire frame; its thickness is proportional to the normalised height
 (0 at the top, where the film is black, 1 at the bottom; offset so that a band of black

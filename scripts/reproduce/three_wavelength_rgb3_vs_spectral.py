@@ -1,4 +1,4 @@
-"""Reproduce seed 001 (three-wavelength dispersive ray tracing of diamonds): the three-IOR ``rgb3``
+"""Reproduce "An experiment in three-wavelength dispersive ray tracing of diamonds": the three-IOR ``rgb3``
 render beside the spectral render at EQUAL render time, each measured against a converged
 spectral reference.
 
@@ -140,7 +140,7 @@ def main(argv: list[str] | None = None) -> int:
     print(
         f"diamond n at the rgb3 wavelengths {wo.spectra.RGB3_WAVELENGTHS} nm: "
         + " / ".join(f"{v:.4f}" for v in n_rgb)
-        + "  (seed 001: 2.40 / 2.43 / 2.46)"
+        + "  (the three-wavelength paper: 2.40 / 2.43 / 2.46)"
     )
     print(
         f"reference: {args.wavelengths} stratified wavelengths x {args.ref_spp} spp "
@@ -199,8 +199,7 @@ def main(argv: list[str] | None = None) -> int:
         rows,
         titles,
         panel_inches=2.4,
-        suptitle=f"Seed 001: three-wavelength (rgb3) vs spectral diamond at equal render time, "
-        f"{args.size}² px",
+        suptitle=f"Three wavelengths (rgb3) vs spectral diamond at equal render time, {args.size}² px",
     )
     out = Path(args.output)
     write_json(

@@ -1,4 +1,4 @@
-"""Reproduce seed 003 (spectral dispersion with wavelength importance sampling): uniform random
+"""Reproduce "Spectral dispersion with Sellmeier and wavelength importance sampling": uniform random
 wavelengths vs wavelengths importance-sampled by the CIE curves, at EQUAL sample counts, with the
 measured noise of each.
 
@@ -67,7 +67,7 @@ def main(argv: list[str] | None = None) -> int:
                         spectral=s,
                         wavelengths=args.samples,
                         seed=1000 + k,
-                        bundle=False,  # seed 003 compares per-wavelength estimators (no spectral bundles)
+                        bundle=False,  # the paper compares per-wavelength estimators (no spectral bundles)
                     )
                 )
 
@@ -169,7 +169,7 @@ def main(argv: list[str] | None = None) -> int:
         rows,
         titles,
         panel_inches=2.2,
-        suptitle="Seed 003: uniform vs importance wavelengths, equal samples",
+        suptitle="Wavelength importance sampling: uniform vs importance wavelengths, equal samples",
         colorbar={"row": 1, "scale": top, "label": "σ (display sRGB)", "cmap": "viridis"},
     )
     out = Path(args.output)

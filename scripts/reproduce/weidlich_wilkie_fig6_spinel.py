@@ -1,4 +1,4 @@
-"""Reproduce Weidlich & Wilkie 2009 (seed 000), fig. 6: a strongly coloured 1 mm spinel brilliant
+"""Reproduce Weidlich & Wilkie 2009, fig. 6: a strongly coloured 1 mm spinel brilliant
 rendered (a) with and (b) without anomalous dispersion, and (c) their difference image.
 
 The stone is the sweep preset scenes/sweeps/spinel_cobalt.toml (spinel's index from

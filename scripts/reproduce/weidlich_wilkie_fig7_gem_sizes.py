@@ -1,4 +1,4 @@
-"""Reproduce Weidlich & Wilkie 2009 (seed 000), fig. 7: a pink brilliant at 10, 1, 0.1 and 0.01 mm,
+"""Reproduce Weidlich & Wilkie 2009, fig. 7: a pink brilliant at 10, 1, 0.1 and 0.01 mm,
 absorbance scaled by 10 mm / size so all four look alike, with normal dispersion (top row), with
 the anomalous dispersion of its absorption band (Kramers–Kronig, middle row) and their ΔE00
 difference images (bottom row).

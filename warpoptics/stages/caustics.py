@@ -79,8 +79,8 @@ in the gems, ``escaped`` (left the scene, hit a lamp, or reached a surface befor
 ``truncated`` (``max_depth``), ``lost`` (no exit from a solid), ``interface`` (not accounted for
 by the Fresnel amplitudes); ``overflow`` (of the ``surface`` power: splats beyond the path's
 ``max_deposits`` slots, counted but not splatted); ``reflected`` (of the ``surface`` power: light
-that met exactly one interface, an external reflection off a facet - seed 001's "reflective
-caustics"; the rest went through a stone).
+that met exactly one interface, an external reflection off a facet - the "reflective caustics" of
+the three-wavelength diamond paper; the rest went through a stone).
 
 References:
     Veach, E. 1997. Robust Monte Carlo Methods for Light Transport Simulation. PhD thesis,

@@ -32,7 +32,7 @@ sqrt(Re(N_a cos a) / Re(N_b cos b)) so that |M|^2 is the transmitted power.
 References
 ----------
 * B. E. Smits and G. W. Meyer, "Newton's colors: simulating interference phenomena in
-  realistic image synthesis", 1990 (seed 004): eq. 12–13 (oil slick), §4.2 (soap film),
+  realistic image synthesis", 1990: eq. 12–13 (oil slick), §4.2 (soap film),
   §4.3 (Morpho multilayer, Anderson & Richards 1942).
 * M. Born and E. Wolf, *Principles of Optics*, §1.6 (the stack, see ``optics.thinfilm``).
 * B. Walter et al., "Microfacet models for refraction through rough surfaces", EGSR 2007

@@ -8,7 +8,7 @@ Kinds (``Environment.kind``):
 - ``cos``: D65 over the upper hemisphere with radiance ``intensity * cos(zenith angle)``, black below
   — GemRay's ``COS`` lighting (overhead light falling off toward the horizon);
 - ``studio``: dark surroundings with soft boxes overhead and at the sides, like the light boxes
-  over a plane of seed 001;
+  over a plane of the three-wavelength diamond paper;
 - ``sky``: a smooth blue sky over a grey ground;
 - ``latlong``: an equirectangular RGB map (EXR/HDR/PNG through OpenImageIO), read in one of the
   :data:`LATLONG_CONVENTIONS` (``EnvironmentConfig.convention``).

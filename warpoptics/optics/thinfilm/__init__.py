@@ -49,13 +49,13 @@ References
 ----------
 * B. E. Smits and G. W. Meyer, "Newton's colors: simulating interference phenomena in
   realistic image synthesis", Eurographics Workshop on Photosimulation, Realism and Physics
-  in Computer Graphics, 1990 (seed 004), eq. 5–14.
+  in Computer Graphics, 1990, eq. 5–14.
 * M. Born and E. Wolf, *Principles of Optics*, 7th ed., §1.6.2–1.6.4 (characteristic matrix of
   a stratified medium, eq. 1.6 (33)–(35), (58)–(59)).
 * H. A. Macleod, *Thin-Film Optical Filters*, 4th ed., §2.2 (admittances, tilted admittances).
 * S. J. Byrnes, "Multilayer optical calculations", arXiv:1603.02720 (the ``tmm`` package; the
   sign and power conventions used here).
-* T. F. Anderson and A. G. Richards, J. Appl. Phys. 13, 748 (1942) (eq. 9, 10, 14 of seed 004).
+* T. F. Anderson and A. G. Richards, J. Appl. Phys. 13, 748 (1942) (eq. 9, 10, 14 of Smits & Meyer).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The Smits & Meyer 1990 thin-film model (seed 004): two-beam interference of a single film with
+"""The Smits & Meyer 1990 thin-film model: two-beam interference of a single film with
 and without the phase change (eq. 7, 8), the optical-thickness rules (eq. 10, 11, 14) and the
 Anderson–Richards multilayer iridescence (eq. 9), as ``@wp.func``s with NumPy wrappers.
 
@@ -6,8 +6,8 @@ References
 ----------
 * B. E. Smits and G. W. Meyer, "Newton's colors: simulating interference phenomena in
   realistic image synthesis", Eurographics Workshop on Photosimulation, Realism and Physics
-  in Computer Graphics, 1990 (seed 004), eq. 5–14.
-* T. F. Anderson and A. G. Richards, J. Appl. Phys. 13, 748 (1942) (eq. 9, 10, 14 of seed 004).
+  in Computer Graphics, 1990, eq. 5–14.
+* T. F. Anderson and A. G. Richards, J. Appl. Phys. 13, 748 (1942) (eq. 9, 10, 14 of Smits & Meyer).
 """
 
 from __future__ import annotations

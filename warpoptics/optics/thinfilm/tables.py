@@ -9,7 +9,7 @@ interpolates them per ray.  :func:`morpho_stack` builds the Morpho vane's layers
 References
 ----------
 * B. E. Smits and G. W. Meyer, "Newton's colors: simulating interference phenomena in
-  realistic image synthesis", 1990 (seed 004), §2.1, §3.2, §4.3.
+  realistic image synthesis", 1990, §2.1, §3.2, §4.3.
 * T. F. Anderson and A. G. Richards, J. Appl. Phys. 13, 748 (1942) (the Morpho model).
 """
 
