@@ -1,121 +1,35 @@
 """The spectral bundle: one path tree traced for many wavelengths at once, in dispersive stones.
 
-Why.  In a clear stone without dispersion one path tree serves the whole spectrum
-(``EnvironmentLight.exact_response``), so a pixel's only noise is where its samples fall (facet
-edges), and the R2 pixel sequence removes it quickly.  With dispersion every wavelength refracts
-its own way; tracing one tree per wavelength sample at its own pixel position makes a pixel's
-colour the estimate of a few wavelengths that each meet a soft box or miss it (measured on the
-issue-19 diamond, 32x32: relative RMSE ~ N^-0.55, against N^-0.75 for the clear stone, and 11x
-the clear stone's noise at 512 traces per pixel).  At one pixel position, though, the light that
-arrives is a smooth function of the wavelength along any fixed sequence of facets, so a few
-wavelengths there integrate the spectrum almost exactly.
+Why.  With dispersion every wavelength refracts its own way, and one tree per wavelength sample
+at its own pixel position makes a pixel's colour the estimate of a few wavelengths that each
+meet a soft box or miss it.  At one pixel position, though, the light that arrives is a smooth
+function of the wavelength along any fixed sequence of facets, so a few wavelengths there
+integrate the spectrum almost exactly.
 
 What.  :func:`trace_bundle` follows ONE primary ray for a *bundle* of up to :data:`LANES`
 wavelengths (lanes).  Each lane carries its own ray (origin, direction, polarization frame,
-Jones matrix, weight): at every interface each lane gets its own Fresnel amplitudes, Snell
-direction and Bouguer–Lambert absorption from the one interface event
-(``optics.interface.backward_isotropic``) with its own index, so every lane is traced exactly.
-What the lanes share is the work around them: the camera ray, the first hit, the branch stack and
-choices, the film update.  At every node each lane's own ray query gives its facet; lanes that
-meet the same facet form one group (the common case: all of them), and a lane whose ray crosses a
-facet edge, or that is totally reflected where the others are not, simply continues in another
-group — nothing is dropped or re-weighted, so each lane's estimate is the one of a separate
-per-wavelength tree.  Branch choices (deterministic split, the energy-weighted pick, Russian
-roulette) are made per group from its lanes' mean energy and applied to all of them with the
-weight 1/probability: unbiased for every lane (a choice may depend on anything already traced).
+Jones matrix, weight) and gets its own Fresnel amplitudes, Snell direction and Bouguer–Lambert
+absorption from the one interface event (``optics.interface.backward_isotropic``), so every lane
+is traced exactly.  The lanes share the camera ray, the first hit, the branch stack and choices
+and the film update.  At every node lanes that meet the same facet form one group; a lane that
+crosses a facet edge, or is totally reflected where the others are not, continues in another
+group, so each lane's estimate is that of a separate per-wavelength tree.  Branch choices
+(deterministic split, energy-weighted pick, Russian roulette) are made per group from its lanes'
+mean energy and applied to all of them with the weight 1/probability: unbiased for every lane.
 
-An earlier version kept one facet sequence per bundle, chosen by a random hero lane, and dropped
-the lanes that left it, weighting the rest by the balance heuristic of hero-wavelength sampling
-(Wilkie et al. 2014): unbiased too, but 1.4x the noise of grouping (32x32, 16 lanes: 0.42 vs
-0.30 relative RMSE), because near dispersed facet edges few lanes stay.
-
-What a lane costs, and two ways around it that were measured and dropped (issue 19).  A lane
-pays, per node, its own interface event (``backward_isotropic``: ~100 ns on one core) and, per
-leaf, its own environment lookup (40-80 ns on the lat-long map) and film update (~5 ns); that is
-0.39 of a whole single-wavelength trace per added lane (1.7 us per pixel position for one lane,
-11.6 us for 16, the clear stone 1.5 us on session 9's machine; 0.33 of a trace on session 10's
-slower one; ``scripts/bench/bench_lane_cost.py``).  (1) Interpolated
-lanes: trace every s-th lane and carry the lanes between as interpolations of their two traced
-neighbours while both meet the same facets (interpolated and then traced exactly where they
-part or near the critical angle).  In a diamond the traced neighbours part often enough that
-the lanes between were traced much of the way anyway: at stride 4 ray queries per position fell
-only from 22.9 to 15.4 and the time not at all (16 lanes, 32x32: 13.8, 12.8 and 14.0 us per
-position at stride 1, 4 and 15), with a second-order bias (0.25 % RMSE at stride 4).
-(2) Leaf points: at a leaf, look up each lane's cell of the spectrum at several wavelengths with
-the exit direction, Jones matrix and weight interpolated toward the neighbouring lanes of the
-group.  It removes much of the spectral noise of few lanes (4 lanes, 64x64: 10.7 -> 5.7 % at 128
-positions per pixel), but a point costs an environment lookup and a film update, what a traced
-lane pays at the leaf: at equal error the best setting (2 lanes, 4 points each) was 1.18x faster than
-8 traced lanes (27.7 vs 32.7 CPU-s to 1 %) but the interpolation over 200 nm left a per-pixel
-bias of ~2.4 % RMSE (2 lanes, 8 points, against a 16-lane, 64-point reference); 4 lanes with 2
-points each was 1.05x faster.  Neither was kept.
-
-Three more, measured and dropped in session 10 (64x64 issue-19 stone, 8 lanes, 64 positions per
-pixel, one thread; CPU-s to 1 % extrapolated with the R2 slope 0.75 from the noise between seeds;
-the experiments' code is not in the repository).  Where a lane's work goes: 3.4 interface events
-per lane and position (3.42 for one lane, 26.7 for 8), and full exit queries inside the stone
-5.3 per position for 8 lanes against 3.2 for one (the neighbour-facet guess answers the rest).
-(3) A clear control variate: each bundle also carries the same stone without dispersion (every
-material at its 560 nm index and absorption) as one more lane with minus the exact clear-stone
-response, and k clear-stone trees per bundle (one tree for the whole spectrum, a fifth of a
-bundle's cost) at positions of their own add it back: unbiased.  At one position per pixel the
-difference has 0.17 of the bundle's variance (48x48, 12 seeds), but at 64 positions only ~0.5:
-the facet-edge noise the two share is what the R2 sequence already removes, and the dispersed
-edges that remain converge slower.  k = 0, 2, 4, 8: 34.8, 51.9, 53.5, 71.7 CPU-s to 1 %
-(adaptive: k = 0 27.2, k = 2 42.8).  (4) Thinning weak groups: halve a group's lanes (one random
-parity, the kept lanes at twice the weight) while their mean energy is below T; T = 0, 0.05, 0.1,
-0.15, 0.3: 32.8, 30.6, 32.3, 31.1, 49.4 CPU-s to 1 % (4 seeds, +-10 %): no gain beyond the
-noise, since the lanes' events sit in the few strong nodes of the split tree.  (5) One
-environment lookup for lanes that leave in one direction (reflected off the outside): images
-identical, no change measurable in five alternating whole-process pairs (3.5-4.4 s each).
-
-Made cheaper in session 11 (kept, every tracer gains): a lane's interface event solved Fresnel
-twice, A -> B for the reflected child and direction and B -> A for the refracted child's
-amplitudes; between lossless media the second is the first swapped (``fresnel_reverse``, the
-Stokes relations: two real divisions instead of a complex square root and four complex ones, and
-more accurate near grazing), and the lat-long lookup's ``acosf``/``atan2f`` became one polynomial
-atan (``geometry/directions.py``).  ``backward_isotropic`` 117 -> 85 ns; an 8-lane position
-0.91x the time (median of 11 alternating process pairs, 32x32 issue-19 stone, one thread: the
-machine's noise is +-10 % a run); the clear stone's position unchanged within that noise
-(``scripts/bench/results/bench_lane_cost_ab.log``).
-Measured the same way and not kept: an 8-lane stack (``LANES`` = 8, half the per-position
-zeroing and cache footprint; it would cap ``bundle_lanes`` at 8): median 0.96, within the noise;
-Warp's ``optimization_level`` 3 instead of the CPU default 2: median 1.05 (slower).  A lane's
-absorption coefficient is now evaluated once per solid met, not per segment (images bitwise
-equal; no change measurable).
-
-Where the noise that is left comes from (session 11, ``scripts/bench/fire_noise_sources.py``):
-not the map's edges.  Blurring the studio map by 1.4 deg (wider than a pixel's exit cone through
-flat facets at 64x64) leaves 0.89 of the clear stone's variance and 0.90 of the dispersive one's;
-even 5.6 deg leaves 0.54 / 0.56.  So pre-filtered environment lookups (ray cones) could remove
-at most ~10 %; the rest is which facet sequences a pixel's samples meet, which only integrating
-the pixel over the facet tree (beam tracing) would remove.  Nor is it mostly the edges of the
-facets the camera meets first, which clipping each pixel against the projected front facets
-would integrate exactly: the 38 % of the stone's pixels that hold such an edge (64x64) carry
-49-50 % of the variance but only 1.5x the other stone pixels' per pixel, so that step would
-remove ~1/6 of it; the rest comes from the edges seen deeper in the tree.  Session 12 removes
-it: ``render.pixel_beam`` traces a bundle's lanes through the pixel's whole footprint
-(``stages/pixel_beam.py``), which on this stone at 64x64 reaches 1 % in half the time of the
-point-sampled bundles (``scripts/bench/results/bench_fire_64_beams.*``); with session 13's
-wavelength lattice, at 256x256 in one 32-wavelength pass, 1.39x the clear stone's time
-(``bench_fire_256_beams.*``).
-
-Scope.  Isotropic, uncoated solids in an environment light (no surfaces, lamps or films, no
-solid inside another: a bundle keeps one solid's indices; not rgb3): :func:`bundle_applies` is
-the Renderer's test; everything else is traced per wavelength by
-``stages.trace.trace_radiance``.  Lane rows: a split puts a node's reflected children at its own
-stack position and the refracted ones at the next, a single child stays at the node's position,
-so positions grow only with splits; each lane's pending nodes sit below the one being traced,
-so groups can share positions.  When the :data:`BUNDLE_ROWS` positions or the :data:`NODE_ROWS`
+Scope. Isotropic, uncoated, non-fluorescent solids in an environment light (no surfaces, lamps,
+films or caustics, no solid inside another; not rgb3): :func:`bundle_applies` is the Renderer's
+test; everything else is traced per wavelength by ``stages.trace.trace_radiance``. A split puts a
+node's reflected children at its own stack position and the refracted ones at the next, so
+positions grow only with splits; when the :data:`BUNDLE_ROWS` positions or the :data:`NODE_ROWS`
 pending groups are used up, a group continues stochastically instead of splitting (as
-``max_splits`` does in ``trace_radiance``).
+``max_splits`` does).
 
-References:
-    Wilkie, A., Nawaz, S., Droske, M., Weidlich, A., Hanika, J. 2014. Hero wavelength spectral
-        sampling.  Computer Graphics Forum 33(4) (EGSR).
-    Guy, S., Soler, C. 2004. Graphics Gems Revisited, §5 (the pruned facet tree).
-    Veach, E. 1997. Robust Monte Carlo Methods for Light Transport Simulation, ch. 4 (splitting,
-        random selection weighted by 1/probability, Russian roulette).
+Costs, the noise left, and the variants measured and dropped: docs/design/bundles.md.
+
+References: Wilkie et al. 2014, "Hero wavelength spectral sampling", CGF 33(4); Guy & Soler
+2004, §5 (the pruned facet tree); Veach 1997, ch. 4 (splitting, selection weighted by
+1/probability, Russian roulette).
 """
 
 from __future__ import annotations
