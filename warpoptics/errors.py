@@ -39,12 +39,23 @@ class InputError(ValueError):
             where.append(_printable(self.field))
         text = ": ".join(where)
         if self.value is not _MISSING:
-            text += (" = " if text else "value ") + repr(self.value)
+            text += (" = " if text else "value ") + _capped(repr(self.value))
         message = " ".join(str(self.message).split("\n"))
         text = f"{text}: {message}" if text else message
         if self.allowed:
             text += f" (allowed: {self.allowed})"
         return text
+
+
+#: the most characters of a value an error message echoes (a 7.9 MB list is not a message)
+VALUE_ECHO_LIMIT = 200
+
+
+def _capped(text: str) -> str:
+    """``text``, or its first :data:`VALUE_ECHO_LIMIT` characters and how many there were."""
+    if len(text) <= VALUE_ECHO_LIMIT:
+        return text
+    return f"{text[: VALUE_ECHO_LIMIT - 20]}... ({len(text):,} characters)"
 
 
 def _printable(name: str) -> str:

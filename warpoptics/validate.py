@@ -32,6 +32,7 @@ __all__ = [
     "pair",
     "rgb",
     "finite_array",
+    "flag",
 ]
 
 
@@ -206,6 +207,45 @@ def finite_array(v, *, file: str | None = None, field: str) -> np.ndarray:
                 "must be finite", file=file, field=field, value=first.item(), allowed="finite numbers"
             )
     return a
+
+
+def flag(
+    kind: type = float,
+    *,
+    lo: float = -math.inf,
+    hi: float = math.inf,
+    lo_open: bool = False,
+    hi_open: bool = False,
+    unit: str = "",
+):
+    """An argparse ``type=`` for a command-line number: the text parsed as ``kind`` (int or
+    float), finite and in ``[lo, hi]`` (open at ``lo`` when ``lo_open``, at ``hi`` when
+    ``hi_open``), else an
+    ``argparse.ArgumentTypeError`` with the value and the range, so that ``argparse`` refuses
+    the flag on one line (exit status 2) before the command reads a file or renders anything.
+    Every subcommand's numeric flags use it (the one place where a flag's range is checked)."""
+    import argparse
+
+    rng = _range_text(lo, hi, lo_open)
+    if hi_open:
+        rng = rng.replace(f"<= {hi}", f"< {hi}")
+    rng += f" {unit}" if unit else ""
+    name = "an integer" if kind is int else "a number"
+
+    def parse(text: str):
+        shown = text if len(text) <= 40 else text[:37] + "..."
+        try:
+            v = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{shown!r} is not {name} (allowed: {rng})") from None
+        if not math.isfinite(v):
+            raise argparse.ArgumentTypeError(f"{shown!r} must be a finite number (allowed: {rng})")
+        if v < lo or v > hi or (lo_open and v == lo) or (hi_open and v == hi):
+            raise argparse.ArgumentTypeError(f"{shown} is out of range (allowed: {rng})")
+        return v
+
+    parse.__name__ = kind.__name__  # argparse names the type in its messages
+    return parse
 
 
 def toml_file(path, *, what: str = "scene") -> dict:

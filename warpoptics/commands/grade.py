@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -31,22 +32,58 @@ from ..errors import InputError
 _MESH_EXT = (".ply", ".stl", ".obj", ".glb", ".off")
 SUBCOMMANDS = ("report", "aset", "idealscope", "hearts", "map", "tilt", "optimize", "retarget")
 
+#: the limits of the flags (docs/limits.md): image size in pixels, wavelengths per pixel, and
+#: the most values a list (``--tilts``, ``--azimuths``) may expand to
+MIN_SIZE = 4
+MAX_SIZE = 2048
+MAX_WAVELENGTHS = 256
+MAX_LIST = 1000
+
+
+def _lightings() -> tuple[str, ...]:
+    from ..grading.presets import LIGHTINGS
+
+    return tuple(LIGHTINGS)
+
+
+def _lighting(text: str) -> str:
+    """argparse ``type=`` of ``--lighting``: a name of ``grading.presets.LIGHTINGS``."""
+    import argparse
+
+    names = _lightings()
+    if text not in names:
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a lighting (allowed: {', '.join(names)})")
+    return text
+
 
 def _numbers(text: str, field: str) -> list[float]:
-    """``a,b,c`` or ``start:stop:step`` (stop included)."""
+    """``a,b,c`` or ``start:stop:step`` (stop included), finite, at most :data:`MAX_LIST` values."""
     import numpy as np
 
     try:
         if ":" in text:
             a, b, s = (float(x) for x in text.split(":"))
-            if not s > 0 or b < a:
+            if not (s > 0 and math.isfinite(a) and math.isfinite(b) and math.isfinite(s)) or b < a:
                 raise ValueError
-            return [float(v) for v in np.round(np.arange(a, b + 0.5 * s, s), 9)]
-        return [float(x) for x in text.split(",") if x.strip()]
+            count = math.floor((b - a) / s + 0.5) + 1
+        else:
+            vals = [float(x) for x in text.split(",") if x.strip()]
+            count = len(vals)
     except ValueError:
         raise InputError(
             "expected comma-separated numbers or start:stop:step", field=field, value=text
         ) from None
+    if count > MAX_LIST:
+        raise InputError(
+            f"gives {count:,} values, more than {MAX_LIST:,}: take a larger step or fewer values",
+            field=field,
+            value=text,
+        )
+    if ":" in text:
+        return [float(v) for v in np.round(np.arange(a, b + 0.5 * s, s), 9)]
+    if not vals or not all(math.isfinite(v) for v in vals):
+        raise InputError("expected one or more finite numbers", field=field, value=text)
+    return vals
 
 
 def stone_from_args(args) -> tuple[dict, float | None]:
@@ -58,6 +95,7 @@ def stone_from_args(args) -> tuple[dict, float | None]:
     from ..scene.schema import SHAPES
 
     src = args.stone
+    diameter = 6.5 if args.diameter is None else args.diameter
     p = Path(src)
     ext = p.suffix.lower()
     frame = None
@@ -72,25 +110,50 @@ def stone_from_args(args) -> tuple[dict, float | None]:
         if "path" in stone and not Path(stone["path"]).is_absolute():
             stone["path"] = str((p.parent / stone["path"]).resolve())
         if stone.get("shape") == "mesh":
-            frame = args.diameter
+            frame = diameter
     elif ext in (".asc", ".gem"):
         if not p.is_file():
             raise InputError("GemCAD file not found", file=src)
-        stone = {"shape": "gemcad", "path": str(p.resolve()), "diameter": args.diameter}
+        stone = {"shape": "gemcad", "path": str(p.resolve()), "diameter": diameter}
     elif ext in _MESH_EXT:
         if not p.is_file():
             raise InputError("mesh file not found", file=src)
         stone = {"shape": "mesh", "path": str(p.resolve())}
-        frame = args.diameter
+        frame = diameter
     else:
         names = [n for n in SHAPES if n not in ("mesh", "gemcad") and hasattr(cuts, n)]
         if src not in names:
             raise InputError("not a cut name or a file", field="STONE", value=src, allowed=", ".join(names))
-        stone = {"shape": src, "diameter": args.diameter}
+        stone = {"shape": src}
+        if _takes_diameter(src):
+            stone["diameter"] = diameter
     if args.material:
         stone["material"] = args.material
     stone.update(parse_set_options(args.set))
+    if stone.get("shape") not in ("mesh", "gemcad") and "diameter" not in stone and frame is None:
+        # a cut without a girdle diameter (cube, plate, prism, ...): framed by its own extent,
+        # or by --diameter when given
+        frame = args.diameter if args.diameter is not None else _extent(stone)
     return stone, frame
+
+
+def _takes_diameter(shape: str) -> bool:
+    """Whether the cut function of ``shape`` has a ``diameter`` keyword (the brilliant family
+    forwards its keywords to ``round_brilliant``)."""
+    import inspect
+
+    from ..geometry import cuts
+
+    sig = inspect.signature(getattr(cuts, shape)).parameters
+    return "diameter" in sig or any(v.kind == v.VAR_KEYWORD for v in sig.values())
+
+
+def _extent(stone: dict) -> float:
+    """The larger horizontal extent (mm) of a cut built from its table (its face-up frame)."""
+    from ..sweep.optimize import stone_mesh
+
+    b = stone_mesh(stone).bounds
+    return float(max(b[1][0] - b[0][0], b[1][1] - b[0][1]))
 
 
 def _protocol(args):
@@ -143,10 +206,14 @@ def run(args) -> int:
         raise InputError("the output must be a .png", field="-o", value=args.output)
     stone, frame = stone_from_args(args)
     kw = {"frame_mm": frame} if frame is not None else {}
+    if sub in ("aset", "idealscope", "hearts") and args.wavelengths is not None:
+        kw["wavelengths"] = args.wavelengths
     if sub == "aset":
+        from ..grading.presets import HEAD_RADIUS_DEG
         from ..grading.scopes import aset
 
-        img, zones, _b = aset(stone, head_radius_deg=args.head or 10.0, size=args.size, **kw)
+        head = HEAD_RADIUS_DEG if args.head is None else args.head
+        img, zones, _b = aset(stone, head_radius_deg=head, size=args.size, **kw)
         _png(args.output, img)
         _write_json(Path(args.output).with_suffix(".json"), {"stone": stone, "zones": zones})
         _print_fractions("ASET zones", zones)
@@ -369,22 +436,59 @@ def register(sub) -> None:
         q = gs.add_parser(name, help=helps[name])
         q.add_argument("stone", metavar="STONE", help="cut name, .asc/.gem, mesh or scene .toml")
         q.add_argument("-o", "--output", required=True, help="output file or folder")
-        q.add_argument("--diameter", type=float, default=6.5, help="girdle diameter, mm (default 6.5)")
+        q.add_argument(
+            "--diameter",
+            type=val.flag(float, lo=0.0, lo_open=True, hi=1000.0, unit="mm"),
+            default=None,
+            help="girdle diameter, mm (default 6.5; meshes and cuts without a diameter: the frame)",
+        )
         q.add_argument("--material", help="material name (default diamond, or the design's index)")
         q.add_argument(
             "--set", action="append", metavar="KEY=VALUE", help="a cut keyword, e.g. pavilion_angle=41"
         )
+        if name == "retarget":
+            q.add_argument("--index", type=val.flag(float, lo=1.0, hi=5.0), help="the new refractive index")
+            q.set_defaults(func=run)
+            continue
+        scope = name in ("aset", "idealscope", "hearts")
         q.add_argument(
-            "--size", type=int, default=96 if name in ("aset", "idealscope", "hearts", "map") else 64
+            "--size",
+            type=val.flag(int, lo=MIN_SIZE, hi=MAX_SIZE, unit="pixels"),
+            default=96 if name in ("aset", "idealscope", "hearts", "map") else 64,
+            help=f"image size, pixels ({MIN_SIZE} to {MAX_SIZE})",
         )
-        q.add_argument("--wavelengths", type=int, default=8)
-        q.add_argument("--lighting", default="iso", help="iso, cos, grading_dome, lightbox, daylight, spots")
-        q.add_argument("--head", type=float, default=None, help="head radius, degrees (default 10)")
+        q.add_argument(
+            "--wavelengths",
+            type=val.flag(int, lo=1, hi=MAX_WAVELENGTHS),
+            default=None if scope else 8,
+            help="wavelengths per pixel (default "
+            + ("4" if scope else "8")
+            + f"; at most {MAX_WAVELENGTHS})",
+        )
+        if not scope:  # the scopes light the stone with their own coloured bands
+            q.add_argument(
+                "--lighting", type=_lighting, default="iso", help="one of " + ", ".join(_lightings())
+            )
+        if name not in ("idealscope", "hearts"):  # their dark cones are fixed by the instrument
+            hi = 45.0 if name == "aset" else 90.0
+            q.add_argument(
+                "--head",
+                type=val.flag(float, lo=0.0, lo_open=True, hi=hi, hi_open=name == "aset", unit="degrees"),
+                default=None,
+                help="head radius, degrees (default 10)",
+            )
         if name in ("report", "tilt", "optimize"):
             q.add_argument("--resume", action="store_true", help="continue after a kill")
             q.add_argument("--overwrite", action="store_true", help="start again in a folder with results")
-            q.add_argument("--dask-local", type=int, metavar="N", help="run on a local Dask cluster of N")
-            q.add_argument("--workers", type=int, default=1, help="jobs at once on this machine")
+            q.add_argument(
+                "--dask-local",
+                type=val.flag(int, lo=1, hi=256),
+                metavar="N",
+                help="run on a local Dask cluster of N",
+            )
+            q.add_argument(
+                "--workers", type=val.flag(int, lo=1, hi=256), default=1, help="jobs at once on this machine"
+            )
             q.add_argument("--quiet", action="store_true", help="no progress bar")
         if name in ("report", "optimize"):
             q.add_argument("--protocol-tilts", help="protocol tilts, degrees (default 0,5,10,15,20)")
@@ -397,11 +501,21 @@ def register(sub) -> None:
             q.add_argument("--face-down", action="store_true", help="pavilion up: hearts (default arrows)")
         if name == "map":
             q.add_argument("--reference", choices=("white", "stone"), default="white")
-            q.add_argument("--tilt", type=float, default=0.0, help="tilt, degrees")
+            q.add_argument(
+                "--tilt",
+                type=val.flag(float, lo=-80.0, hi=80.0, unit="degrees"),
+                default=0.0,
+                help="tilt, degrees",
+            )
         if name == "tilt":
             q.add_argument("--tilts", default="0:30:2", help="degrees: a,b,c or start:stop:step")
             q.add_argument("--azimuths", default="0,22.5", help="degrees (default 0,22.5)")
-            q.add_argument("--fps", type=float, default=6.0, help="animation frames per second")
+            q.add_argument(
+                "--fps",
+                type=val.flag(float, lo=0.0, lo_open=True, hi=100.0),
+                default=6.0,
+                help="animation frames per second (default 6; at most 100)",
+            )
         if name == "optimize":
             q.add_argument(
                 "--param",
@@ -412,13 +526,25 @@ def register(sub) -> None:
             q.add_argument(
                 "--objective", default="light_return", help="METRIC=WEIGHT,... (default light_return)"
             )
-            q.add_argument("--budget", type=int, default=40, help="evaluations that render (default 40)")
-            q.add_argument("--popsize", type=int, default=None)
-            q.add_argument("--seed", type=int, default=1)
+            q.add_argument(
+                "--budget",
+                type=val.flag(int, lo=1, hi=100_000),
+                default=40,
+                help="evaluations that render (default 40)",
+            )
+            q.add_argument("--popsize", type=val.flag(int, lo=2, hi=1000), default=None)
+            q.add_argument("--seed", type=val.flag(int, lo=0, hi=2**32 - 1), default=1)
             q.add_argument("--depth", metavar="MIN:MAX", help="total depth / diameter range")
             q.add_argument("--table-range", metavar="MIN:MAX", help="table / diameter range")
-            q.add_argument("--min-weight", type=float, help="minimum weight retention (V / V_rough)")
-            q.add_argument("--rough-height", type=float, default=1.0, help="rough height / diameter")
-        if name == "retarget":
-            q.add_argument("--index", type=float, help="the new refractive index")
+            q.add_argument(
+                "--min-weight",
+                type=val.flag(float, lo=0.0, lo_open=True, hi=1.0, hi_open=True),
+                help="minimum weight retention (V / V_rough)",
+            )
+            q.add_argument(
+                "--rough-height",
+                type=val.flag(float, lo=0.0, lo_open=True, hi=100.0),
+                default=1.0,
+                help="rough height / diameter",
+            )
         q.set_defaults(func=run)

@@ -1,85 +1,38 @@
 """Pixel beams: a pixel's whole footprint traced through a convex stone as beams.
 
-Why.  With the spectral bundles (``stages/bundle.py``) a dispersive stone's noise is no longer
-mostly spectral: it is where a pixel's sample positions fall relative to facet edges, seen
-directly and many reflections deep (``scripts/bench/fire_noise_sources.py``).  Averaging those
-positions is what costs most of the samples.  A beam follows the whole pixel instead: the part
-of the pixel whose rays meet each facet is a convex polygon (``geometry/polygon.py``: pixel
-coordinates, a ray per vertex), and one Fresnel solution, one Jones matrix and one environment
-lookup serve each part.
+Why.  With spectral bundles (``stages/bundle.py``) a dispersive stone's noise is mostly where a
+pixel's sample positions fall relative to facet edges.  A beam follows the whole pixel instead:
+the part of the pixel whose rays meet each facet is a convex polygon (``geometry/polygon.py``:
+pixel coordinates, a ray per vertex), and one Fresnel solution, one Jones matrix and a few
+environment lookups serve each part.
 
-What. :func:`trace_beam` follows the pixel's polygon (:func:`pixel_beam`: the four corners'
-camera rays) for each of ``count`` wavelengths. Entering the stone it is cut by the front
-facets its rays meet (the rest misses and sees the environment); a part's reflection off the
-outside leaves the convex stone and sees the environment, its refraction continues inside.
-Inside, a part is cut by the facets its rays leave through; each piece's refraction out is a
-leaf, its internal reflection continues. Every vertex's ray is reflected and refracted exactly
-(``optics.fresnel``: the same laws as a ray's); the piece's Fresnel amplitudes, Jones matrix
-and weight are those of its centre ray (the mean of its vertices': the event of
-``optics.interface.backward_isotropic``). A leaf adds the piece's fraction of the pixel (its
-area in pixel coordinates) times the light a ray of it carries, averaged over the directions of
-up to 8 points uniform in the piece (so the environment is averaged over the spread of
-directions a pixel's rays leave in): one per 0.0015 rad of the spread's angular diameter
-(:func:`_lookup_count`). At 512x512 in 4x4 blocks (28 wavelengths,
-``scripts/bench/diamond512.py``) always 8 took 14.0 s for 1.04 %, the rule 9.2 s for 1.06 %; at
-64x64, where a pixel spreads over about 0.006 rad, the rule gives 1.03 / 0.31 % at 32 / 64
-wavelengths against 8 lookups' 0.96 / 0.24 % and a single lookup's 1.37 / 0.74 %
-(``beam_noise.py``). Those points follow the R2 sequence over the pixel's wavelengths in the
-order of their strata, and the pixel's wavelengths form one rotated lattice (the strata share
-one jitter, ``pipelines/render.py``): a beam's light is a continuous function of the
-wavelength, so neighbouring wavelengths see nearly the same parts and the two sequences spread
-their samples evenly over both. Measured on the issue-19 stone at 64x64 (one pass, 64
-wavelengths, split 0.001; ``scripts/bench/beam_noise.py``): one lookup per leaf from
-independent random numbers, 1.34 % relative RMSE; 8 lookups on the R2 sequence, 0.68 %; with
-the lattice as well, 0.24 %. The only other random choices are Russian roulette on parts
-carrying less than ``split_threshold`` of the pixel's light and, should more parts be pending
-than the stack holds, a pick among them by their fractions (weighted by the inverse
-probability): both unbiased. (Roulette numbers stratified over the lanes were tried and
-dropped: with one number per lane, a lane's parts live or die together, and the noise at 128
-wavelengths, split 0.01, rose from 1.20 % to 1.69 %; with a per-path shift, to 1.42 %. Also
-dropped: issue 19's spectral ray differentials. Each part carried its centre ray's
-exit-direction derivative in the wavelength (Igehy's refraction differential with dn/dlambda,
-checked against finite differences of Snell's law), and the lookups were spread along it over
-the lane's stratum. At 16 wavelengths the noise stayed 2.3 %; drawing the lookups' own
-wavelengths and weights in the stratum broke the lattice and raised it to 9.4 %. What is left
-at few wavelengths is the parts themselves changing with the wavelength, which only more
-wavelengths resolve: 16, 24, 32, 48 per pass give 2.4, 2.1, 0.96, 0.25 %.)
+What.  :func:`trace_beam` follows the pixel's polygon (:func:`pixel_beam`: the corners' camera
+rays) for each of ``count`` wavelengths.  Entering the stone it is cut by the front facets its
+rays meet; a part's outside reflection leaves the convex stone, its refraction continues inside,
+where it is cut by the facets its rays leave through: each piece's refraction out is a leaf, its
+internal reflection continues.  Every vertex's ray is reflected and refracted exactly
+(``optics.fresnel``); a piece's amplitudes, Jones matrix and weight are its centre ray's
+(``optics.interface.backward_isotropic``).  A leaf adds the piece's area fraction of the pixel
+times the light averaged over up to 8 directions uniform in the piece, one per 0.0015 rad of
+their spread (:func:`_lookup_count`), on the R2 sequence over the pixel's wavelengths, which
+form one rotated lattice (``pipelines/render.py``).  Random choices left: Russian roulette
+below ``split_threshold`` and, when the stack is full, a pick weighted by 1/probability.
 
-Accuracy. Orthographic camera: the pixel's rays share one direction, every cut and every
-interpolated ray is exact, so the estimate is unbiased. Pinhole camera: the rays are exact at
-the vertices and linear in the pixel coordinates until they first refract; after that the
-interpolated rays are exact to first order in the pixel's angle (ray differentials), so a cut
-deep in the stone may sit off by a second-order amount. Also second order: a part's Fresnel
-factors are its centre ray's (they vary with the angle across the pixel), a vertex in total
-internal reflection inside a refracting part takes the centre ray's refracted direction, and a
-segment's absorption is that of the centre ray. ``scripts/bench/beam_bias.py`` measures the
-whole against point sampling: on the issue-19 stone at 64x64, 0.40 % relative RMSE beyond both
-noises for the pinhole, 0.07 % for the orthographic camera
-(``results/beam_bias_64_lattice.*``).
-
-Blocks. ``render.beam_block`` traces the footprint of a block of pixels as one beam: every part
-carries the block's pixel coordinates, so at a leaf it is cut by the pixels it covers and each
-pixel takes its area's share (a facet edge is cut once per block, not once per pixel). At
-512x512 4x4 blocks trace 5.8x fewer parts than one beam per pixel; on the issue-19 stone at
-256x256 (32 wavelengths, ``beam_noise.py --block 4``) one pass takes 9.7 s instead of 19.2 s at
-the same noise (1.12 % against 1.11 %). A pixel's share carries the part's centre-ray Fresnel
-factors, which through a pinhole vary across the block: the bias is first order in the block's
-angle (0.20 % relative RMSE for 2x2, 0.47 % for 4x4 blocks, 0.117 degrees wide, on
-``scenes/diamond_fire.toml``; 9.6 % for 4x4 blocks 1.9 degrees wide at 32x32,
-``scripts/bench/beam_block_bias.py``), so the default (0) takes blocks up to 0.12 degrees
-(``pipelines/render.py`` ``beam_block``). Orthographic beams are exact at any block size. When
-the entry cut gives more pieces than its rows, a block's pixels are traced one by one (a piece
-standing in for others would move their light between pixels).
+Accuracy.  Orthographic camera: every cut and interpolated ray is exact, so the estimate is
+unbiased.  Pinhole: rays interpolated after the first refraction are exact to first order in
+the pixel's angle, and a part's Fresnel factors and absorption are its centre ray's (second
+order).  Blocks (``render.beam_block``): a block of pixels traced as one beam, each leaf shared
+by the pixels it covers; the centre ray's Fresnel factors make the bias first order in the
+block's angle, so the default takes blocks up to 0.12 degrees.  When the entry cut gives more
+pieces than its rows, a block's pixels are traced one by one.
 
 Scope: one convex, isotropic, uncoated solid in an environment light, seen through a pinhole or
-orthographic camera (``beam_applies``).
+orthographic camera; elsewhere the Renderer traces point samples.  Measurements (lookups,
+lattices, bias, blocks) and the variants dropped: docs/design/pixel_beams.md.
 
-References:
-    Heckbert, P., Hanrahan, P. 1984. Beam tracing polygonal objects. SIGGRAPH 84, 119-127.
-    Igehy, H. 1999. Tracing ray differentials. SIGGRAPH 99, 179-186.
-    Guy, S., Soler, C. 2004. Graphics Gems Revisited, §5 (the pruned facet tree).
-    Veach, E. 1997. Robust Monte Carlo Methods for Light Transport Simulation, ch. 4 (Russian
-        roulette, random selection weighted by 1/probability).
+References: Heckbert & Hanrahan 1984, "Beam tracing polygonal objects", SIGGRAPH 84; Igehy
+1999, "Tracing ray differentials", SIGGRAPH 99; Guy & Soler 2004, §5 (the pruned facet tree);
+Veach 1997, ch. 4 (Russian roulette, selection weighted by 1/probability).
 """
 
 from __future__ import annotations

@@ -260,6 +260,15 @@ class CutOptimizer:
         self.popsize = int(popsize) if popsize is not None else 4 + int(3 * math.log(n))
         if self.popsize < 2:
             raise InputError("must be >= 2", field="popsize", value=popsize)
+        if self.budget < self.popsize:
+            # a generation renders all of its feasible candidates or none: a smaller budget
+            # would stop before the first one
+            raise InputError(
+                f"is smaller than one generation of {self.popsize} candidates: give a budget >= "
+                f"{self.popsize} or a smaller popsize",
+                field="budget",
+                value=self.budget,
+            )
         if not 0 < sigma0 <= 1:
             raise InputError("must be in (0, 1]", field="sigma0", value=sigma0)
         self.sigma0 = float(sigma0)
@@ -358,12 +367,62 @@ class CutOptimizer:
         ]
         append_line(self.journal_path, csv_line(row))
 
-    @staticmethod
-    def _from_row(row: dict, e: _Eval) -> _Eval:
-        e.feasible = row["feasible"] == "true"
-        e.violation = float(row["violation"])
-        e.metrics = {k: float(row[k]) for k in OBJECTIVE_METRICS if row[k] != "nan"}
-        e.objective = float(row["objective"])
+    def _from_row(self, row: dict, e: _Eval) -> _Eval:
+        """``e`` filled from a journal row, which is checked first: numbers where numbers belong,
+        a finite objective on a feasible row, and that objective equal to J of the row's own
+        metrics (an edited objective, e.g. 1e308, is not trusted as the best result)."""
+        where = f"journal row eval {row.get('eval', '?')}"
+
+        def num(name: str) -> float:
+            try:
+                return float(row[name])
+            except (KeyError, TypeError, ValueError):
+                raise InputError(
+                    f"{where}: not a number", file=str(self.journal_path), field=name, value=row.get(name)
+                ) from None
+
+        if row.get("feasible") not in ("true", "false"):
+            raise InputError(
+                f"{where}: must be true or false",
+                file=str(self.journal_path),
+                field="feasible",
+                value=row.get("feasible"),
+            )
+        feasible = row["feasible"] == "true"
+        violation = num("violation")
+        metrics = {k: num(k) for k in OBJECTIVE_METRICS if row.get(k) != "nan"}
+        objective = num("objective")
+        if feasible:
+            bad = [k for k in self.objective if not math.isfinite(metrics.get(k, math.nan))]
+            if bad or not math.isfinite(objective):
+                field = bad[0] if bad else "objective"
+                raise InputError(
+                    f"{where}: a feasible candidate needs finite metrics and objective: use --overwrite "
+                    "to start again",
+                    file=str(self.journal_path),
+                    field=field,
+                    value=row.get(field),
+                )
+            expected = self.score(metrics)
+            if not math.isclose(objective, expected, rel_tol=1e-9, abs_tol=1e-12):
+                raise InputError(
+                    f"{where}: the objective is not J of the row's metrics ({expected!r}); the journal "
+                    "was edited or damaged: use --overwrite to start again",
+                    file=str(self.journal_path),
+                    field="objective",
+                    value=row["objective"],
+                )
+        elif not (math.isfinite(violation) and violation > 0.0):
+            raise InputError(
+                f"{where}: an infeasible candidate needs a violation > 0",
+                file=str(self.journal_path),
+                field="violation",
+                value=row["violation"],
+            )
+        e.feasible = feasible
+        e.violation = violation
+        e.metrics = metrics
+        e.objective = objective
         e.renders = 0  # rendered by an earlier run
         return e
 
@@ -488,8 +547,13 @@ class CutOptimizer:
                     self._journal(e)
                 if e.feasible:
                     evaluations += 1
-            es.tell(xs, [-e.objective if e.feasible else 1.0 + e.violation for e in batch])
             evals.extend(batch)
+            try:
+                es.tell(xs, [-e.objective if e.feasible else 1.0 + e.violation for e in batch])
+            except ValueError:
+                # cma gives up on its own terms (e.g. every candidate equally infeasible, so that
+                # its step sizes collapse): the search ends here and _finish says what was found
+                break
             gen += 1
             if gen > 20 * self.budget:  # every candidate infeasible for this long: give up
                 break
@@ -504,8 +568,17 @@ class CutOptimizer:
 
         feasible = [e for e in evals if e.feasible]
         if not feasible:
+            seen = []
+            for name in ("depth", "table", "weight_retention"):
+                xs = [e.measured[name] for e in evals if math.isfinite(e.measured.get(name, math.nan))]
+                if xs:
+                    seen.append(f"{name} {min(xs):.3f} to {max(xs):.3f}")
+            asked = {k: v for k, v in asdict(self.constraints).items() if v is not None}
             raise InputError(
-                "no candidate met the constraints: widen the bounds or the constraints", field="constraints"
+                f"no candidate of {len(evals)} met the constraints {asked} (measured: "
+                + (", ".join(seen) or "no candidate could be built")
+                + "): widen the parameter bounds or the constraints",
+                field="constraints",
             )
         best = max(feasible, key=lambda e: e.objective)
         stone = self.candidate_stone(best.values)

@@ -74,7 +74,16 @@ def read_results(path: str | Path, *, repair: bool = False) -> tuple[list[str] |
             os.fsync(f.fileno())
     text = raw[:end].decode("utf-8", errors="replace")
     reader = csv.reader(io.StringIO(text))
-    lines = list(reader)
+    try:
+        lines = list(reader)
+    except csv.Error as exc:  # NUL bytes, a field over the csv module's size limit
+        from ..errors import InputError
+
+        raise InputError(
+            f"not a results table written by warpoptics (CSV line {reader.line_num}: {exc}); "
+            "use --overwrite or another folder",
+            file=str(p),
+        ) from None
     if not lines:
         return None, []
     header, rows = lines[0], []
