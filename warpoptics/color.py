@@ -9,6 +9,7 @@
 - Tone mapping: exposure, Reinhard or a filmic curve (Narkowicz's ACES fit), then the sRGB
   transfer function from colour-science.
 - CIEDE2000 colour difference from colour-science.
+- CIELAB of a transmission or reflectance spectrum under a named light (:func:`spectrum_lab`).
 """
 
 from __future__ import annotations
@@ -34,6 +35,7 @@ __all__ = [
     "encode_srgb",
     "delta_e2000",
     "xyz_to_lab",
+    "spectrum_lab",
 ]
 
 
@@ -183,3 +185,29 @@ def delta_e2000(xyz_a, xyz_b, white_xyz=None) -> np.ndarray:
     return np.asarray(
         colour.delta_E(xyz_to_lab(xyz_a, white_xyz), xyz_to_lab(xyz_b, white_xyz), method="CIE 2000")
     )
+
+
+def spectrum_lab(wavelength_nm, spectrum, illuminant: str, *, field: str = "illuminants"):
+    """CIELAB of a transmission (or reflectance) ``spectrum`` at ``wavelength_nm`` (nm,
+    increasing; linear in between, zero outside) seen under the light ``illuminant``
+    (``spectra.light_spectrum``): XYZ = integral S T cmf / integral S ybar over 360-830 nm (CIE
+    1931 2 degree, 1 nm trapezoid; Y of the white = 1), CIELAB against that light's own white
+    (no chromatic adaptation).  Returns ``(lab, xyz, white_xyz)``.  ``field`` names the light in
+    errors."""
+    import colour
+
+    from .spectra import cmf, grid, light_spectrum
+
+    wl = np.asarray(wavelength_nm, dtype=np.float64)
+    v = np.asarray(spectrum, dtype=np.float64)
+    g = grid()
+    t = np.interp(g, wl, v, left=0.0, right=0.0)
+    c = cmf(g)
+    s = light_spectrum(illuminant, g)
+    norm = np.trapezoid(s * c[:, 1], g)
+    if not norm > 0:
+        raise InputError("has no visible light (Y = 0)", field=field, value=illuminant)
+    xyz = np.trapezoid((s * t)[:, None] * c, g, axis=0) / norm
+    white = np.trapezoid(s[:, None] * c, g, axis=0) / norm
+    lab = np.asarray(colour.XYZ_to_Lab(xyz, colour.XYZ_to_xy(white)))
+    return lab, xyz, white

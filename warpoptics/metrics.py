@@ -72,12 +72,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any
 
 import numpy as np
 
 from . import color
 from .errors import InputError
+from .materials.plate import plate_transmittance
 
 __all__ = [
     "D65_WHITE_XYZ",
@@ -91,6 +91,8 @@ __all__ = [
     "light_return",
     "fire",
     "scintillation",
+    "plate_transmittance",
+    "colour_change",
 ]
 
 # D65 white with Y = 1 (CIE 1931 2 degree chromaticity x = 0.31270, y = 0.32900)
@@ -299,26 +301,6 @@ def scintillation(base_xyz, base_alpha, tilted: Sequence[tuple]) -> float:
     return float(np.mean(cs))
 
 
-def plate_transmittance(material, thickness_mm: float, wavelength_nm) -> np.ndarray:
-    """Transmittance of a polished plate in air at normal incidence: (1 - R)^2 exp(-alpha d)
-    with R = |rs|^2 of ``optics.fresnel`` at each face (no multiple reflections).  A
-    birefringent plate (optic axis in the plate, unpolarized light) is the mean over its
-    waves (the trailing axis of ``material.n`` / ``material.alpha``).  ``material``: a library
-    name, an inline table or a :class:`~warpoptics.materials.Material`."""
-    from . import validate as val
-    from .materials.spec import material_from_spec
-    from .optics.fresnel import fresnel
-
-    mat: Any = material_from_spec(material)  # Isotropic | Uniaxial (| Biaxial): all have n, alpha
-    d = float(val.number(thickness_mm, field="thickness", lo=0.0, hi=1.0e4))
-    wl = np.asarray(wavelength_nm, dtype=np.float64)
-    n = np.asarray(mat.n(wl), dtype=np.float64)
-    alpha = np.asarray(mat.alpha(wl), dtype=np.float64)
-    rs, _rp, _ts, _tp = fresnel(np.ones_like(n), 1.0, n)
-    t = (1.0 - np.abs(rs) ** 2) ** 2 * np.exp(-alpha * d)
-    return t.mean(axis=-1) if t.ndim > wl.ndim else t
-
-
 def colour_change(
     wavelength_nm, spectrum, *, illuminants: Sequence[str] = ("D65", "A")
 ) -> dict[str, float | tuple]:
@@ -336,8 +318,6 @@ def colour_change(
     """
     import colour
 
-    from .spectra import cmf, grid, light_spectrum
-
     if len(illuminants) != 2:
         raise InputError("needs two illuminants", field="illuminants", value=list(illuminants))
     wl = np.asarray(wavelength_nm, dtype=np.float64)
@@ -348,18 +328,9 @@ def colour_change(
         )
     if not (np.isfinite(v).all() and v.min() >= 0):
         raise InputError("must be finite and >= 0", field="spectrum")
-    g = grid()
-    t = np.interp(g, wl, v, left=0.0, right=0.0)
-    c = cmf(g)
     labs, hues, chromas = [], [], []
     for name in illuminants:
-        s = light_spectrum(name, g)
-        norm = np.trapezoid(s * c[:, 1], g)
-        if not norm > 0:
-            raise InputError("has no visible light (Y = 0)", field="illuminants", value=name)
-        xyz = np.trapezoid((s * t)[:, None] * c, g, axis=0) / norm
-        white = np.trapezoid(s[:, None] * c, g, axis=0) / norm
-        lab = np.asarray(colour.XYZ_to_Lab(xyz, colour.XYZ_to_xy(white)))
+        lab, _xyz, _white = color.spectrum_lab(wl, v, name)
         labs.append(lab)
         chromas.append(float(np.hypot(lab[1], lab[2])))
         hues.append(float(np.degrees(np.arctan2(lab[2], lab[1])) % 360.0))
