@@ -1,4 +1,4 @@
-"""Sphinx configuration of the warpoptics documentation (``python -m sphinx -W -b html docs docs/_build/html``)."""
+"""Sphinx configuration of the warpoptics documentation (built by `.ci/run`, README: docs)."""
 
 import sys
 from pathlib import Path
@@ -34,4 +34,3 @@ autodoc_member_order = "bysource"
 autodoc_typehints = "description"
 autodoc_default_options = {"members": True, "show-inheritance": False}
 autosummary_generate = False
-
