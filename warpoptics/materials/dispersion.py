@@ -162,6 +162,19 @@ class MaterialTable:
     beta_channel: wp.array(dtype=wp.int32)
     crystal_frame: wp.array(dtype=wp.mat33f)
     rgb3_alpha_b: wp.array(dtype=wp.vec3f)
+    # colour zoning (materials/zoning.py, optics/zoning.py): per material the zone family
+    # (optics.zoning.ZONE_*; 0: none), its number of zones (0: none), the world -> object frame
+    # of its stone, the zones' unit normal or axis and their origin (object frame), and the first
+    # index zone_start[m] of its zones in zone_bound (the count - 1 offsets or radii, mm, object
+    # frame) and zone_material (the table entry whose absorption each zone has)
+    zone_kind: wp.array(dtype=wp.int32)
+    zone_count: wp.array(dtype=wp.int32)
+    zone_start: wp.array(dtype=wp.int32)
+    zone_frame: wp.array(dtype=wp.mat44f)
+    zone_axis: wp.array(dtype=wp.vec3f)
+    zone_origin: wp.array(dtype=wp.vec3f)
+    zone_bound: wp.array(dtype=wp.float32)
+    zone_material: wp.array(dtype=wp.int32)
 
 
 @wp.func
@@ -456,6 +469,8 @@ class Material:
     rgb3_alpha: tuple[tuple[float, float, float], tuple[float, float, float]] | None
     #: a luminescent centre (materials.fluorescence.Fluorescence) or None
     fluorescence = None
+    #: colour zones of a stone (materials.zoning.Zoning, set by zoned_material) or None
+    zoning = None
 
     def _channels(self) -> tuple[Channel, Channel]:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -852,6 +867,16 @@ def build_material_table(
     dev = _device.get_device(device)
     if len(materials) == 0:
         raise InputError("a material table needs at least one material", field="materials")
+    # zoned stones (materials/zoning.py): each zone's material is an entry of its own, after the
+    # given ones (their ids stay 0..len-1)
+    n_given = len(materials)
+    materials = list(materials)
+    zoned = []  # (host index, Zoning, entry ids of its zones)
+    for i in range(n_given):
+        zoning = getattr(materials[i], "zoning", None)
+        if zoning is not None:
+            zoned.append((i, zoning, list(range(len(materials), len(materials) + len(zoning.absorption)))))
+            materials.extend(zoning.absorption)
     kinds, c_off, c_cnt, coeffs = [], [], [], []
     n_off, n_cnt, k_off, k_cnt, lam_all, val_all = [], [], [], [], [], []
     lam_min, lam_max, axes, uni, rgb_o, rgb_e = [], [], [], [], [], []
@@ -971,7 +996,38 @@ def build_material_table(
         np.asarray(frames, dtype=np.float32).reshape(-1, 3, 3), dtype=wp.mat33f, device=dev
     )
     t.rgb3_alpha_b = wp.array(np.asarray(rgb_b, dtype=np.float32).reshape(-1, 3), dtype=wp.vec3f, device=dev)
-    return t, list(range(len(materials)))
+    _zone_arrays(t, len(materials), zoned, dev)
+    return t, list(range(n_given))
+
+
+def _zone_arrays(t: MaterialTable, count: int, zoned: list, dev) -> None:
+    """Fill the table's zoning arrays (see :class:`MaterialTable`) for ``count`` entries, of which
+    the hosts in ``zoned`` (host id, Zoning, zone entry ids) are zoned."""
+    kind = np.zeros(count, dtype=np.int32)
+    num = np.zeros(count, dtype=np.int32)
+    start = np.zeros(count, dtype=np.int32)
+    frame = np.tile(np.eye(4, dtype=np.float32), (count, 1, 1))
+    axis = np.zeros((count, 3), dtype=np.float32)
+    origin = np.zeros((count, 3), dtype=np.float32)
+    bounds: list[float] = []
+    zone_mat: list[int] = []
+    for host, zoning, ids in zoned:
+        kind[host] = 2 if zoning.family == "cylinders" else 1
+        num[host] = len(ids)
+        start[host] = len(zone_mat)
+        frame[host] = zoning.frame()
+        axis[host] = zoning.axis
+        origin[host] = zoning.origin
+        bounds.extend([*zoning.bounds, 0.0])  # padded to one per zone: the same start for both
+        zone_mat.extend(ids)
+    t.zone_kind = wp.array(kind, dtype=wp.int32, device=dev)
+    t.zone_count = wp.array(num, dtype=wp.int32, device=dev)
+    t.zone_start = wp.array(start, dtype=wp.int32, device=dev)
+    t.zone_frame = wp.array(frame, dtype=wp.mat44f, device=dev)
+    t.zone_axis = wp.array(axis, dtype=wp.vec3f, device=dev)
+    t.zone_origin = wp.array(origin, dtype=wp.vec3f, device=dev)
+    t.zone_bound = wp.array(np.asarray(bounds or [0.0], dtype=np.float32), dtype=wp.float32, device=dev)
+    t.zone_material = wp.array(np.asarray(zone_mat or [0], dtype=np.int32), dtype=wp.int32, device=dev)
 
 
 # ----------------------------------------------------------------------------------------------

@@ -4,7 +4,7 @@ files, GemCAD designs; instances share one mesh), materials and optic axes."""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -15,6 +15,7 @@ from ..geometry.mesh import SIZE_ALLOWED, SIZE_MAX, SIZE_MIN, load_mesh, scale_p
 from ..geometry.nesting import OverlapError, object_parents, world_boxes
 from ..materials import material_from_spec
 from ..materials.dispersion import Biaxial, Uniaxial
+from ..materials.zoning import zoned_material
 from ..scene.schema import ObjectConfig
 
 __all__ = ["SceneObjects", "build_objects", "world_axes", "crystal_axes_of"]
@@ -102,6 +103,8 @@ def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -
                 field=f"{where}.crystal_axes",
                 value=ob.material,
             )
+        if getattr(ob, "zoning", None) is not None:
+            mat = _zoned(ob, mat, file=file, where=where)
         mats.append(mat)
         axes.append(ob.optic_axis)
     if meshes:
@@ -117,6 +120,43 @@ def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -
             value=f"object.{exc.second}",
         ) from None
     return SceneObjects(meshes=meshes, materials=mats, axes=axes, parents=parents)
+
+
+def _zoned(ob: ObjectConfig, host, *, file: str | None, where: str):
+    """The host material of a colour-zoned object with its zones (materials/zoning.py): each
+    zone's absorption spec resolved as a material (an inline table without ``base`` or
+    ``cauchy`` takes the host's base), the zones placed with the object."""
+    zoning = ob.zoning
+    assert zoning is not None
+    resolved = []
+    for j, spec in enumerate(zoning.absorption):
+        if spec == "none":
+            spec = {"cauchy": [1.0]}  # a clear zone (only a zone's absorption is used)
+        if isinstance(spec, dict) and "base" not in spec and "cauchy" not in spec:
+            base = ob.material if isinstance(ob.material, str) else None
+            if isinstance(ob.material, dict):
+                base = ob.material.get("base")
+            if base is None:
+                raise InputError(
+                    "an inline zone absorption needs a base library material (the object's "
+                    "material has none to lend it)",
+                    file=file,
+                    field=f"{where}.zoning.absorption.{j}.base",
+                )
+            spec = {"base": base, **spec}
+        try:
+            resolved.append(material_from_spec(spec))
+        except InputError as exc:
+            sub = f".{exc.field}" if exc.field and exc.field != "material" else ""
+            raise InputError(
+                exc.message,
+                file=file,
+                field=f"{where}.zoning.absorption.{j}{sub}",
+                value=exc.value,
+                allowed=exc.allowed,
+            ) from None
+    placed = replace(zoning, absorption=tuple(resolved)).placed(ob.transform())
+    return zoned_material(host, placed)
 
 
 def _check_scale(objects: Sequence[ObjectConfig], meshes: list, file: str | None) -> None:

@@ -21,6 +21,7 @@ from .. import validate as val
 from ..errors import InputError
 from ..film.views import parse_view
 from ..geometry import cuts
+from ..materials.zoning import MAX_ZONES, ZONING_KINDS, Zoning
 from ..stages.caustics import MAX_PATHS as _CAUSTIC_PATHS_MAX
 from ..stages.coherence import DEFAULT_COHERENCE_WIDTH_MM
 from ..stages.environment import LATLONG_CONVENTIONS, EnvironmentConfig
@@ -250,6 +251,7 @@ _OBJECT_COMMON = {
     "path",
     "name",
     "instances",
+    "zoning",
 }
 _OBJECT_COMMON |= {"surface", "coating", "film_thickness", "roughness"}  # films: stages/coated.py
 _TIER_ANGLES = ("crown_angles", "pavilion_angles")  # list-valued cut parameters (step_cut)
@@ -277,6 +279,7 @@ class ObjectConfig:
     path: str | None = None
     name: str | None = None
     film: Any = None  # stages.coated.FilmConfig: coating, shell or film surface (None: bare solid)
+    zoning: Zoning | None = None  # colour zones (materials/zoning.py; :func:`zoning_config`)
 
     def transform(self) -> np.ndarray:
         """4x4 object -> world transform (scale, then rotations x, y, z, then translation)."""
@@ -453,7 +456,88 @@ def object_config(table: dict, index: int, file, base_dir: Path) -> ObjectConfig
     if "name" in table:
         kw["name"] = str(table["name"])
     kw["film"] = film_config(table, index, file)
+    if "zoning" in table:
+        kw["zoning"] = zoning_config(table["zoning"], prefix + "zoning", file)
     return ObjectConfig(**kw)
+
+
+# the keys of each zoning type: the surfaces' direction, their positions, the rest in common
+_ZONING_KEYS = {
+    "planar": ("normal", "offsets"),
+    "halves": ("normal", "offset"),
+    "core_rim": ("axis", "radii"),
+}
+
+
+def zoning_config(value: Any, field_name: str, file) -> Zoning:
+    """An object's ``zoning`` table (materials/zoning.py): colour zones with the host's indices
+    and one absorption each (a library material name or an inline material table, whose
+    absorption is used; an inline table without ``base`` takes the object's; ``"none"``: a
+    clear zone), object frame, mm::
+
+        zoning = { type = "planar", normal = [0, 0, 1], offsets = [-0.5, 0.5],
+                   absorption = ["sapphire", { base = "sapphire" }, "sapphire"] }   # 3 bands
+        zoning = { type = "halves", normal = [1, 0, 0], offset = 0.0,
+                   absorption = [<below the plane>, <above it>] }
+        zoning = { type = "core_rim", axis = [0, 0, 1], radii = [1.2], absorption = [<core>, <rim>] }
+
+    ``origin`` (default [0, 0, 0]) is the point the offsets are measured from (the planes) or a
+    point of the cylinders' axis.  Zones are listed from the side opposite ``normal`` (planar,
+    halves) or from the core outward; offsets and radii increase; at most
+    ``materials.zoning.MAX_ZONES`` zones."""
+    if not isinstance(value, dict):
+        raise InputError("must be a table { type = ..., ... }", file=file, field=field_name, value=value)
+    if "type" not in value:
+        raise InputError(
+            "missing key", file=file, field=field_name + ".type", allowed=", ".join(ZONING_KINDS)
+        )
+    kind = val.choice(value["type"], ZONING_KINDS, file=file, field=field_name + ".type")
+    direction, where = _ZONING_KEYS[kind]
+    val.check_keys(
+        value, {"type", "origin", "absorption", direction, where}, file=file, prefix=field_name + "."
+    )
+    for k in (direction, "absorption") + (() if kind == "halves" else (where,)):
+        if k not in value:
+            raise InputError("missing key", file=file, field=f"{field_name}.{k}")
+    ax = np.asarray(val.unit_vec3(value[direction], file=file, field=f"{field_name}.{direction}"))
+    f_where = f"{field_name}.{where}"
+    if kind == "halves":
+        bounds = [float(val.number(value.get(where, 0.0), file=file, field=f_where))]
+    else:
+        raw = value[where]
+        if not isinstance(raw, list) or not 1 <= len(raw) <= MAX_ZONES - 1:
+            raise InputError(
+                f"must be a list of 1 to {MAX_ZONES - 1} numbers (mm)", file=file, field=f_where, value=raw
+            )
+        lo = 0.0 if kind == "core_rim" else -math.inf
+        bounds = [float(val.number(b, file=file, field=f_where, lo=lo, lo_open=True)) for b in raw]
+        if any(b1 <= b0 for b0, b1 in zip(bounds[:-1], bounds[1:], strict=True)):
+            raise InputError("must increase", file=file, field=f_where, value=raw)
+    absorption = value["absorption"]
+    n_zones = len(bounds) + 1
+    if not isinstance(absorption, list) or len(absorption) != n_zones:
+        raise InputError(
+            f"must list one absorption per zone ({n_zones}: one more than the {where})",
+            file=file,
+            field=field_name + ".absorption",
+            value=absorption,
+        )
+    for j, a in enumerate(absorption):
+        if not isinstance(a, (str, dict)):
+            raise InputError(
+                "must be a material name or an inline material table",
+                file=file,
+                field=f"{field_name}.absorption.{j}",
+                value=a,
+            )
+    origin = val.vec3(value.get("origin", [0.0, 0.0, 0.0]), file=file, field=field_name + ".origin")
+    return Zoning(
+        kind=kind,
+        axis=tuple(float(c) for c in ax / np.linalg.norm(ax)),  # type: ignore[arg-type]
+        bounds=tuple(bounds),
+        absorption=tuple(absorption),
+        origin=origin,
+    )
 
 
 def object_configs(table: dict, index: int, file, base_dir: Path) -> list[ObjectConfig]:

@@ -56,7 +56,7 @@ from ..optics.jones import (
 from ..spectra import SpectralTables
 from .environment import Environment, environment_basis, environment_coefficients
 from .fluorescence import has_fluorescence
-from .media import isotropic_optics
+from .media import isotropic_optics, zoned_isotropic_kappa
 from .trace import TraceParams
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -299,9 +299,21 @@ def trace_bundle(
                     n_b = wp.vec2f(lane_n[j], 0.0)
                     if inside >= 0:
                         # Bouguer-Lambert along the lane's own segment (inside == obj: a lane
-                        # inside a solid meets that solid's surface); a clear stone skips exp
-                        if lane_kappa[j] != 0.0:
-                            w_j = w_j * bouguer_lambert(lane_kappa[j], lane_t[j])
+                        # inside a solid meets that solid's surface), through the zones of a
+                        # colour-zoned stone; a clear stone skips exp
+                        kappa_j = zoned_isotropic_kappa(
+                            mats,
+                            p.object_material[obj],
+                            lane_kappa[j],
+                            lane_n[j],
+                            p.object_absorption_scale[obj],
+                            wavelengths[j],
+                            o_j,
+                            d_j,
+                            lane_t[j],
+                        )
+                        if kappa_j != 0.0:
+                            w_j = w_j * bouguer_lambert(kappa_j, lane_t[j])
                         n_a = wp.vec2f(lane_n[j], 0.0)
                         n_b = wp.vec2f(p.ambient[0], 0.0)
                     cand, energies, k = backward_isotropic(

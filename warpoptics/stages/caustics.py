@@ -2,93 +2,31 @@
 
 The camera tracer (``stages.trace`` + ``stages.surfaces``) cannot find light that a gem
 *refracts or reflects* onto a diffuse table: a diffuse hit's next-event estimation aims at the
-lamps in straight lines, and a lamp seen through a gem is a specular connection (a sun, a spot and
-a small light box have no area a BSDF ray could find through a stone).  This stage traces those
-paths from the lamps (Veach 1997 §10, "particle tracing") and splats them into the camera's film.
+lamps in straight lines, and a lamp seen through a gem is a specular connection.  This stage
+traces those paths from the lamps (Veach 1997 §10, "particle tracing") and splats them into the
+camera's film.
 
-Path ownership (Heckbert notation, L lamp, S a gem interface, D a diffuse/glossy surface, E eye)
-----------------------------------------------------------------------------------------------
-- **The camera estimator** owns every path whose light reaches a diffuse point *without* meeting
-  a gem: E S* D (D)* L through next-event estimation and the BSDF bounce, and E S* L (a lamp or the
-  environment seen directly or through gems).  With caustics on, the Renderer forces
-  ``stone_shadows = false`` semantics (``Surfaces.stone_shadows = 0``): a gem on a shadow ray or
-  on a diffuse bounce ray *blocks* it, so no light through a stone reaches a diffuse point through
-  the camera estimator (else the straight-through filter would count it a second time).
-- **This light tracer** owns L S+ D E: light leaves a lamp, meets at least one gem interface
-  (refraction or reflection; ``depth >= 1``), lands on a surface and is connected straight to the
-  camera by a shadow ray that no gem and no surface blocks.  A lamp ray that hits a surface before
-  any gem is dropped here (camera-owned: E D L).
-- **Nobody** owns L S+ D S+ E (a caustic seen through or reflected in a gem), L S+ D D+ E (a
-  caustic's light bounced again by the table) nor environment light refracted by a gem onto the
-  table (the environment is not a light source of this tracer, and its NEE is blocked by stones).
-  These are the stage's limitations; they are dim next to the direct caustic.
+Path ownership (L lamp, S gem interface, D diffuse surface, E eye): the camera estimator owns
+E S* D (D)* L and E S* L, and with caustics on a gem *blocks* its shadow and bounce rays
+(``Surfaces.stone_shadows = 0``) so that no light through a stone is counted twice; this tracer
+owns L S+ D E (a lamp ray that hits a surface before any gem is dropped); nobody owns a caustic
+seen through a gem, bounced again, or lit by the environment.
 
-Light paths
------------
-Lamps (``stages.surfaces.Surfaces``: suns, area lights, spots; index order suns, areas, spots)
-are chosen with probabilities ``lamp_prob`` (the host's estimate of each lamp's power toward the
-gems; any positive choice is unbiased).  Each object is a *target*: the world bounding sphere of
-its mesh, chosen with probability proportional to its radius squared.  Emission only aims at the
-targets, because a lamp ray that meets no gem is camera-owned anyway:
+Light paths: a lamp chosen by ``lamp_prob``, emission aimed at the objects' bounding spheres
+(chosen by radius squared), one wavelength per path (the scene's strategy), then the optical
+bench's transport (``stages.forward.forward_step``: the same interface event, absorption,
+splitting and branch stack).  Lamps are unpolarized; coated objects and films are refused.  A
+surface hit is connected to the camera by a shadow ray and splatted with the camera's importance
+(pinhole or orthographic; a thin lens as a pinhole at its centre), unpolarized.  Deposits are
+added on the host in a fixed order, so an image does not depend on the thread count.  Each path
+keeps a power ledger (:data:`CAUSTIC_LEDGER`).
 
-- sun (irradiance E on a surface facing it, angular radius r): a position uniform on a disc of
-  radius R / cos r perpendicular to the sun about the target's centre, moved upstream beyond all
-  targets, and a direction uniform in the sun's cone.  Weight E scale cos / pdf_A with
-  scale = 2 (1 - cos r) / (1 - cos^2 r) (``surfaces`` sun sampling), pdf_A the mixture over
-  targets of 1 / (pi R_k^2) for the discs the ray crosses (parallel discs, translation along the
-  ray keeps the area measure);
-- spot (intensity I on its axis, cone falloff): a direction uniform in the cone subtended by the
-  target sphere; weight I fall / pdf_omega, pdf_omega the mixture over the targets' cones of
-  1 / (2 pi (1 - cos alpha_k));
-- area light (radiance L): a point uniform on the rectangle (pdf 1/A), then a direction as for a
-  spot; weight L |cos theta_l| A / pdf_omega.
+The ownership rules, the emission pdfs, the camera importance and the ledger's columns are
+derived in docs/design/caustics.md.
 
-One wavelength per path, ``spectra.sample_wavelength`` with the scene's strategy (uniform,
-importance, or stratified over ``count`` consecutive paths; rgb3 scenes use importance), so a path
-estimates XYZ with the CMF weight ``w_xyz``.  The path then follows the optical bench's transport
-(``stages.forward``): Fresnel / generalized Fresnel amplitudes, Jones matrices normalised to power,
-Bouguer-Lambert absorption, o/e splitting, deterministic splitting above ``split_threshold`` and
-one child by power (weighted 1/p) below it - the same ``forward_step`` (segment absorption,
-the interface event ``optics.interface.forward_event``, the split) and the shared branch stack
-(``optics.branches``); the two kernels differ only in their sinks and sources.  The lamps are
-unpolarized (source coherency I/2).  Coated objects and films are not supported (``InputError``).
-
-Connection to the camera (importance of a pinhole, Veach 1997 §10.1-10.3 / pbrt-v3 §16.1.1
-``PerspectiveCamera::We``).  A pixel's value is the mean radiance over the pixel's raster square
-(box filter, the camera pass's estimator).  For a perspective camera with raster scales
-s_x = W / (2 tan(fov_x/2)), s_y = H / (2 tan(fov_y/2)) pixels per unit length on the image plane at
-distance 1, a raster area dp relates to solid angle by dp = s_x s_y dw / cos^3(theta_c) (theta_c the
-angle to the optical axis), and dw = cos(theta_x) dA / r^2 for a surface patch at distance r.  So a
-particle of flux Phi landing at x adds to its pixel
-
-    Phi f_r(x, w_cam, w_light) cos(theta_x) s_x s_y / (r^2 cos^3(theta_c))
-
-(pbrt's We = 1 / (A cos^4 theta) with A = 1 / (s_x s_y) the pixel's area on the z = 1 plane,
-times the cos(theta_c) / r^2 of the connection).  Orthographic: dp = s_x s_y cos(theta_x) dA with
-s = W / view_width pixels per mm, so the splat is Phi f_r cos(theta_x) s_x s_y.  A thin-lens camera
-is connected as a pinhole at its lens centre (caustics are not defocused: a documented
-approximation).  Diffuse surfaces depolarize: the splat is unpolarized (S0 = Y, S1..S3 = 0).
-
-Determinism: every thread writes its own deposit slots (pixel, XYZ) and ledger row and draws its
-own random stream; the host adds the deposits into the film in a fixed order (``np.add.at``), so a
-caustic image does not depend on the thread count or the tiling.
-
-Ledger per path (relative to its emitted power, columns of ``CAUSTIC_LEDGER``): ``surface`` power
-that reached a surface after >= 1 gem interface (whether or not the camera sees it), ``absorbed``
-in the gems, ``escaped`` (left the scene, hit a lamp, or reached a surface before any gem),
-``truncated`` (``max_depth``), ``lost`` (no exit from a solid), ``interface`` (not accounted for
-by the Fresnel amplitudes); ``overflow`` (of the ``surface`` power: splats beyond the path's
-``max_deposits`` slots, counted but not splatted); ``reflected`` (of the ``surface`` power: light
-that met exactly one interface, an external reflection off a facet - the "reflective caustics" of
-the three-wavelength diamond paper; the rest went through a stone).
-
-References:
-    Veach, E. 1997. Robust Monte Carlo Methods for Light Transport Simulation. PhD thesis,
-        Stanford, §10.1-10.3 (particle tracing, importance of a camera, ownership of path classes).
-    Pharr, M., Jakob, W., Humphreys, G. 2016. Physically Based Rendering, 3rd ed., §16.1.1
-        (``PerspectiveCamera::We``, ``Sample_Wi``), §16.2 (light tracing splats).
-    Guy, S., Soler, C. 2004. Graphics Gems Revisited. ACM TOG 23(3) (the forward transport of
-        ``stages.forward``).
+References: Veach 1997, Robust Monte Carlo Methods for Light Transport Simulation, §10.1-10.3;
+Pharr, Jakob & Humphreys 2016, Physically Based Rendering, 3rd ed., §16.1.1, §16.2; Guy & Soler
+2004 (the forward transport of ``stages.forward``).
 """
 
 from __future__ import annotations
@@ -135,7 +73,7 @@ wp.set_module_options({"enable_backward": False})  # no adjoint code (see device
 
 __all__ = ["CausticParams", "CausticConfig", "CausticStage", "CAUSTIC_LEDGER", "caustic_importance"]
 
-#: names of the ledger columns (module docstring)
+#: names of the ledger columns (docs/design/caustics.md, "The ledger")
 CAUSTIC_LEDGER = ("surface", "absorbed", "escaped", "truncated", "lost", "interface", "overflow", "reflected")
 _C_SURF, _C_ABS, _C_ESC, _C_TRUNC, _C_LOST, _C_IFACE, _C_OVER, _C_REFL = 0, 1, 2, 3, 4, 5, 6, 7
 

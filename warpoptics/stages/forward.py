@@ -95,7 +95,7 @@ from ..optics.jones import (
 )
 from ..optics.thinfilm import CoatingStack
 from .beam import BeamParams, beam_ray
-from .media import object_medium, segment_kappa
+from .media import object_medium, segment_kappa, zoned_kappa
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -208,6 +208,20 @@ def forward_step(
             r.wn,
             med_a,
             fp.object_absorption_scale[r.inside],
+        )
+        kappa = zoned_kappa(
+            mats,
+            fp.object_material[r.inside],
+            kappa,
+            -1,
+            r.mode,
+            r.wn,
+            med_a,
+            fp.object_absorption_scale[r.inside],
+            wl,
+            r.o,
+            r.d,
+            hit.t,
         )
         att = bouguer_lambert(kappa, hit.t)
         e_abs = e * (1.0 - att)

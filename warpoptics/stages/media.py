@@ -27,10 +27,19 @@ from ..materials.units import alpha_from_k_wp
 from ..optics.absorption import wave_kappa
 from ..optics.biaxial import biaxial_kappa, biaxial_medium, is_biaxial
 from ..optics.birefringence import UniaxialMedium, uniaxial_medium
+from ..optics.zoning import ZoneVector, zone_lengths, zoned_optical_depth
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
-__all__ = ["object_medium", "medium_alpha", "segment_kappa"]
+__all__ = [
+    "object_medium",
+    "medium_alpha",
+    "segment_kappa",
+    "isotropic_optics",
+    "zone_alpha",
+    "zoned_kappa",
+    "zoned_isotropic_kappa",
+]
 
 
 @wp.func
@@ -76,12 +85,19 @@ def segment_kappa(
     2004 eq. 7 (``optics.absorption.wave_kappa``); in a biaxial medium (mode 0 fast, 1 slow) the
     trichroic kappa of the wave's D; times the object's absorption multiplier."""
     a_o, a_e = medium_alpha(mats, mat_id, alpha, rgb3_channel)
+    a_y = med.alpha_y
+    if is_biaxial(med) and rgb3_channel >= 0:
+        a_y = mats.rgb3_alpha_b[mat_id][rgb3_channel]
+    return _wave_kappa(mode, wave_normal, med, a_o, a_y, a_e) * scale
+
+
+@wp.func
+def _wave_kappa(mode: int, wave_normal: wp.vec3f, med: UniaxialMedium, a_o: float, a_y: float, a_e: float):
+    """kappa of a wave from the principal absorption coefficients (alpha_o, -, alpha_e) of an
+    isotropic or uniaxial medium or (alpha_X, alpha_Y, alpha_Z) of a biaxial one."""
     if is_biaxial(med):
-        a_y = med.alpha_y
-        if rgb3_channel >= 0:
-            a_y = mats.rgb3_alpha_b[mat_id][rgb3_channel]
-        return biaxial_kappa(mode, wave_normal, med, a_o, a_y, a_e) * scale
-    return wave_kappa(mode, wp.dot(wave_normal, med.axis), a_o, a_e, med.no, med.ne) * scale
+        return biaxial_kappa(mode, wave_normal, med, a_o, a_y, a_e)
+    return wave_kappa(mode, wp.dot(wave_normal, med.axis), a_o, a_e, med.no, med.ne)
 
 
 @wp.func

@@ -60,7 +60,7 @@ from ..spectra import SpectralTables
 from .bundle import LaneWavelengths, LaneWeights
 from .camera import CameraParams, camera_ray
 from .environment import Environment, environment_basis, environment_coefficients
-from .media import isotropic_optics
+from .media import isotropic_optics, zoned_isotropic_kappa
 from .trace import TraceParams
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -770,9 +770,14 @@ def _trace_entry(
                     n_b = wp.vec2f(p.ambient[0], 0.0)
                     nrm = -n_out
                     in_b = -1
-                    if kappa != 0.0:
-                        # Bouguer-Lambert along the centre ray's segment (module docstring)
-                        w_i = w_i * bouguer_lambert(kappa, buf[i, _P_T] * wp.length(_d(q, 0)))
+                    # Bouguer-Lambert along the centre ray's segment (module docstring), through
+                    # the zones of a colour-zoned stone (the segment ends at the centre x_c)
+                    l_c = buf[i, _P_T] * wp.length(_d(q, 0))
+                    kappa_c = zoned_isotropic_kappa(
+                        mats, mat, kappa, n_in, p.object_absorption_scale[k], wl, x_c - d_c * l_c, d_c, l_c
+                    )
+                    if kappa_c != 0.0:
+                        w_i = w_i * bouguer_lambert(kappa_c, l_c)
                 b_i = wp.normalize(b_w - d_c * wp.dot(b_w, d_c))
                 cand, energies, kc = backward_isotropic(
                     cand, m_j, w_i, b_i, d_c, n_out, nrm, n_a, n_b, x_c, eps, inside, in_b, depth, polarized

@@ -101,7 +101,7 @@ from .fluorescence import (
     emission_weight,
     reemission_start,
 )
-from .media import object_medium, segment_kappa
+from .media import object_medium, segment_kappa, zoned_kappa
 from .surfaces import Surfaces, surface_radiance, surfaces_closest_hit
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -429,6 +429,21 @@ def _make_trace_radiance(fluorescence: bool, coherent: bool):
                         wn,
                         med_a,
                         p.object_absorption_scale[inside],
+                    )
+                    # a colour-zoned stone: the mean kappa of this wave through its zones
+                    kappa = zoned_kappa(
+                        mats,
+                        p.object_material[inside],
+                        kappa,
+                        ch3,
+                        mode,
+                        wn,
+                        med_a,
+                        p.object_absorption_scale[inside],
+                        wl,
+                        o,
+                        d,
+                        hit.t,
                     )
                     if wp.static(fluorescence):
                         if p.reemission.enabled != 0 and emission == 0 and ch3 < 0:
