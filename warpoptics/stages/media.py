@@ -118,3 +118,109 @@ def isotropic_optics(mats: MaterialTable, mat_id: int, axis: wp.vec3f, wavelengt
         scale,
     )
     return no[0], kappa
+
+
+@wp.func
+def zone_alpha(mats: MaterialTable, zone_id: int, rgb3_channel: int, wavelength: float):
+    """Principal absorption coefficients (1/mm) of a zone's material entry: (alpha_o, alpha_o,
+    alpha_e) of an isotropic or uniaxial one, (alpha_X, alpha_Y, alpha_Z) of a biaxial one; at
+    ``wavelength`` nm, or its Guy & Soler eq. 9 RGB absorbances in the rgb3 mode."""
+    biaxial = mats.beta_channel[zone_id] >= 0
+    if rgb3_channel >= 0:
+        a_o = mats.rgb3_alpha_o[zone_id][rgb3_channel]
+        a_y = a_o
+        if biaxial:
+            a_y = mats.rgb3_alpha_b[zone_id][rgb3_channel]
+        return wp.vec3f(a_o, a_y, mats.rgb3_alpha_e[zone_id][rgb3_channel])
+    no, ne, alpha = material_optics(mats, zone_id, wavelength)
+    a_y = alpha[0]
+    if biaxial:
+        nb = material_eval_beta(mats, zone_id, wavelength)
+        a_y = alpha_from_k_wp(nb[1], wp.max(wavelength, 1.0e-3))
+    return wp.vec3f(alpha[0], a_y, alpha[1])
+
+
+@wp.func
+def zoned_kappa(
+    mats: MaterialTable,
+    mat_id: int,
+    kappa: float,
+    rgb3_channel: int,
+    mode: int,
+    wave_normal: wp.vec3f,
+    med: UniaxialMedium,
+    scale: float,
+    wavelength: float,
+    origin: wp.vec3f,
+    direction: wp.vec3f,
+    length: float,
+):
+    """Mean absorption coefficient (1/mm) of a wave along the segment ``origin + direction s``,
+    ``s`` in [0, ``length``] (world, unit direction, mm) inside a solid of material ``mat_id``:
+    ``kappa`` (the wave's :func:`segment_kappa`) unless the material is zoned; in a zoned stone
+    the optical depth through its zones (``optics.zoning``: the exact lengths in each zone times
+    each zone's kappa of this wave, from the zone's own absorption and the host's indices,
+    ``med``), divided by ``length``, so that ``bouguer_lambert(mean, length)`` is exp(-depth).
+    A segment wholly in one zone gets that zone's kappa itself, bit for bit."""
+    count = mats.zone_count[mat_id]
+    if count == 0:
+        return kappa
+    start = mats.zone_start[mat_id]
+    m = mats.zone_frame[mat_id]
+    lengths = zone_lengths(
+        mats.zone_kind[mat_id],
+        mats.zone_axis[mat_id],
+        mats.zone_origin[mat_id],
+        mats.zone_bound,
+        start,
+        count,
+        wp.transform_point(m, origin),
+        wp.transform_vector(m, direction),
+        length,
+    )
+    kap = ZoneVector()
+    held = int(-1)
+    for i in range(count):
+        if lengths[i] > 0.0:
+            a = zone_alpha(mats, mats.zone_material[start + i], rgb3_channel, wavelength)
+            kap[i] = _wave_kappa(mode, wave_normal, med, a[0], a[1], a[2]) * scale
+            if lengths[i] >= length:
+                held = i
+    if held >= 0:
+        return kap[held]
+    if length <= 0.0:
+        return 0.0
+    return zoned_optical_depth(lengths, kap, count) / length
+
+
+@wp.func
+def zoned_isotropic_kappa(
+    mats: MaterialTable,
+    mat_id: int,
+    kappa: float,
+    n: float,
+    scale: float,
+    wavelength: float,
+    origin: wp.vec3f,
+    direction: wp.vec3f,
+    length: float,
+):
+    """:func:`zoned_kappa` in an isotropic solid of real index ``n`` whose unzoned absorption
+    coefficient is ``kappa`` (:func:`isotropic_optics`): the spectral bundles' and pixel beams'
+    per-segment absorption (``kappa`` itself, one table read, for an unzoned material)."""
+    if mats.zone_count[mat_id] == 0:
+        return kappa
+    return zoned_kappa(
+        mats,
+        mat_id,
+        kappa,
+        -1,
+        -1,
+        wp.vec3f(0.0, 0.0, 1.0),
+        uniaxial_medium(n, n, wp.vec3f(0.0, 0.0, 0.0)),
+        scale,
+        wavelength,
+        origin,
+        direction,
+        length,
+    )

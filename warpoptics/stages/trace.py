@@ -2,47 +2,28 @@
 
 One call of :func:`trace_radiance` follows everything that light arriving along one primary ray
 can have come through.  At every interface the path splits into the reflected and the refracted
-branch (total internal reflection leaves one).  While a branch still carries at least
-``split_threshold`` of the primary ray's energy both children are followed *deterministically*
-(an explicit stack): the per-pixel form of the pruned facet tree of Guy & Soler 2004 §5
-(``max_splits`` bounds the
-extra branches per primary ray: birefringent stones double their branches at every internal
-reflection).  Below
-the threshold one child is chosen at random with probability proportional to its energy and
-weighted by 1/probability, and Russian roulette ends weak paths — so the estimate stays unbiased
-while the bright, low-order paths that make a gem's picture carry no noise.
+branch.  While a branch carries at least ``split_threshold`` of the primary ray's energy both
+children are followed deterministically on an explicit stack (the per-pixel form of the pruned
+facet tree of Guy & Soler 2004 §5; ``max_splits`` bounds the extra branches); below it one child
+is chosen by energy and weighted by 1/probability, and Russian roulette ends weak paths, so the
+estimate is unbiased while the bright low-order paths carry no noise.
 
-Polarization (``polarized=True``): a branch carries a 2x2 complex Jones matrix M that maps the
-field of light on its segment (in the branch's own frame: basis vector ``x`` perpendicular to
-the segment, ``y = k x x`` with ``k`` the direction the light travels) to the field arriving at
-the camera (camera frame: image right, image up).  Going backward across an interface the
-parent's matrix is extended on the right: ``M_child = M_parent B diag(r_s, r_p)`` (or with t),
-where ``B`` turns the s/p frame of the outgoing wave into the parent's frame, and the child's
-frame is the s/p frame of its incident wave (Guy & Soler 2004 eq. 12, accumulated from the eye).
-Unpolarized light of radiance L entering the path arrives as the coherency matrix
-``L/2 M M^dagger``.  With ``polarized=False`` the branch carries the unpolarized power
-coefficients instead (a scalar renderer, for comparison with unpolarized peers).
+Conventions.  A polarized branch carries a Jones matrix M from the field on its segment (basis
+``x`` perpendicular to the segment, ``y = k x x``, ``k`` the direction light travels) to the
+field at the camera (image right, image up); backward across an interface
+``M_child = M_parent B diag(r_s, r_p)`` (or t), B the s/p frame of the outgoing wave in the
+parent's frame (Guy & Soler 2004 eq. 12, accumulated from the eye).  Unpolarized radiance L
+arrives as the coherency matrix ``L/2 M M^dagger``; ``polarized=False`` carries power
+coefficients instead.  Transmitted amplitudes are scaled by sqrt(Re(N_out cos t) / Re(N_in cos i))
+so that |M|^2 is power; absorption is Bouguer–Lambert exp(-alpha l), alpha = 4 pi k / lambda.
 
-Nested solids (a stone in water, an inclusion): a branch carries the solid it runs in; it meets
-that solid's surface or the surface of a solid nested in it (``geometry.query.medium_closest_hit``)
-and, leaving a solid, enters the one around it (``geom.parent``, ``geometry/nesting.py``), so the
-index ratio at every interface is that of the media on its two sides.  A camera inside a solid
-starts its rays there (``TraceParams.camera_medium``).  Children start ``geom.epsilon[k]`` along
-their direction from a hit on object k (``geometry.query.offset_epsilon``: relative to the
-object's size and position).
+A branch carries the solid it runs in (nested solids: ``geometry/nesting.py``), so every
+interface sees the media on its two sides.  Fluorescence and the coherent mode are compiled only
+into variants of the tracer (:func:`trace_variant`); :data:`trace_radiance` is every other
+scene's.  The derivations: docs/design/point_tracer.md; units and frames: docs/conventions.md.
 
-Fluorescent media (``stages/fluorescence.py``): a tree at the emission wavelength keeps one of
-its segments inside a fluorescent stone (weighted reservoir sampling) and, once its stack is
-empty, traces that segment's excitation tree at a sampled excitation wavelength from a point on
-it in a random direction, unpolarized; the emission enters the sums through the kept segment's
-Jones matrix.  That pass, like the coherent mode's phases and leaf buffer, is compiled only into a
-variant of the tracer (:func:`trace_variant`, ``wp.static``) for the scenes that use it;
-:data:`trace_radiance`, every other scene's, is the tracer without them.
-
-Transmitted amplitudes are scaled by sqrt(Re(N_out cos t) / Re(N_in cos i)) so that |M|^2 is the
-transmitted power; radiance's n^2 factors cancel on paths that start and end in the same
-ambient medium.  Absorption follows Bouguer–Lambert, exp(-alpha l) on the intensity, with alpha
-= 4 pi k / lambda from the material table (or the eq. 9 RGB absorbances in ``rgb3`` mode).
+References: Guy & Soler 2004, "Graphics Gems Revisited", §5 and eq. 12; Veach 1997, ch. 4
+(splitting, Russian roulette).
 """
 
 from __future__ import annotations
