@@ -1,62 +1,40 @@
 """Opaque surfaces (a table under the stones) and lamps (sun, light boxes) for the camera tracer.
 
-The solids of ``geometry.query`` are gems: closed dielectric meshes that the split-tree tracer
-(``stages.trace``) follows specularly.  This module adds what a gem photograph has around them:
+The solids of ``geometry.query`` are gems that the split-tree tracer (``stages.trace``) follows
+specularly.  This module adds what a gem photograph has around them:
 
-- **Surfaces**: opaque rectangles (``[[surface]]``; a ground ``plane`` is a large square at
-  ``z = height``), two-sided, with a diffuse (Lambertian) or glossy BSDF.  The glossy BSDF is a
-  dielectric-coated diffuse: a GGX microfacet lobe (Walter et al. 2007 eq. 33 D, eq. 34 G1 with
-  Smith's separable G, eq. 20 specular BRDF) with the coat's unpolarized Fresnel reflectance
-  from ``optics.fresnel.fresnel_amplitudes``, plus the diffuse base weighted by the coat's
-  transmittance on the way in and out, (1 - R_i)(1 - R_o) albedo / pi (no inter-reflections
-  inside the coat, so slightly dark at grazing angles, never above 1).  The albedo is a colour,
-  a checker of two colours or an image texture, all linear sRGB turned into a reflectance
-  spectrum with the same Mallett–Yuksel basis as RGB emitters (``spectra.rgb_spectrum_value``
-  divided by D65, since that table holds D65 x basis).
-- **Lamps**: ``directional`` (a sun: the irradiance E on a surface facing it, an optional angular
-  radius sampled as a uniform cone) and rectangular ``area`` lights (light boxes: uniform
-  radiance, one- or two-sided).  Area lights are opaque emitters seen by every ray: camera rays,
-  the specular branches of the gem tree (a stone reflects a light box) and the surfaces' bounce
-  rays.  ``spot`` lights are point lights with a radiant intensity I on their axis (E = I cos /
-  d^2) and a smooth cone edge.  The environment (``stages.environment``) stays the background.
-  Every lamp may carry a light ``spectrum`` (``LampConfig.spectrum``: a CIE illuminant, a UV
-  lamp or a measured spectrum): its tint c then emits dot(c, basis(l)) S(l)
-  (``spectra.light_spectrum_value``, the one law of every light; default D65, exactly as before).
+- **Surfaces**: opaque two-sided rectangles (``[[surface]]``; a ground ``plane`` is a large
+  square at ``z = height``), diffuse (Lambertian) or glossy: a dielectric-coated diffuse, a GGX
+  lobe (Walter et al. 2007 eq. 33 D, eq. 34 G1, eq. 20 BRDF) with the coat's unpolarized Fresnel
+  reflectance from ``optics.fresnel.fresnel_amplitudes``, plus the base weighted by the coat's
+  transmittance in and out, (1 - R_i)(1 - R_o) albedo / pi (no inter-reflections in the coat).
+  Albedos (colour, checker, image texture; linear sRGB) become reflectance spectra with the
+  Mallett–Yuksel basis (``spectra.rgb_spectrum_value`` divided by D65).
+- **Lamps**: ``directional`` (a sun: irradiance E on a surface facing it, optional angular
+  radius), rectangular ``area`` lights (uniform radiance, one- or two-sided, opaque emitters seen
+  by every ray) and ``spot`` lights (intensity I on the axis, E = I cos / d^2, smooth cone
+  edge).  A lamp's ``spectrum`` tints its emission through ``spectra.light_spectrum_value``
+  (default D65).  The environment (``stages.environment``) stays the background.
 
-Light transport at a surface hit (``surface_radiance``, called by the trace stage's hook when a
-branch in the ambient medium meets a surface or a lamp before any solid): next-event estimation
-with one sample of every area light, every sun and the environment (cosine-weighted about the
-normal, or from an importance table of the map's radiance for studio, sky and lat-long maps),
-combined with one BSDF-sampled bounce by the power heuristic (Veach 1997 §9.2.4, beta
-= 2) for the lights that both strategies can hit (area lights and environment; a sun is found by
-NEE only).  The bounce continues up to ``max_diffuse`` surface hits with Russian roulette.  A
-diffuse surface depolarizes: its radiance enters the branch as an unpolarized source (the
-branch's Jones matrix feeds ``coherency_unpolarized``), exactly like the environment.
+At a surface hit (``surface_radiance``): next-event estimation with one sample of every area
+light, every sun and the environment, combined with one BSDF-sampled bounce by the power
+heuristic (Veach 1997 §9.2.4, beta = 2) for what both can hit; the bounce continues up to
+``max_diffuse`` hits with Russian roulette.  A diffuse surface depolarizes: its radiance enters
+the branch as an unpolarized source, like the environment.
 
-**Shadows through stones (the straight-through estimator).**  A shadow ray or a bounce ray that
-meets a gem is *attenuated*, not refracted: per stone the unpolarized Fresnel transmittance
-1 - R at entry and at exit (R from ``fresnel_amplitudes``, each at the straight line's angle on
-the ambient side, where by reciprocity T is the same in both directions) times Bouguer–Lambert
-absorption exp(-alpha l) along the straight chord (``material_alpha``; for a uniaxial stone the
-mean of the o- and e-wave filters with n_o and n_e).  This gives coloured, attenuated shadows,
-but it is an approximation: the light a stone *refracts* onto the table (caustics, fire on the
-table) is not found by this estimator and belongs to the optical bench's light tracer (issue 9
-item 3).  That tracer must own exactly the paths lamp -> gem (refracted) -> surface, and this
-estimator owns lamp -> (straight-through filter) -> surface, so a combined renderer must switch
-this filter to "blocking" (transmittance 0) when caustic tracing is on, or the light through a
-stone would be counted twice.  Light that a gem *reflects* onto the table is likewise left to
-the light tracer.
+Shadows through stones (``stone_shadows``).  With 1 (``render.stone_shadows = true``, caustics
+off) a shadow or bounce ray that meets a gem is attenuated, not refracted: per stone the
+unpolarized Fresnel transmittance 1 - R at entry and exit (at the straight line's angle) times
+exp(-alpha l) along the straight chord (uniaxial: the mean of the o- and e-wave filters), giving
+coloured shadows but no caustics.  With 0, set by the Renderer whenever ``render.caustics`` is
+on, a gem blocks those rays and the light tracer (``stages/caustics.py``) owns every path
+lamp -> gem -> surface, so no light through a stone is counted twice
+(docs/design/caustics.md, "Path ownership").
 
-References
-----------
-- B. Walter, S. Marschner, H. Li, K. Torrance, "Microfacet Models for Refraction through Rough
-  Surfaces", EGSR 2007 (GGX: eq. 33, 34, 20; half-vector sampling eq. 35-36).
-- E. Veach, "Robust Monte Carlo Methods for Light Transport Simulation", PhD thesis, Stanford,
-  1997, §9.2 (multiple importance sampling, power heuristic).
-- M. Pharr, W. Jakob, G. Humphreys, *Physically Based Rendering*, 3rd ed., §13.6 (cosine
-  hemisphere), §14.2 (area lights: pdf_omega = r^2 / (A cos theta_l)).
-- I. Mallett, C. Yuksel, "Spectral Primary Decomposition for Rendering with sRGB Reflectance",
-  EGSR 2019 (RGB -> reflectance spectra).
+References: Walter, Marschner, Li & Torrance, "Microfacet Models for Refraction through Rough
+Surfaces", EGSR 2007; Veach 1997, §9.2 (MIS, power heuristic); Pharr, Jakob & Humphreys,
+Physically Based Rendering, 3rd ed., §13.6, §14.2; Mallett & Yuksel, "Spectral Primary
+Decomposition for Rendering with sRGB Reflectance", EGSR 2019.
 """
 
 from __future__ import annotations
