@@ -1,57 +1,36 @@
 """The environment light: spectral radiance arriving from every direction at infinity.
 
 Kinds (``Environment.kind``):
-- ``constant``: the same radiance everywhere, a flat spectrum (CIE E) times ``intensity`` — the
-  white furnace;
+- ``constant``: a flat spectrum (CIE E) times ``intensity`` everywhere — the white furnace;
 - ``dome``: uniform white (D65, Y = intensity) over the upper hemisphere, black below — the
-  standard lighting of the light-return metrics (GemRay's ``ISO`` lighting, :mod:`warpoptics.grading`);
-- ``cos``: D65 over the upper hemisphere with radiance ``intensity * cos(zenith angle)``, black below
-  — GemRay's ``COS`` lighting (overhead light falling off toward the horizon);
+  lighting of the light-return metrics (GemRay's ``ISO``, :mod:`warpoptics.grading`);
+- ``cos``: D65 over the upper hemisphere with radiance ``intensity * cos(zenith)`` — GemRay's
+  ``COS`` lighting;
 - ``studio``: dark surroundings with soft boxes overhead and at the sides, like the light boxes
   over a plane of the three-wavelength diamond paper;
 - ``sky``: a smooth blue sky over a grey ground;
-- ``latlong``: an equirectangular RGB map (EXR/HDR/PNG through OpenImageIO), read in one of the
-  :data:`LATLONG_CONVENTIONS` (``EnvironmentConfig.convention``).
+- ``latlong``: an equirectangular RGB map (EXR/HDR/PNG through OpenImageIO).
 
-Lat-long conventions (z up; u = column / width from the left edge, v = row / height from the top,
-row 0 at the zenith, v = acos(z) / pi in all of them):
+Lat-long maps (z up, row 0 at the zenith, v = acos(z) / pi): ``"blender"`` (the default,
+u = 0.5 - atan2(y, x) / 2 pi, as Blender's Environment Texture and Poly Haven place a panorama),
+``"mitsuba"`` (Mitsuba 3's ``envmap`` with ``to_world = rotate(x, 90 deg)``: Blender's layout
+turned 90 deg about z) and ``"mirrored"`` (the mirror image of ``"blender"``, warpoptics' earlier
+mapping); docs/conventions.md, "Environment maps", has the layouts.  ``rotation`` (degrees) turns
+the map counter-clockwise about +z, seen from above, after the convention placed it; both are
+one world -> map matrix (:func:`latlong_frame`), so nothing is compiled per convention.
 
-- ``"blender"`` (the default): u = 0.5 - atan2(y, x) / 2 pi.  The centre column (u = 0.5) looks
-  along +x, u = 0.25 along +y, u = 0.75 along -y, the left and right edges along -x.  Seen from
-  inside, the panorama is not mirrored: a camera looking along +x (z up) has -y on its right and
-  sees the columns right of the centre there.  This is how Blender's world Environment Texture
-  (equirectangular: ``u = -atan2(y, x) / 2 pi + 0.5``, Cycles' ``direction_to_equirectangular``)
-  and viewers of Poly Haven HDRIs place a panorama, so a downloaded map renders as it does there.
-- ``"mitsuba"``: the map as Mitsuba 3's ``envmap`` shows it with ``to_world = rotate(x, 90 deg)``
-  (its local y-up frame turned to z up; its own mapping is u = atan2(x, -z) / 2 pi, v = acos(y) /
-  pi): u = 0 looks along +y, u = 0.25 along +x, u = 0.5 along -y, u = 0.75 along -x -- Blender's
-  layout turned by 90 deg about z (also the layout of OpenEXR's ``LatLongMap`` turned to z up).
-- ``"mirrored"``: u = 0.5 + atan2(y, x) / 2 pi (+x at the centre, +y at u = 0.75): the mirror
-  image of ``"blender"``, which no rotation can undo -- warpoptics' mapping before Blender's was
-  adopted, for maps made for it.
+Observer obscuration: ``head_radius_deg`` > 0 blacks out a cone about ``head_direction`` (world,
+default the zenith), the grader's head over a face-up stone; the cone is fixed in the world, so a
+tilted stone sees the head move across its crown.
 
-``rotation`` (degrees) turns the map about +z, counter-clockwise seen from above, after the
-convention has placed it: content that the convention puts along +x appears along +y at 90 deg.
-The convention and the rotation are one world -> map matrix (:func:`latlong_frame`), so the
-kernel reads every convention with Blender's formula and nothing is compiled per convention.
+RGB radiance becomes a spectrum through D65 x the Mallett–Yuksel sRGB basis
+(``spectra.rgb_spectrum_value``), so RGB white is D65; a light ``spectrum`` replaces that white
+(``spectra.light_spectrum_value``: an RGB texel c emits dot(c, basis(l)) S(l)).  Defaults: E for
+``constant``, D65 for everything else.
 
-Observer obscuration (every kind): ``EnvironmentConfig.head_radius_deg`` > 0 blacks out a cone of
-that angular radius about ``head_direction`` (world, default the zenith): the grader's head (or a
-camera) between the lights and a face-up stone.  The cone is fixed in the world, like the observer,
-so a stone tilted under it (``object.N.rotation``) sees the head move across its crown.
-
-RGB radiance (maps, procedural colours) becomes a spectrum through D65 x the Mallett–Yuksel sRGB
-basis (``spectra.rgb_spectrum_value``), so an RGB-white environment is D65.  A light
-``spectrum`` (``EnvironmentConfig.spectrum``: a CIE illuminant, a UV lamp or a measured spectrum,
-``spectra.light_spectrum_row``) replaces that white: an RGB texel c emits dot(c, basis(l)) S(l)
-(``spectra.light_spectrum_value``), a constant or dome sky S(l) x intensity.  Defaults: E for
-``constant``, D65 for everything else (exactly the values before light spectra existed).
-
-References:
-    Blender manual, Shader nodes > Textures > Environment Texture (projection Equirectangular);
-    Blender source ``gpu_shader_material_tex_environment.glsl`` (``node_tex_environment_
-    equirectangular``).  Mitsuba 3 documentation, emitter ``envmap`` and ``src/emitters/envmap.cpp``
-    (``direction_to_uv``).
+References: Blender manual, Environment Texture (Equirectangular) and
+``gpu_shader_material_tex_environment.glsl``; Mitsuba 3, emitter ``envmap``
+(``src/emitters/envmap.cpp``, ``direction_to_uv``).
 """
 
 from __future__ import annotations

@@ -1,59 +1,34 @@
 """Forward (light) tracing for the optical bench: beams through solids onto screens.
 
 One thread follows one beam ray (one position of the :class:`~warpoptics.stages.beam.Beam` at one
-wavelength sample) and the whole tree of rays it splits into, with the physics of the camera
-tracer (``stages.trace``): closest hits by ``geometry.query.scene_closest_hit``, indices and
-absorption by ``materials.dispersion.material_eval`` / ``material_alpha``, isotropic interfaces
-by ``optics.fresnel.fresnel_amplitudes`` (or ``optics.thinfilm.coating_amplitudes`` for a coated
-object), uniaxial interfaces by the generalized Fresnel solution ``optics.birefringence
-.generalized_fresnel`` (Guy & Soler 2004 eq. 5 after McClain et al. 1993), frames and Jones
-algebra by ``optics.jones``.
+wavelength sample) and the whole tree of rays it splits into, with the camera tracer's physics:
+closest hits (``geometry.query.scene_closest_hit``), indices and absorption
+(``materials.dispersion``), and the one forward interface event (``optics.interface``: Fresnel
+amplitudes or a coating's for isotropic media, the generalized Fresnel solution of Guy & Soler
+2004 eq. 5 for crystals).
 
-Forward transport
------------------
-A ray carries a 2x2 complex Jones matrix ``M`` mapping the source field (in the beam's frame)
-to the ray's field, and a scalar weight ``w``; its power is ``w tr(M C M^dagger)`` with ``C``
-the beam's source coherency matrix (trace 1), times the ray's emitted power.  Amplitudes are
-normalised by the square root of the normal Poynting-flux ratio at every interface so that
-``|M|^2`` is power (for isotropic media ``Re(N2 cos t) / Re(N1 cos i)``, as in ``stages.trace``;
-for uniaxial media the ``flux`` of each wave of eq. 5).
+Conventions.  A ray carries a Jones matrix ``M`` from the source field (beam frame) to its own
+and a weight ``w``; its power is ``w tr(M C M^dagger)`` times its emitted power, ``C`` the
+source coherency (trace 1).  Amplitudes are normalised by the square root of the normal
+Poynting-flux ratio so that ``|M|^2`` is power.  Isotropic media (``mode = -1``): two field
+components in the frame ``(x, d x x)``.  Uniaxial crystals: a ray is one eigenmode, o (0) or e
+(1), whose amplitude is row 0 of ``M``; an e ray travels along its Poynting direction and keeps
+its wave normal for the next interface (Beyerle & McDermid 1998); pleochroic absorption
+kappa^e(theta) of eq. 7 along the ray path.
 
-Media and modes: in an isotropic medium (``mode = -1``) the field has two components in the
-frame ``(x, d x x)``.  In a uniaxial crystal a ray is one eigenmode, o (``mode = 0``) or e
-(``mode = 1``), and row 0 of ``M`` holds its scalar amplitude (row 1 is zero): entering a crystal
-an unpolarized ray splits into an o ray and an e ray.  An e ray travels along its Poynting (ray)
-direction, while its wave normal (kept on the ray) enters the next interface's eq. 5 - Beyerle &
-McDermid 1998.  Leaving the crystal, the o and e amplitudes of each transmitted wave become the
-s/p components of an isotropic ray.  Pleochroic absorption: kappa_o for o rays, kappa^e(theta)
-of eq. 7 (``optics.absorption.pleochroic_kappa``) for e rays, Bouguer-Lambert along the ray path.
+Splitting: above ``split_threshold`` of the ray's power every child (reflected, refracted; o and
+e) is followed; below it one child is chosen by power and weighted by 1/probability, which
+carries the parent's power exactly, so the energy ledger closes per ray.  An interface never
+returns more power than arrives.  Ledger per ray (columns of ``LEDGER``, relative to emitted
+power): emitted = screen + absorbed + escaped + truncated + lost (no exit found) + overflow
+(deposits beyond ``max_deposits``) + interface (not accounted for by the amplitudes).
 
-Splitting: while a ray's tree node carries at least ``split_threshold`` of the ray's emitted
-power (and the stack has room), every child (reflected, refracted; o and e) is followed -
-deterministically.  Below it one child is chosen with probability proportional to its power and
-weighted by 1/probability, which carries the parent's power exactly, so the energy ledger
-closes per ray, not only on average.  An interface never returns more power than arrives (with an
-absorbing incident medium the Fresnel flux split can, near total reflection: the children are
-then scaled to the incident power).  Paths end on a screen, escape, are absorbed, or are cut
-at ``max_depth`` interfaces ("truncated").
+Determinism: each thread writes its own ledger row and deposit slots and draws its own random
+stream; the host reduces in a fixed order, so results do not depend on the thread count.
 
-Energy ledger per ray (relative to its emitted power), columns of ``LEDGER``: screen, absorbed
-(Bouguer-Lambert in the media), escaped (left the scene), truncated (cut at ``max_depth``), lost
-(a ray inside a solid that found no exit: a crack in a mesh, or float32 round-off), overflow
-(screen deposits beyond the ``max_deposits`` slots of the ray: counted, not recorded),
-interface (power not accounted for by the Fresnel amplitudes at an interface: zero for
-transparent media up to float32 rounding, the interface absorption of absorbing ones).
-emitted = screen + absorbed + escaped + truncated + lost + overflow + interface.
-
-Determinism: each thread writes only its own ledger row and deposit slots and draws its own
-random stream ``rand_init(seed, ray index)``; the reductions run on the host in a fixed order,
-so results are identical for any thread count or tiling.
-
-References:
-    Guy, S., Soler, C. 2004. Graphics Gems Revisited. ACM TOG 23(3). eq. 2-7, 12.
-    Beyerle, G., McDermid, I. S. 1998. Ray-tracing formulas for refraction and internal
-        reflection in uniaxial crystals. Applied Optics 37(34).
-    Veach, E. 1997. Robust Monte Carlo Methods for Light Transport Simulation, ch. 4
-        (splitting and random selection weighted by 1/probability).
+References: Guy & Soler 2004, "Graphics Gems Revisited", eq. 2-7, 12; Beyerle & McDermid 1998,
+"Ray-tracing formulas for refraction and internal reflection in uniaxial crystals", Appl. Opt.
+37(34); Veach 1997, ch. 4 (splitting, selection weighted by 1/probability).
 """
 
 from __future__ import annotations
