@@ -8,6 +8,8 @@ is exact).  Tiny images; the perspective camera's bias is measured by
 scripts/bench/beam_bias.py, not here.
 """
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -32,7 +34,7 @@ ORTHO = {
         "max_depth": 16,
         "spp": 1,
         "split_threshold": 0.0,
-        "pixel_beam": True,
+        "estimator": "beam",
     },
     "light": [{"type": "environment", "map": "studio"}],
     "object": [{"shape": "round_brilliant", "diameter": 6.5, "material": {"cauchy": [2.4173]}}],
@@ -92,7 +94,7 @@ def test_white_furnace(device, block):
     assert np.abs(y[~stone] / ref - 1.0).max() < 1e-3
     ratio = y[stone] / ref
     assert ratio.max() < 1.0 + 1e-3  # no light is made
-    pts = _render(_scene(**kw, pixel_beam=False, spp=64), device)
+    pts = _render(_scene(**kw, estimator="point", spp=64), device)
     want = pts.xyz[..., 1][stone] / pts.xyz[..., 1][~stone].mean()
     # 16 interfaces leave ~8 % of the light inside; the point samples' mean is good to ~0.3 %
     assert ratio.mean() == pytest.approx(want.mean(), abs=5e-3)
@@ -125,7 +127,7 @@ def test_orthographic_beams_equal_point_sampling(device, polarization, obj, beam
     ]
     pts = []
     for seed in (1, 2):
-        ref_sc = _scene(polarization=polarization, obj=obj, pixel_beam=False, spp=512, seed=seed)
+        ref_sc = _scene(polarization=polarization, obj=obj, estimator="point", spp=512, seed=seed)
         pts.append(Renderer(ref_sc, device=device).run().xyz)
     ref = 0.5 * (pts[0] + pts[1])
     noise = np.sqrt(((pts[0] - pts[1]) ** 2).mean()) / 2.0  # of their mean
@@ -148,7 +150,7 @@ def test_scenes_beams_cannot_trace_are_refused(device):
             ],
         }
     )
-    with pytest.raises(InputError, match="render.pixel_beam"):
+    with pytest.raises(InputError, match="render.estimator"):
         Renderer(two, device=device)
 
 
@@ -156,8 +158,6 @@ def test_the_fire_scene_renders_in_beams(device):
     """scenes/diamond_fire.toml (the main job's stone in pixel beams) is traced by the beams
     and gives a physical image: finite, coverage within [0, 1] with partly covered silhouette
     pixels, Stokes vectors with DOP <= 1."""
-    from pathlib import Path
-
     path = Path(__file__).resolve().parents[1] / "scenes" / "diamond_fire.toml"
     sc = wo.Scene.load(path).with_overrides({"camera.width": 20, "camera.height": 20})
     r = Renderer(sc, device=device)
@@ -176,8 +176,6 @@ def test_block_beams_with_adaptive_sampling(device):
     short at the edges): every pixel's spp is what the allocator gave (the film divides by it),
     the image is physical and its mean agrees with the non-adaptive render's (2 % covers both
     renders' spectral noise at 16 wavelengths)."""
-    from pathlib import Path
-
     path = Path(__file__).resolve().parents[1] / "scenes" / "diamond_fire.toml"
     over = {"camera.width": 20, "camera.height": 20, "render.wavelengths": 16, "render.beam_block": 3}
     sc = wo.Scene.load(path).with_overrides(over)
@@ -224,3 +222,67 @@ def test_auto_blocks_stay_within_their_bias_bound(device):
     pixels = Renderer(crop.with_overrides({"render.beam_block": 1}), device=device).run().rgb
     diff = np.sqrt(((blocks - pixels) ** 2).mean()) / pixels.mean()
     assert diff < 0.01, diff
+
+
+def test_auto_takes_beams_where_they_apply_and_says_why(device):
+    """``render.estimator = "auto"`` (the default) traces a convex dispersive stone in beams and a
+    birefringent one in point samples, and ``Image.stats`` names the estimator and the reason."""
+    sc = _scene(estimator="auto", obj={"shape": "round_brilliant", "diameter": 6.5, "material": "diamond"})
+    r = Renderer(sc, device=device)
+    assert r.estimator == "beam" and r.pixel_beam
+    clear = Renderer(_scene(estimator="auto"), device=device)  # a constant index: one shared tree
+    assert clear.estimator == "point" and "non-dispersive" in clear.estimator_reason
+    uni = _scene(estimator="auto", obj={"shape": "round_brilliant", "diameter": 6.5, "material": "sapphire"})
+    r = Renderer(uni.with_overrides(None, width=4, height=4), device=device)
+    assert r.estimator == "point" and not r.pixel_beam
+    assert "birefringent" in r.estimator_reason
+    img = r.run()
+    assert img.stats["estimator"] == "point" and "birefringent" in img.stats["estimator_reason"]
+    pts = Renderer(_scene(estimator="point"), device=device)
+    assert pts.estimator == "point" and pts.estimator_reason == 'render.estimator = "point"'
+
+
+def test_beams_by_name_refuse_what_they_cannot_trace(device):
+    uni = _scene(estimator="beam", obj={"shape": "round_brilliant", "diameter": 6.5, "material": "sapphire"})
+    with pytest.raises(InputError, match="birefringent") as e:
+        Renderer(uni, device=device)
+    assert e.value.field == "render.estimator"
+
+
+def test_pixel_beam_is_a_deprecated_alias():
+    """``render.pixel_beam`` (the old switch) still works, warns, and maps onto the estimator."""
+    data = {**ORTHO, "render": {k: v for k, v in ORTHO["render"].items() if k != "estimator"}}
+    with pytest.warns(DeprecationWarning, match="render.estimator"):
+        sc = wo.Scene.from_dict({**data, "render": {**data["render"], "pixel_beam": True}})
+    assert sc.render.estimator == "beam"
+    with pytest.warns(DeprecationWarning):
+        sc = wo.Scene.from_dict({**data, "render": {**data["render"], "pixel_beam": False}})
+    assert sc.render.estimator == "point"
+    with pytest.raises(InputError, match="contradicts"):
+        wo.Scene.from_dict({**data, "render": {**data["render"], "pixel_beam": False, "estimator": "beam"}})
+    with pytest.raises(InputError, match="render.estimator"):
+        wo.Scene.from_dict({**data, "render": {**data["render"], "estimator": "beams"}})
+
+
+def test_the_command_line_says_which_estimator_ran(tmp_path, capsys):
+    from warpoptics.cli import main
+
+    out = tmp_path / "d.png"
+    root = Path(__file__).resolve().parents[1]
+    assert (
+        main(
+            [
+                "render",
+                str(root / "scenes" / "diamond.toml"),
+                "-o",
+                str(out),
+                "--width",
+                "8",
+                "--height",
+                "8",
+                "--quiet",
+            ]
+        )
+        == 0
+    )
+    assert "estimator: pixel beams (render.estimator = 'auto')" in capsys.readouterr().out

@@ -1,4 +1,4 @@
-"""Pixel beams against point sampling: the bias of ``render.pixel_beam`` (stages/pixel_beam.py).
+"""Pixel beams against point sampling: the bias of ``render.estimator = "beam"`` (stages/pixel_beam.py).
 
 Renders the fire benchmark scene (scenes/bench_fire.toml: dispersive, clear, polarized diamond
 under the lat-long studio map) with its perspective camera and with an orthographic one of the
@@ -82,7 +82,13 @@ def main() -> None:
         else:
             for seed in (1, 2):
                 img, t = render(
-                    sc, seed=seed, spp=a.ref_spp, wavelengths=a.ref_wavelengths, bundle_lanes=16, **common
+                    sc,
+                    seed=seed,
+                    spp=a.ref_spp,
+                    wavelengths=a.ref_wavelengths,
+                    bundle_lanes=16,
+                    estimator="point",
+                    **common,
                 )
                 ref.append(img)
                 t_ref += t
@@ -101,7 +107,7 @@ def main() -> None:
                 spp=1,
                 wavelengths=a.beam_wavelengths,
                 bundle_lanes=16,
-                pixel_beam=True,
+                estimator="beam",
                 **{**common, "split_threshold": a.beam_split},
             )
             beam.append(img)

@@ -2,7 +2,7 @@
 
 For each setting (wavelengths per pass, split threshold), renders the fire benchmark scene
 (scenes/bench_fire.toml: dispersive, clear, polarized diamond under the lat-long studio map)
-with ``render.pixel_beam`` twice with independent seeds, one beam per pixel, and reports the
+with ``render.estimator = "beam"`` twice with independent seeds, one beam per pixel, and reports the
 relative RMSE of one pass in linear sRGB over the whole image (rms of the difference / sqrt 2,
 over the mean) and the wall seconds of each render.  This is how the beams' sampling was chosen:
 where a beam's noise comes from (spectral, environment lookups, roulette) shows as which
@@ -34,7 +34,7 @@ def one_pass(
     over = {
         "camera.width": res,
         "camera.height": res,
-        "render.pixel_beam": True,
+        "render.estimator": "beam",
         "render.wavelengths": wavelengths,
         "render.bundle_lanes": 16,
         "render.spp": 1,

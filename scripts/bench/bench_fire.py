@@ -258,7 +258,7 @@ def main(argv=None) -> int:
         action="append",
         default=[],
         metavar="KEY=VALUE",
-        help="a setting of our dispersive scene only (TOML value), e.g. render.pixel_beam=true",
+        help="a setting of our dispersive scene only (TOML value), e.g. render.estimator=beam",
     )
     ap.add_argument("--json", help="write the results here")
     ap.add_argument("--log", help="also write this log here")
@@ -305,7 +305,7 @@ def main(argv=None) -> int:
     w, h = sc.camera.width, sc.camera.height
     log(
         f"scene {shown(args.scene)}: {w}x{h}, {r.spectral} {r.wavelengths} wavelengths x spp {r.spp}"
-        f"{' adaptive' if r.adaptive else ''}{' pixel beams' if r.pixel_beam else ''}, "
+        f"{' adaptive' if r.adaptive else ''}{' pixel beams' if r.estimator == 'beam' else ''}, "
         f"polarization {r.polarization}, "
         f"max_depth {r.max_depth}, split_threshold {r.split_threshold}; "
         f"clear twin {shown(args.clear_scene)} spp {scenes['clear'].render.spp}; cpu cores {os.cpu_count()}"

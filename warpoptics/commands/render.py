@@ -89,7 +89,7 @@ def run(args) -> int:
             kw.get("width", scene.camera.width),
             kw.get("height", scene.camera.height),
             file=args.scene,
-            beams=bool(scene.render.pixel_beam),
+            beams=scene.render.estimator != "point",
         )
     _check_writable(out)
     spp = kw.get("spp", overrides.get("render.spp"))
@@ -148,6 +148,9 @@ def run(args) -> int:
             else ""
         )
     )
+    # which camera estimator ran and why (render.estimator; Image.stats)
+    kind = "pixel beams" if s["estimator"] == "beam" else "point samples"
+    print(f"estimator: {kind} ({s['estimator_reason']})")
     return 0
 
 

@@ -210,6 +210,9 @@ class Preview:
             "render.adaptive": False,
             "render.spectral": spectral,
             "render.wavelengths": wl,
+            # progressive passes of one wavelength: point samples (a pass of pixel beams costs
+            # several point passes and only pays off at many wavelengths per pass)
+            "render.estimator": "point",
         }
         if scene.render.caustics:
             over["render.caustics"] = False  # the light tracer is not progressive; the preview leaves it out

@@ -38,7 +38,7 @@ from ..spectra import (
     strategy_id,
 )
 from ..spectra import grid as spectral_grid
-from ..stages.bundle import LaneWavelengths, LaneWeights, bundle_applies, trace_bundle
+from ..stages.bundle import LaneWavelengths, LaneWeights, bundle_obstacle, trace_bundle
 from ..stages.camera import Camera, CameraParams, camera_ray
 from ..stages.coated import build_film_surfaces
 from ..stages.coherence import direction_tolerance
@@ -49,7 +49,7 @@ from ..stages.fluorescence import (
     has_fluorescence,
     scene_light_spectra,
 )
-from ..stages.pixel_beam import SINK_COLS, beam_applies, sink_sums, trace_beam
+from ..stages.pixel_beam import SINK_COLS, beam_obstacle, sink_sums, trace_beam
 from ..stages.surfaces import Surfaces, SurfaceStage
 from ..stages.trace import (
     TraceConfig,
@@ -547,7 +547,7 @@ class Renderer:
         self.device = get_device(device)
         r = scene.render
         check_render_memory(
-            scene.camera.width, scene.camera.height, file=scene.path, beams=bool(r.pixel_beam)
+            scene.camera.width, scene.camera.height, file=scene.path, beams=r.estimator != "point"
         )
         built = build_objects(scene.objects, file=scene.path)
         meshes, mats = built.meshes, built.materials
@@ -653,6 +653,8 @@ class Renderer:
         self.shared_spectrum = (
             r.spectral != "rgb3"
             and shared_spectrum is not False
+            # beams asked for by name trace a clear stone's spectrum in bundles too
+            and r.estimator != "beam"
             and _non_dispersive(mats)
             # films: a film's r and t depend on the wavelength (stages/coated.py)
             and not any(getattr(ob, "film", None) for ob in scene.objects)
@@ -669,18 +671,38 @@ class Renderer:
         # traces one path tree per bundle of up to render.bundle_lanes wavelengths at one pixel position
         # (stages/bundle.py); `spectral_bundle=False` or `render.bundle = false` traces a tree
         # per wavelength
-        self.spectral_bundle = (
-            not self.shared_spectrum
-            and spectral_bundle is not False
-            and r.birefringence != "coherent"  # the bundle tracer carries no phases
-            and bundle_applies(scene, built)
-            and self.camera_medium < 0  # bundles start in the ambient medium
-        )
+        if self.shared_spectrum:
+            why = "a clear, non-dispersive scene: each point sample carries the whole spectrum"
+        elif spectral_bundle is False:
+            why = "spectral bundles turned off by the caller"
+        elif r.birefringence == "coherent":
+            why = "the coherent mode adds o/e amplitudes along point samples"
+        elif self.camera_medium >= 0:
+            why = "the camera sits inside a solid"
+        else:
+            why = bundle_obstacle(scene, built)
+        self.spectral_bundle = why is None
         film.bundle = 1 if self.spectral_bundle else 0
-        # pixel beams (stages/pixel_beam.py): a bundle's lanes trace the pixel's whole footprint
-        self.pixel_beam = self.spectral_bundle and bool(getattr(r, "pixel_beam", False))
-        if self.pixel_beam:
-            beam_applies(scene, self.geometry, file=scene.path)
+        # the camera estimator (render.estimator): pixel beams (stages/pixel_beam.py: a bundle's
+        # lanes trace the pixel's whole footprint) wherever they apply, else point samples;
+        # Image.stats and the command line say which ran and why
+        if why is None:
+            why = beam_obstacle(scene, self.geometry)
+        if r.estimator == "beam" and why is not None:
+            raise InputError(
+                "pixel beams cannot trace this scene: " + why,
+                file=scene.path,
+                field="render.estimator",
+                value="beam",
+                allowed='"auto" or "point" for this scene',
+            )
+        self.pixel_beam = r.estimator != "point" and why is None
+        self.estimator = "beam" if self.pixel_beam else "point"
+        self.estimator_reason = (
+            'render.estimator = "point"'
+            if r.estimator == "point"
+            else f"render.estimator = {r.estimator!r}" + ("" if why is None else ": " + why)
+        )
         film.beam = 1 if self.pixel_beam else 0
         film.beam_object = 0
         film.beam_block = beam_block(scene) if self.pixel_beam else 1
@@ -811,6 +833,8 @@ class Renderer:
             "height": h,
             "spp_mean": float(spp.mean()),
             "spp_max": int(spp.max()),
+            "estimator": self.estimator,
+            "estimator_reason": self.estimator_reason,
             **caustic_stats,
         }
         self.spp_per_pixel = spp

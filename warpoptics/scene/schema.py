@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import inspect
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -39,11 +40,13 @@ __all__ = [
     "view_config",
     "object_config",
     "SPECTRAL_MODES",
+    "ESTIMATORS",
     "TONE_CURVES",
 ]
 
 SPECTRAL_MODES = ("rgb3", "uniform", "importance", "stratified")
 BIREFRINGENCE_MODES = ("exact", "approx", "coherent")
+ESTIMATORS = ("auto", "beam", "point")
 TONE_CURVES = ("filmic", "reinhard", "clip")
 MIS_CHOICES = tuple(MIS_MODES)
 # the largest light tint (a factor on radiance, itself <= 1e12): products stay inside float32
@@ -89,11 +92,14 @@ class RenderConfig:
     # tree per wavelength sample at its own position
     bundle: bool = True
     bundle_lanes: int = 8
-    # pixel beams (stages/pixel_beam.py): a bundle traces the pixel's whole footprint through one
-    # convex stone as beams (a ray per polygon vertex) instead of a point of it; the noise left
-    # is spectral, so pair it with >= 32 stratified wavelengths, bundle_lanes = 16, spp = 1 and
-    # split_threshold = 0.001 (scenes/diamond_fire.toml; scripts/bench/beam_noise.py)
-    pixel_beam: bool = False
+    # the camera estimator: "beam" traces a pixel's (or a block's) whole footprint through the
+    # stone as beams (stages/pixel_beam.py), "point" traces point samples (stages/trace.py,
+    # stages/bundle.py), "auto" takes beams wherever they apply; Image.stats["estimator"] and
+    # ["estimator_reason"] say which ran and why.  Beams leave only spectral noise: pair them
+    # with >= 24 stratified wavelengths, bundle_lanes = 16, spp = 1 (scenes/diamond_fire.toml)
+    estimator: str = "auto"
+    # deprecated: true is estimator = "beam", false is "point" (warns; see CHANGELOG.md)
+    pixel_beam: bool | None = None
     # pixel beams: each beam follows a block of beam_block x beam_block pixels, shared among the
     # pixels at its leaves (a facet edge is cut once, not in every pixel: 2x faster at 4x4);
     # through a pinhole a pixel's share is biased to first order in the block's angle (0.47 %
@@ -108,8 +114,27 @@ class RenderConfig:
         val.choice(self.birefringence, BIREFRINGENCE_MODES, file=file, field=f("birefringence"))
         val.choice(self.tone, TONE_CURVES, file=file, field=f("tone"))
         val.choice(self.mis, MIS_CHOICES, file=file, field=f("mis"))
-        for k in ("polarization", "stone_shadows", "caustics", "adaptive", "bundle", "pixel_beam"):
+        for k in ("polarization", "stone_shadows", "caustics", "adaptive", "bundle"):
             val.boolean(getattr(self, k), file=file, field=f(k))
+        val.choice(self.estimator, ESTIMATORS, file=file, field=f("estimator"))
+        if self.pixel_beam is not None:
+            val.boolean(self.pixel_beam, file=file, field=f("pixel_beam"))
+            wanted = "beam" if self.pixel_beam else "point"
+            if self.estimator not in ("auto", wanted):
+                raise InputError(
+                    f"render.pixel_beam = {str(self.pixel_beam).lower()} contradicts render.estimator",
+                    file=file,
+                    field=f("estimator"),
+                    value=self.estimator,
+                    allowed=f'"{wanted}", or drop render.pixel_beam (deprecated)',
+                )
+            warnings.warn(
+                f"{file + ': ' if file else ''}render.pixel_beam is deprecated: use render.estimator = "
+                f'"{wanted}"',
+                DeprecationWarning,
+                stacklevel=3,
+            )
+            object.__setattr__(self, "estimator", wanted)
         cp = self.caustic_paths
         if isinstance(cp, int) and not isinstance(cp, bool) and cp > _CAUSTIC_PATHS_MAX:
             raise InputError(

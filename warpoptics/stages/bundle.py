@@ -69,6 +69,7 @@ __all__ = [
     "LaneWeights",
     "trace_bundle",
     "bundle_applies",
+    "bundle_obstacle",
 ]
 
 #: wavelengths per bundle (16 lanes with a low-discrepancy jitter: at one pixel position the
@@ -422,21 +423,36 @@ def trace_bundle(
     return acc_x, acc_y, acc_z, hit_any, rays, rng
 
 
-def bundle_applies(scene, built) -> bool:
-    """Whether a camera scene can be traced in spectral bundles (``render.bundle`` and isotropic,
-    uncoated, non-fluorescent solids in an environment light, none inside another: no surfaces,
-    lamps, films, caustics or nesting; not rgb3)."""
+def bundle_obstacle(scene, built) -> str | None:
+    """Why a camera scene cannot be traced in spectral bundles, or None where it can: bundles
+    need ``render.bundle`` and isotropic, uncoated, non-fluorescent solids in an environment
+    light, none inside another (no surfaces, lamps, films, caustics or nesting; not rgb3).  The
+    reason reaches ``Image.stats["estimator_reason"]``."""
     r = scene.render
-    return (
-        bool(getattr(r, "bundle", True))
-        and r.spectral != "rgb3"
-        and not scene.surfaces
-        and not scene.lamps
-        and not r.caustics
-        and not any(getattr(ob, "film", None) for ob in scene.objects)
-        and all(isinstance(m, Isotropic) and not m.is_uniaxial for m in built.materials)
-        and len(built.materials) > 0
-        and not built.nested
-        # fluorescent re-emission switches a path's wavelength (stages/fluorescence.py)
-        and not has_fluorescence(built.materials)
-    )
+    if not bool(getattr(r, "bundle", True)):
+        return "render.bundle = false"
+    if r.spectral == "rgb3":
+        return "rgb3 traces its three wavelengths one by one"
+    if scene.surfaces:
+        return "the scene has diffuse or glossy surfaces"
+    if scene.lamps:
+        return "the scene has lamps"
+    if r.caustics:
+        return "render.caustics = true"
+    if any(getattr(ob, "film", None) for ob in scene.objects):
+        return "a stone is coated (thin-film stack)"
+    if len(built.materials) == 0:
+        return "the scene has no solid"
+    if not all(isinstance(m, Isotropic) and not m.is_uniaxial for m in built.materials):
+        return "a stone is birefringent (uniaxial or biaxial)"
+    if built.nested:
+        return "a solid lies inside another"
+    # fluorescent re-emission switches a path's wavelength (stages/fluorescence.py)
+    if has_fluorescence(built.materials):
+        return "a stone fluoresces"
+    return None
+
+
+def bundle_applies(scene, built) -> bool:
+    """Whether a camera scene can be traced in spectral bundles (:func:`bundle_obstacle` is None)."""
+    return bundle_obstacle(scene, built) is None

@@ -73,7 +73,7 @@ __all__ = [
     "pixel_beam",
     "trace_beam",
     "sink_sums",
-    "beam_applies",
+    "beam_obstacle",
 ]
 
 #: facet planes of the stone a beam can handle
@@ -974,27 +974,16 @@ def trace_beam(
     return parts, rng
 
 
-def beam_applies(scene, geometry, *, file=None) -> None:
-    """Check that ``render.pixel_beam`` can trace ``scene`` (already traced in spectral bundles:
-    ``stages.bundle.bundle_applies``): one closed convex solid of at most :data:`MAX_PLANES`
-    facet planes, seen through a pinhole or orthographic camera.  Raises ``InputError`` naming
-    what does not fit."""
-    from ..errors import InputError
-
-    why = None
+def beam_obstacle(scene, geometry) -> str | None:
+    """Why pixel beams cannot trace ``scene`` (already traced in spectral bundles:
+    ``stages.bundle.bundle_obstacle``), or None where they can: one closed convex solid of at
+    most :data:`MAX_PLANES` facet planes, seen through a pinhole or orthographic camera."""
     if len(scene.objects) != 1:
-        why = f"one solid (the scene has {len(scene.objects)})"
-    elif not geometry._convex_possible[0]:
-        why = "a closed convex solid (this one is not convex)"
-    elif int(geometry.geometry.plane_count.numpy()[0]) > MAX_PLANES:
-        why = f"at most {MAX_PLANES} facet planes"
-    elif scene.camera.type == "thin_lens" and scene.camera.aperture > 0.0:
-        why = "a pinhole or orthographic camera (not a thin lens with an aperture)"
-    if why is not None:
-        raise InputError(
-            "pixel beams trace " + why,
-            file=file,
-            field="render.pixel_beam",
-            value=True,
-            allowed="false for this scene",
-        )
+        return f"beams follow one solid (the scene has {len(scene.objects)})"
+    if not geometry._convex_possible[0]:
+        return "beams follow a closed convex solid (this one is not convex)"
+    if int(geometry.geometry.plane_count.numpy()[0]) > MAX_PLANES:
+        return f"beams follow at most {MAX_PLANES} facet planes"
+    if scene.camera.type == "thin_lens" and scene.camera.aperture > 0.0:
+        return "a thin lens with an aperture is point-sampled"
+    return None
