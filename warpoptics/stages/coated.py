@@ -24,13 +24,10 @@ plus Perlin turbulence) or eq. 12–13 (an oil drop: t_max exp(-k1 (x^2 + y^2 + 
 
 A coated solid is the ordinary interface event with the coating's amplitudes
 (``optics.interface.backward_isotropic``); shells and film surfaces are
-:func:`film_surface_children`.  As at any interface the child's Jones matrix is
-``M_parent . B . diag(a_s, a_p)`` with ``B`` the frame change from the s/p frame of the outgoing
-wave to the parent's frame, and transmitted amplitudes are scaled by
-sqrt(Re(N_a cos a) / Re(N_b cos b)) so that |M|^2 is the transmitted power.
+:func:`film_surface_children`; the Jones matrices follow the tracer's rule
+(docs/design/point_tracer.md).
 
 References
-----------
 * B. E. Smits and G. W. Meyer, "Newton's colors: simulating interference phenomena in
   realistic image synthesis", 1990: eq. 12–13 (oil slick), §4.2 (soap film),
   §4.3 (Morpho multilayer, Anderson & Richards 1942).

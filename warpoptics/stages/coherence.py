@@ -1,50 +1,31 @@
 """The coherent birefringence mode of the camera trace (``render.birefringence = "coherent"``).
 
-In the ``exact`` mode every leaf of a primary ray's path tree (a branch that reaches the
-environment) adds L/2 M M^dagger to the pixel's coherency: the o and e waves (and all other
-branches) add incoherently.  In the coherent mode each branch also carries its optical phase in its
-Jones matrix, and leaves that leave the stone together are added as amplitudes first.
+In the ``exact`` mode every leaf of a primary ray's path tree adds L/2 M M^dagger to the pixel's
+coherency: the o and e waves (and all other branches) add incoherently.  In the coherent mode
+each branch also carries its optical phase in its Jones matrix, and leaves that leave the stone
+together are added as amplitudes first.
 
-Phase along a segment (:func:`segment_phase`).  A plane wave of wave normal s and index n (the
-wave's own index: n_o, n_e(theta) of a uniaxial wave, the fast/slow sheet of a biaxial one,
-``biaxial.wave_index``) gains the phase k . dx = k0 n (s . t) L over a ray (energy) path of length
-L along the unit ray direction t (Born & Wolf, Principles of Optics, 7th ed., §15.2: the phase
-travels along s with the phase velocity c/n, the energy along t with the ray velocity
-c/(n s.t); Guy & Soler 2004 §4.1 carry the same k . x in their eq. 5 waves).  In an isotropic
-medium s = t.  It is multiplied into M as exp(i 2 pi n (s.t) L / lambda) (``plate.slab_phase``,
-formed in float64).  The Fresnel and TIR phases are already in the amplitudes.  Children of an
-interface start ``epsilon`` along their direction from the interface point, so a segment's
-length from that point is hit.t + epsilon (depth > 0).
+- Phase (:func:`segment_phase`): a wave of normal s and its own index n (n_o, n_e(theta), a
+  biaxial sheet's ``biaxial.wave_index``) gains k0 n (s . t) L over a ray path of length L along
+  the ray direction t (Born & Wolf §15.2; Guy & Soler 2004 §4.1), multiplied into M as
+  exp(i 2 pi n (s.t) L / lambda), formed in float64.  Fresnel and TIR phases are in the
+  amplitudes.  At a leaf the phase of the incident plane wave at the exit point is multiplied in,
+  so leaves of one direction refer to the same wave.
+- Addition (:func:`coherent_flush`): leaves of one primary ray are summed as amplitudes (after
+  ``jones.frame_change`` into one frame) when their directions agree within ``coherence_cos``
+  and their exit points lie within the coherence width ``render.coherence_width_mm`` across the
+  direction (van Cittert–Zernike, 0.16 lambda / alpha for a source of angular radius alpha; the
+  default 0.001 mm is a light box of 0.088 rad at 550 nm); other leaves add incoherently.
+- Leaf buffer: ``LEAVES`` rows per thread, flushed at the end of ``trace_radiance``; a leaf
+  that finds it full is added incoherently.  Cross terms are weighted sqrt(w_i w_j), exact for
+  split branches and an approximation for stochastic ones (< 0.2 % of a pixel's energy).
 
-Leaf reference.  The environment is an incoherent superposition of plane waves; the wave arriving
-along -d has phase k0 n_amb (-d . x) at the point x where the leaf leaves the stone, which is
-multiplied in when the leaf is stored: the phases of leaves of the same direction then refer to
-the same incident plane wave.
+Leaves on opaque surfaces or lamps stay incoherent; scalar renders ignore the mode; bundles and
+shared-spectrum paths are off in it (the phases depend on the wavelength).  The derivation, the
+coherence widths of common sources and the buffer's rules: docs/design/coherent_mode.md.
 
-Addition rule (:func:`coherent_flush`).  Leaves of one primary ray are summed as amplitudes
-(M_g = sum_j sqrt(w_j) M_j F_j, F_j the change from the group's first frame to the leaf's
-frame, ``jones.frame_change``) when their directions agree within the angular tolerance
-(cos >= ``coherence_cos``: the environment's angular resolution, see ``direction_tolerance``) and
-the separation of their exit points across the direction is below the illumination's coherence
-width ``render.coherence_width_mm``; other leaves are added incoherently.  Two points of a field
-from a uniformly bright source of angular radius alpha are coherent (|mu12| >= 0.88) within
-0.16 lambda / alpha (van Cittert-Zernike; Born & Wolf §10.4.2).  The default 0.001 mm is that width
-at lambda = 0.55 um for a diffuse light box of angular radius alpha = 0.088 rad (a 50 mm
-diffuser seen from 280 mm, the polariscope/light-table geometry); sunlight (alpha = 4.65 mrad)
-gives 0.019 mm, a stopped-down microscope condenser (alpha ~ 0.01-0.05) 0.002-0.009 mm.
-
-Leaf buffer.  The leaves of a primary ray wait in a per-thread buffer of ``LEAVES`` rows, flushed
-at the end of ``trace_radiance``; a leaf that finds the buffer full is added incoherently at once
-(documented overflow: it loses only its interference with the others); a leaf toward a black
-direction (below a dome's horizon) adds nothing and is not stored.  The cross terms are
-weighted sqrt(w_i w_j): exact for deterministically split branches.  A branch continued
-stochastically (below ``split_threshold``, weight 1/probability) keeps its own term unbiased, but
-its cross terms carry sqrt(1/probability): an approximation, on branches of < 0.2 % of the
-pixel's energy.  Leaves that end on
-an opaque surface or a lamp (``stages/surfaces.py``, extended incoherent sources) stay incoherent.
-Scalar renders (``polarization = false``) have no amplitudes and ignore the mode; the spectral
-bundle and shared-spectrum paths are turned off in this mode (the phases depend on the
-wavelength: one tree per wavelength sample, ``pipelines/render.py``).
+References: Born & Wolf, Principles of Optics, 7th ed., §10.4.2 (van Cittert–Zernike), §15.2
+(phase and ray velocity in crystals); Guy & Soler 2004, §4.1.
 """
 
 from __future__ import annotations

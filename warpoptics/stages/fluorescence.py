@@ -1,55 +1,28 @@
 """Fluorescent re-emission in the camera (backward) tracer: from an emission to an excitation wavelength.
 
 A fluorescent medium (``materials.fluorescence``: excitation alpha_x, emission density f_em,
-quantum yield Q) is a source inside the stone.  In energy units (the lights' spectra are spectral
-power) its emission coefficient at the emission wavelength l_e is
+quantum yield Q) is a source inside the stone.  In energy units its emission coefficient at the
+emission wavelength l_e is
 
     j(x, l_e) = Q f_em(l_e) int dl_x alpha_x(l_x) (l_x / l_e) (1 / 4 pi) int L(x, w', l_x) dw'
 
-(photons absorbed at l_x are re-emitted isotropically and unpolarized at l_e, each with l_x / l_e
-of the absorbed photon's energy).  A camera path tree at l_e gathers, along each segment i of
-length t_i inside the medium with the branch energy E_i (``optics.branches.branch_energy``) and
-the medium's total absorption kappa_i at l_e,
+(photons absorbed at l_x are re-emitted isotropically and unpolarized at l_e).  The estimator,
+called from ``stages.trace.trace_radiance``: every segment of a camera tree at l_e inside the
+medium is a candidate with weight W_i = E_i B_i (branch energy times the Bouguer–Lambert integral
+over the segment, :func:`emission_weight`); one is kept by weighted reservoir sampling; on it a
+point (distance ~ exp(-kappa s)), an excitation wavelength (:func:`sample_excitation_wavelength`,
+a one-sample mixture of alpha_x and alpha_x x the lights' spectra) and a uniform direction are
+drawn, and the tracer continues there at l_x, unpolarized.  The radiance it gathers enters the
+camera through the kept segment's Jones matrix with the factor of :func:`reemission_start`.
 
-    E_i int_0^t_i exp(-kappa_i s) j(x_i(s), l_e) ds.
+The excitation tree and the emitted light are transported like any other light (refraction,
+total reflection, absorption including the centre's self-absorption).  One generation only:
+re-emission of re-emitted light is not followed.  Isotropic hosts only
+(``emission_media_supported``).  The derivation: docs/design/fluorescence.md.
 
-The estimator (this module, called from ``stages.trace.trace_radiance``):
-
-1. every such segment is a candidate with weight W_i = E_i B_i, B_i =
-   ``optics.absorption.bouguer_lambert_integral(kappa_i, t_i)`` (:func:`emission_weight`); one
-   segment of the tree is kept by weighted reservoir sampling (a :data:`Candidate` row,
-   probability W_i / sum W, in ``stages.trace``), so that sum W / W_i x (the kept segment's
-   emission) estimates the whole tree's with one re-emission per camera sample;
-2. on the kept segment a point at distance s ~ exp(-kappa s) / B
-   (``optics.absorption.sample_bouguer_lambert_distance``), an excitation wavelength l_x ~ p(l_x)
-   (:func:`sample_excitation_wavelength`: a one-sample mixture of alpha_x alone and alpha_x x the
-   scene's light spectra, ``Reemission.light_cdf``; the mixture pdf is evaluated exactly) and a
-   uniform direction w' (pdf 1 / 4 pi) are drawn;
-3. the tracer continues at l_x from that point along w', unpolarized (a new tree with the unit
-   Jones matrix, like a camera ray), and the radiance L_x it gathers enters the camera as
-   unpolarized light of radiance
-
-       sum W / E_i x Q f_em(l_e) (l_x / l_e) alpha_x(l_x) / p(l_x) x L_x
-
-   through the kept segment's Jones matrix (:func:`reemission_start` returns the factor).
-
-Everything here is transported like any other light: the excitation tree is refracted, totally
-reflected and absorbed (alpha(l_x) including alpha_x) like a camera tree, and the emitted light
-on its way to the camera is absorbed again by alpha(l_e) (which holds alpha_x(l_e): the centre's
-self-absorption) and leaves through any facet.  One generation: light that the excitation tree
-itself would gather from a second emission (re-emission of re-emitted light) is not followed
-(for the library's centres the emission lies to the red of almost all of the excitation).
-The n^2 radiance factors cancel as for every tree of the tracer: inside the stone the tracer
-carries basic radiance L / n^2, and j is linear in it.
-
-Isotropic hosts only (``emission_media_supported``): in a birefringent crystal the isotropic
-emission splits into o and e waves with their own ray directions.
-
-References:
-    Pharr, Jakob, Humphreys, *Physically Based Rendering*, 3rd ed., §11.1 (the emission term of
-        the equation of transfer), §13.3.1 (weighted reservoir sampling of one of a stream),
-        §13.10 (one-sample multiple importance sampling).
-    Glassner, A. 1995. A model for fluorescence and phosphorescence (re-radiation matrices).
+References: Pharr, Jakob & Humphreys, Physically Based Rendering, 3rd ed., §11.1 (emission in the
+equation of transfer), §13.3.1 (weighted reservoir sampling), §13.10 (one-sample MIS); Glassner
+1995, "A model for fluorescence and phosphorescence".
 """
 
 from __future__ import annotations
