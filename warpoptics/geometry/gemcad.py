@@ -1,76 +1,31 @@
 """GemCAD ``.asc`` faceting designs: reader, writer, and the stone as an intersection of half-spaces.
 
-Format (GemCAD for Windows text export; Windows-1252, CRLF line ends)::
+The file (GemCAD for Windows text export) holds a gear line ``g <teeth> <offset>``, symmetry
+``y``, index ``I``, header ``H`` and footnote ``F`` lines and one ``a`` record per tier: the facet
+angle from the girdle plane (negative: pavilion, positive: crown), the distance of the facet
+planes from the centre and the index-gear positions of its facets (``n <name>`` names a facet,
+``G <instruction>`` ends the record).
 
-    GemCad 5.0
-    g 96 0.0                 index gear teeth (signed), index offset (teeth)
-    y 8 y                    symmetry, mirror (y|n)
-    I 2.417000               refractive index
-    H <text>                 header / title lines (repeatable)
-    a -40.750000 0.65317734 96 n P1 12 24 36 48 60 72 84 G <instruction>
-    a 0.000000 0.5 96 n T    table (angle 0, positive distance)
-    a 0.000000 -0.8 96 n C   culet (angle 0, negative distance; a "-0" angle is also a culet)
-    F <text>                 footnote lines (repeatable)
+Conventions.  Index ``i`` is the facet azimuth ``phi = 90 deg - 360 deg (i - offset) / gear``
+(gear signed; the offset in teeth rotates the design, GemCad 4.51 manual, Index gear key),
+counter-clockwise from +x: for ``g 96 0`` index 0 points to +y and index 24 to +x, as in
+GemCAD's crown view.  A facet at angle ``theta`` has the outward normal
+``(sin|theta| cos phi, sin|theta| sin phi, +-cos theta)`` (+ crown) and is the plane
+``n . x = distance``; the stone is the intersection of these half-spaces, scaled so that its
+girdle width is the requested diameter in mm.
 
-One ``a`` line per tier: the facet angle in degrees from the girdle plane (negative: pavilion,
-positive: crown, +-90: girdle), the distance of the facet planes from the stone's centre (the
-"mast", in the design's normalised units) and the index-gear positions of its facets, with
-``n <name>`` after an index naming that facet and ``G <instruction>`` ending the record.  Lines
-that start with none of the record letters continue the open ``a`` record (long index lists).
+The reader accepts a BOM, any line ends, glued keywords and continuation lines, merges a facet
+listed twice (with a warning) and refuses binary ``.gem`` files; the writer emits
+Windows-1252/CRLF and keeps every record read, so dumps of a parsed file is a fixed point.
+:func:`recut_tiers` re-cuts named tiers at new angles as a cutter would: each facet keeps its
+azimuth and is lowered to the meet point it was cut to (the centre-point rule of faceting
+diagrams, GemCad 4.51 tutorial, lesson 4).
 
-The ``g`` line: the first number is the tooth count of the index gear, its sign the direction
-in which the indices run; the second is an *offset in teeth*, "the index which will appear at
-the bottom" (GemCad 4.51 manual, Index gear (g) key: "Gears with positive numbers of teeth
-increase counter clockwise and gears with negative numbers of teeth increase clockwise ... An
-offset of zero causes the I.D. position to be at the bottom"), i.e. a rotation of the whole
-design by ``offset * 360 / gear`` degrees, as other readers compute it (mbparker/gemcad-file-reader,
-``GemCadAscImport.GenerateCutPlanes``: ``rollAngleOffset = gearLocation * 360 / gear``).  A bare
-``96 0.0`` line before the first tier is a gear line without its keyword (a corpus quirk that
-suitable-name/indicatrix's reader also accepts).
+The format in full, the frame against GemCAD's views and the re-cutting rule's details:
+docs/design/gemcad.md.
 
-Geometry: index ``i`` is the facet azimuth ``phi = 90 deg - 360 deg (i - offset) / gear`` (gear
-signed), counter-clockwise from +x in the x-y plane.  For ``g 96 0`` index 0 (= 96) points to +y
-and indices increase clockwise seen from above (index 24 is +x), as in GemCAD's crown view;
-``g -96 48`` (GemCAD for Windows' usual header) gives the same stone mirrored, and ``g 64 64``
-the same as ``g 64 0``.  The manual's top view is this frame seen from below (a mirror image: it
-changes no length, width, depth or volume, only the handedness of designs without mirror
-symmetry).  The same formula serves crown and pavilion.  A facet at angle ``theta`` has the outward normal
-``(sin|theta| cos phi, sin|theta| sin phi, +-cos theta)`` (+ crown, - pavilion) and is the plane
-``n . x = distance``.  The stone is the intersection of all these half-spaces, scaled so that its
-girdle width (the smaller of its x and y extents) is the requested diameter in mm.
-
-The reader accepts UTF-8 with a byte-order mark, LF, CRLF or CR line ends, glued keywords
-(``g96``) and continuation lines; the writer emits Windows-1252 with CRLF, like GemCAD, and keeps
-every record it read (``I``, ``H``, ``F``, names, instructions, the gear's sign and offset): one
-:func:`dumps` of a parsed file is a fixed point of parse and dumps.  A facet listed twice (the
-same plane from two ``a`` records, as in the "Shah (Replica)" of the PC catalogue) is merged
-into its first occurrence with a warning naming both lines, as other readers deduplicate planes
-(suitable-name/indicatrix: ``planes_from_asc_schedule`` dedup).  Binary ``.gem`` project files
-are refused with a one-line message.
-
-**Re-cutting tiers at new angles** (:func:`recut_tiers`; a ``shape = "gemcad"`` object's
-``tier_angles``, sweep axes and optimizer parameters ``object.0.tier_angles.<tier>``).  A tier is
-named as GemCAD's cutting diagrams list it: by its facet name (``1``, ``P1``, ``A``, ``T``: the
-``n`` label of the record) or, by position, ``#k`` (the k-th ``a`` record of the file, from 1).
-Each facet of the tier keeps its index (azimuth) and gets the normal of the new angle; its height
-is re-solved *as a cutter would*: the tier is lowered until it reaches the meet point it was cut
-to, taken as the facet's vertex nearest the dop (z) axis in the design as drawn — the culet of
-pavilion mains ("Meet 8 at culet"), the table corner of crown mains, the point where lower girdle
-facets meet the mains — so the new plane passes through that vertex (the tier at one height:
-through the first of its facets' vertices to be reached).  That is the centre-point rule of
-faceting diagrams (facets "cut to TCP", a meet point on the dop axis, keep it at any angle:
-GemCad 4.51 tutorial, lesson 4, the Centerpoint Angle Method) applied to each tier's innermost
-meet; meets the re-cut facet had with other tiers further out move with it (the other tiers are
-not re-cut).  Every tier is re-cut about its meet in the original design, so the order of the
-changes does not matter.  A re-cut tier whose facets would be cut away entirely, a table, culet
-or girdle tier, an unknown tier and an angle outside (0, 90) deg (or of the other side's sign)
-are refused with a one-line error naming ``tier_angles.<tier>``.
-
-References
-----------
-- R. W. Strickland, *GemCad User's Manual*, version 4.51 (1992; HTML edition 2000), Index gear
-  (g) key; *GemCad for Windows User's Guide* (file format of the ``.asc`` export).
-- mbparker/gemcad-file-reader (MIT), ``LibGemcadFileReader/Concrete/GemCadAscImport.cs``.
+References: R. W. Strickland, GemCad User's Manual 4.51 (1992) and GemCad for Windows User's
+Guide; mbparker/gemcad-file-reader (MIT), ``GemCadAscImport.cs``.
 """
 
 from __future__ import annotations
