@@ -1,71 +1,29 @@
 """Image metrics of rendered stones: colour, colour differences and gem light performance.
 
 Every metric works on the renderer's linear outputs (``Image.xyz``, ``Image.alpha``), never on
-tone-mapped pixels.  XYZ is relative: Y = 1 is the luminance of a white at the lighting's unit
-intensity (a ``dome`` of intensity 1 seen directly has Y = 1), and CIELAB uses the D65 white with
-Y = 1.  "The stone's pixels" are weighted by the image alpha, the fraction of a pixel's primary
-rays that hit an object, so a pixel half covered by the girdle counts half; an edge pixel also
-carries half of its background, which a dark surround (the metrics' standard lightings) keeps
-small.
+tone-mapped pixels.  XYZ is relative: Y = 1 is a white at the lighting's unit intensity (a
+``dome`` of intensity 1 seen directly), and CIELAB uses the D65 white with Y = 1.  "The stone's
+pixels" are weighted by the image alpha, the fraction of a pixel's primary rays that hit an
+object.
 
-Definitions (each function's docstring gives the formula):
+- :func:`mean_color` — alpha-weighted mean XYZ, CIELAB L*, a*, b*, chroma and hue.
+- :func:`delta_e_image`, :func:`delta_e_stats`, :func:`delta_e_mean_color` — CIEDE2000 between
+  paired renders; :func:`difference_image` turns a ΔE map into a false-colour picture.
+- :func:`light_return` — brightness, after GIA's *weighted light return* (WLR): alpha-weighted
+  mean luminance of a face-up view under the ``dome``, relative to the dome's.
+- :func:`fire` — after GIA's *dispersed coloured light return* (DCLR): alpha-weighted mean of
+  luminance x CIE 1976 u'v' saturation under a small bright source.
+- :func:`scintillation` — luminance-weighted Michelson contrast between a view and the stone
+  tilted a little: 0 when nothing changes, 1 when all the light moves to other pixels.
+- :func:`colour_change` — hue-angle change and CIEDE2000 of a spectrum between two illuminants
+  (the alexandrite effect); :func:`plate_transmittance` gives a polished plate's spectrum.
 
-- :func:`mean_color` — alpha-weighted mean XYZ, its CIELAB L*, a*, b*, chroma C*ab and hue h_ab.
-- :func:`delta_e_image`, :func:`delta_e_stats`, :func:`delta_e_mean_color` — CIEDE2000
-  (CIE 142-2001, through :func:`warpoptics.color.delta_e2000`) between paired renders, per pixel
-  and between mean colours; :func:`difference_image` turns a ΔE map into a false-colour picture.
-- :func:`light_return` — brightness, after GIA's *weighted light return* (WLR).
-- :func:`fire` — dispersed coloured light, after GIA's *dispersed coloured light return* (DCLR).
-- :func:`scintillation` — how much of the returned light moves between pixels under small tilts.
-- :func:`colour_change` — the CIELAB hue-angle change and CIEDE2000 difference of a
-  transmission or reflectance spectrum between two illuminants (D65 and A by default), the
-  gemmologist's measure of an alexandrite effect; :func:`plate_transmittance` gives the
-  spectrum of a polished plate of a material.
+The gem metrics follow GIA's computer-model metrics in spirit, with one image-based view
+instead of all exit directions; where and why they differ: docs/design/grading_metrics.md.
 
-The gem metrics follow, in spirit, the Gemological Institute of America's computer-model
-metrics (Hemphill et al. 1998; Reinitz et al. 2001; Moses et al. 2004):
-
-- *WLR* (Hemphill et al. 1998) is the light that a round brilliant under uniform, diffuse,
-  hemispherical illumination returns through its crown, each exiting ray weighted by the cosine
-  of its angle to the stone's vertical axis (a face-up observer).  Ours renders a face-up view
-  of the stone under the ``dome`` lighting (uniform D65 over the upper hemisphere, black
-  below) and takes the alpha-weighted mean luminance over the stone's pixels, relative to the
-  dome's.  Differences: (1) image based — one viewing direction (an orthographic camera along the
-  axis gives cos = 1 for every pixel) instead of all exit directions with a cosine weight;
-  (2) no observer's head or camera blocks the light from above; (3) the light is spectral
-  (luminance Y of a D65 dome) and polarized, and the transport has a depth / energy cut-off
-  (``render.max_depth``, ``split_threshold``).
-- *DCLR* (Reinitz et al. 2001) sums, under directed (spot) lighting, the light leaving the crown
-  with colour saturated enough to be seen as fire, over observer positions.  Ours renders a
-  face-up view under a small bright source over a dark surround and takes the alpha-weighted
-  mean over the stone's pixels of luminance times the CIE 1976 u'v' saturation of the pixel's
-  colour, optionally only where the saturation exceeds a threshold.  Differences: one view; a
-  saturation measure from CIE 15:2004 instead of GIA's visibility criterion for coloured
-  rays; pixels integrate the light of a pixel footprint (resolution dependent: coarse pixels
-  average dispersed colours back toward white); a coloured stone's body colour also counts as
-  saturation unless ``reference="mean"`` measures saturation from the stone's mean chromaticity.
-  A spectral renderer also colours pixels that a bright feature covers only partly: each
-  wavelength stratum of a pixel takes its own sub-pixel position, so a small source's image
-  is seen at a random subset of wavelengths.  The sweeps' ``fire_excess`` metric therefore also
-  renders the stone with its dispersion removed (a constant index, ``sweep.nondispersive``)
-  with the same per-pixel camera samples and reports the difference of the two fires.
-- *Scintillation*: GIA (Moses et al. 2004) assessed sparkle and pattern by observation, not by a
-  computed metric.  Ours is the luminance-weighted Michelson contrast between the face-up image
-  and images of the stone tilted by small angles: 0 when nothing changes, 1 when all the light
-  moves to other pixels.
-
-References:
-- T. S. Hemphill, I. M. Reinitz, M. L. Johnson, J. E. Shigley, "Modeling the appearance of the
-  round brilliant cut diamond: An analysis of brilliance", Gems & Gemology 34(3), 158-183 (1998).
-- I. M. Reinitz, M. L. Johnson, T. S. Hemphill, A. M. Gilbertson, R. H. Geurts, B. D. Green,
-  J. E. Shigley, "Modeling the appearance of the round brilliant cut diamond: An analysis of fire,
-  and more about brilliance", Gems & Gemology 37(3), 174-197 (2001).
-- T. M. Moses, M. L. Johnson, B. Green, T. Blodgett, K. Cino, R. H. Geurts, A. M. Gilbertson,
-  T. S. Hemphill, J. M. King, L. Kornylak, I. M. Reinitz, J. E. Shigley, "A foundation for
-  grading the overall cut quality of round brilliant cut diamonds", Gems & Gemology 40(3),
-  202-228 (2004).
-- CIE 15:2004 Colorimetry, §8.1 (CIE 1976 UCS u'v', saturation s_uv = 13 |u'v' - u'v'_n|).
-- CIE 142-2001 (CIEDE2000).
+References: Hemphill et al., Gems & Gemology 34(3) 1998 (brilliance); Reinitz et al., G&G 37(3)
+2001 (fire); Moses et al., G&G 40(3) 2004 (cut grading); CIE 15:2004 §8.1 (u'v' saturation);
+CIE 142-2001 (CIEDE2000).
 """
 
 from __future__ import annotations

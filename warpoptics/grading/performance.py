@@ -1,73 +1,29 @@
 """Light-performance metrics over a tilt protocol with the observer's head (after GIA and AGS).
 
-**The protocol** (:data:`PROTOCOL`, :func:`tilted_light_return`): the stone is seen by an observer
-at 250 mm on its axis (:func:`~warpoptics.grading.presets.face_up_scene`, perspective camera)
-under isotropic light (GemRay's ISO: the uniform D65 ``dome`` over the girdle plane) from which
-the observer's head blocks a cone of :data:`~warpoptics.grading.presets.HEAD_RADIUS_DEG` (10 deg)
-radius about the line of sight.  The stone is rocked: face-up and tilted by 5, 10, 15 and 20 deg
-about two horizontal axes, across a pavilion main (azimuth 0) and between two mains (22.5 deg; the
-brilliant's 8-fold, mirror-symmetric pattern makes these the two distinct tilt directions).  The
-head stays with the observer while the stone tilts.  For each of the 9 distinct views the light
-return is the stone's alpha-weighted mean luminance relative to the unobstructed dome
-(:func:`warpoptics.metrics.light_return`); the protocol's value is their plain mean.
+The protocol (:data:`PROTOCOL`, :func:`tilted_light_return`): the stone is seen by an observer
+at 250 mm on its axis (:func:`~warpoptics.grading.presets.face_up_scene`) under GemRay's ISO
+lighting (the uniform D65 ``dome``) from which the observer's head blocks a cone of
+:data:`~warpoptics.grading.presets.HEAD_RADIUS_DEG` (10 deg) about the line of sight.  The stone
+is rocked face-up and by 5, 10, 15 and 20 deg about two horizontal axes (across a pavilion main
+and between two mains); the head stays with the observer.  Light return
+(:func:`warpoptics.metrics.light_return`) is the plain mean over the 9 views.
 
-Where this follows and where it differs from the sources:
+Fire and scintillation over the same tilts (:func:`warpoptics.sweep.grading.light_performance`,
+:meth:`Protocol.view_rotations`): each view is rendered again under the ``spots`` lighting;
+*fire* is :func:`warpoptics.metrics.fire` of that view and *scintillation* is
+:func:`warpoptics.metrics.scintillation` between it and the stone turned a further
+``scintillation_step_deg`` (2 deg); both are plain means over the views.  A view costs 3
+renders; ``fire=False`` keeps 1.
 
-- GIA (Hemphill et al. 1998, Moses et al. 2004; GIA Diamond Cut Research Technical FAQ) computes
-  brightness as weighted light return under diffuse light with a dark region for the observer
-  (23 deg radius in its brightness metric) and accounts for the tilting of stones in observation.
-  GIA integrates every ray leaving the crown with a cosine weight; ours averages images of a real
-  observer's view at discrete tilts.  GIA's 23 deg dark area is available (``head_radius_deg``,
-  the ``grading_dome`` lighting); with it the curve's maximum moves to deeper pavilions (the README
-  gives the measured table for 10, 15 and 23 deg).  The 10 deg default is the obstruction of a
-  face about 9 cm wide at 25 cm, the observer geometry of the AGS ASET work (Sasian et al. 2007).
-- AGS (Sasian et al. 2007) evaluate light return with the observer at 25 cm and the head
-  obstruction, over tilts; their weights of the ASET zones are not reproduced here.
-- Spectral, polarized transport with the renderer's depth / energy cut-off (``max_depth`` 12).
+Further metrics of one view (functions of a render's ``xyz`` and ``alpha``, unitless):
+:func:`contrast` (coefficient of variation of the stone's luminance), :func:`extinction` (area
+fraction darker than ``threshold`` of the dome's white), :func:`windowing` (area fraction lit
+mostly from below the girdle plane), :func:`brightness_map` (bright / medium / dark classes,
+relative to the dome or, for coloured stones, to the stone's 95th-percentile luminance) and
+:func:`bow_tie` (the darkness of a band across an elongated stone's centre).
 
-**Fire and scintillation over the same tilts** (the full protocol, run through the sweep
-runner by :func:`warpoptics.sweep.grading.light_performance`; :meth:`Protocol.view_rotations`
-gives the views): each view is rendered a second time under the ``spots`` lighting (24 small
-discs over a dim dome, with the same head; :mod:`warpoptics.grading.presets`), where
-
-- *fire* is :func:`warpoptics.metrics.fire` (alpha-weighted mean of luminance x CIE 1976 u'v'
-  saturation about D65; units: Y x s_uv) of the spot-lit view, and
-- *scintillation* is :func:`warpoptics.metrics.scintillation` between the spot-lit view and the
-  same view with the stone turned a further ``scintillation_step_deg`` (2 deg) about its own x
-  axis (a luminance-weighted Michelson contrast in [0, 1]: how much of the returned light
-  changes pixel when the stone moves a little);
-
-the protocol's fire and scintillation are their plain means over the views, like light return.
-Where they differ from the sources: GIA's DCLR (Reinitz et al. 2001) sums, over observer and
-light positions, rays whose colour is saturated enough to be seen; ours is an image measure of
-saturation x luminance under a fixed set of spots.  GIA judged scintillation (Moses et al. 2004)
-by observers, not by a computed number; AGS (Sasian et al. 2007) use a contrast measure of the
-face-up pattern under tilt.  Ours is the change of the pattern under a small motion at each
-tilt of the protocol, with the head in place.  A protocol view costs 3 renders (ISO, spots,
-spots turned), so the full protocol is 27 renders; ``fire=False`` keeps 1 per view.
-
-Further metrics of one view (each a function of a render's ``xyz`` and ``alpha``):
-
-- :func:`contrast` — C = sqrt(Σ α (Y − Ȳ)² / Σ α) / Ȳ, the coefficient of variation of the stone's
-  luminance (unitless; 0 for a uniformly bright stone); the face-up pattern's light/dark contrast
-  after DiamCalc's and Sasian et al.'s use of the term.
-- :func:`extinction` — the alpha-weighted fraction of the stone's area darker than
-  ``threshold`` (default 0.15) of the dome's white (unitless, [0, 1]): the dark areas that appear
-  under tilt and head obstruction (faceters' "extinction").
-- :func:`windowing` — from a :class:`~warpoptics.grading.scopes.Bands` decomposition: the
-  alpha-weighted fraction of the stone's area where more than half of the pixel's light comes
-  from below the girdle plane (see-through "window", unitless).
-- :func:`brightness_map` — a classified brightness/contrast map for colourless and coloured
-  stones: each pixel's luminance relative to a reference (the dome's white, or for coloured
-  stones the stone's own 95th-percentile luminance, so that the body colour's absorption does not
-  make every pixel dark), shown as bright (>= 0.5), medium, or dark (< 0.15, extinction);
-  returned with the area fractions of the three classes (unitless, sum 1).  The thresholds
-  follow :func:`extinction`; coloured-stone graders (e.g. the GIA coloured-stone "brightness"
-  and "extinction" terms) judge the same split by eye.
-- :func:`bow_tie` — for elongated fancy shapes: the mean luminance of a band across the centre
-  along the short axis (width ``band`` of the width) relative to the whole stone's, subtracted from
-  1: > 0 when a dark bow-tie crosses the centre (unitless).
-
+Where the protocol and metrics follow GIA (Hemphill et al. 1998, Reinitz et al. 2001, Moses et
+al. 2004) and AGS (Sasian et al. 2007), and where they differ: docs/design/grading_metrics.md.
 References: see :mod:`warpoptics.grading.presets` and :mod:`warpoptics.grading.scopes`.
 """
 
