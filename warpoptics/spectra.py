@@ -7,56 +7,30 @@ colour-science).  Tristimulus values use the *luminance* normalisation
 
 so that a constant spectrum S = 1 has Y = 1.  Illuminants are scaled to Y = 1 as well.
 
-Wavelength sampling strategies (``@wp.func sample_wavelength``), each returning the wavelength
-of sample ``index`` of ``count`` and an ``xyz_weight`` such that
+Wavelength sampling strategies (``@wp.func sample_wavelength``) return the wavelength of sample
+``index`` of ``count`` and an ``xyz_weight`` such that sum(xyz_weight * S(wavelength)) estimates
+XYZ[S]:
 
-    XYZ ~= sum over samples of xyz_weight * S(wavelength)
+- ``rgb3`` — the CIE 1931 RGB primaries 700, 546.1 and 435.8 nm (Guy & Soler 2004 §4.1), weighted
+  so that a constant spectrum is exact; biased for anything but smooth spectra: the three-IOR
+  baseline of the three-wavelength diamond paper, whose banding it reproduces.
+- ``uniform`` — a random wavelength, pdf 1/470 nm.
+- ``importance`` — pdf proportional to xbar + ybar + zbar, by inverse CDF of a table.
+- ``stratified`` — ``count`` jittered strata of equal width (Weidlich & Wilkie 2009, "stratified
+  spectral sub-rays"; 45 by default in the renderer).
 
-is an estimator of XYZ[S]:
-
-- ``rgb3`` — three fixed wavelengths, the CIE 1931 RGB primaries 700, 546.1 and 435.8 nm (Guy &
-  Soler 2004 §4.1), each weighted by its colour-matching values times a constant chosen so that
-  a constant spectrum comes out exact.
-  Biased for anything but smooth spectra: this is the three-IOR baseline of the three-wavelength
-  diamond paper, whose banding it reproduces.
-- ``uniform`` — a random wavelength, pdf 1/470 nm (the wavelength-importance-sampling paper).
-- ``importance`` — pdf proportional to xbar + ybar + zbar, by inverse CDF of a table (the same
-  paper).
-- ``stratified`` — ``count`` jittered strata of equal width (Weidlich & Wilkie 2009, "stratified spectral
-  sub-rays"; 45 by default in the renderer).
-
-Two wavelength ranges (both explicit, both tested):
-
-- the **colour range** :data:`COLOR_RANGE_NM` = 360-830 nm: the CMF table, every XYZ integral
-  and every camera wavelength sample;
-- the **light range** :data:`LIGHT_RANGE_NM` = 240-830 nm: the light-spectrum table that
-  :func:`illuminant_value` and :func:`light_spectrum_value` read, so that a light's
-  ultraviolet (D-series below 360 nm, the UV lamps) is there for an excitation (fluorescence)
-  to sample.  A wavelength below 360 nm carries no colour itself (the CMFs are zero there).
-
-Light spectra are data: every row of ``SpectralTables.illuminants`` is a spectrum on the light
-grid (1 nm), chosen by a row index that kernels take as an argument, so a scene with any
-illuminant compiles nothing new.  Rows: the CIE illuminants of colour-science
-(:data:`ILLUMINANTS`: E, D65, A first -- their rows are fixed -- then B, C, D50-D75, FL1-FL12,
-FL3.1-FL3.15, HP1-HP5 and the LED series, each scaled to Y = 1), the UV lamps
-(:data:`UV_LAMPS`) and measured spectra registered with :func:`register_spectrum`.  Outside
-its tabulated range a CIE table is zero below (no invented ultraviolet) and constant above (as
-CIE extends D65 from 780 to 830 nm; inside 360-830 nm E, D65 and A are exactly today's tables).
-
-UV lamps (models, not measurements; scaled to the radiant power, integral of S over 240-830 nm,
-that D65 at Y = 1 has over 360-830 nm, so swapping a daylight lamp for a UV lamp keeps its
-watts):
-
-- ``UV365`` (long-wave): a Gaussian at 365 nm with 9 nm FWHM, the emission of a 365 nm UV LED
-  (e.g. Nichia NVSU233 datasheets: peak 365 nm, spectral half-width about 9 nm).  Its tail
-  above 380 nm is 7.1e-5 of its power (Y = 2.7e-5 of a D65 lamp of equal power).
-- ``UV254`` (short-wave): the 253.65 nm resonance line of a low-pressure mercury lamp (NIST
-  Atomic Spectra Database, Hg I 253.652 nm in air) as a Gaussian of 2 nm FWHM (the table's 1 nm
-  step resolves it; the line is far narrower), with the visible mercury lines removed, as the
-  filter of a gemmological short-wave lamp does: nothing at or above 360 nm.
+Two ranges: the **colour range** :data:`COLOR_RANGE_NM` (360-830 nm: the CMFs, every XYZ integral
+and every camera wavelength sample) and the **light range** :data:`LIGHT_RANGE_NM` (240-830 nm:
+the light-spectrum table, so that a light's ultraviolet is there for fluorescence excitation).
+Light spectra are data: rows of ``SpectralTables.illuminants`` chosen by an index that kernels
+take as an argument, so any illuminant compiles nothing new.  Rows: the CIE illuminants
+(:data:`ILLUMINANTS`, E, D65, A first), the UV lamp models (:data:`UV_LAMPS`) and spectra
+registered with :func:`register_spectrum`; the rows and the UV lamp models are described in
+docs/design/light_spectra.md.
 
 References: CIE 015:2018 (colorimetry); Weidlich & Wilkie 2009 §4 (stratified sub-rays); "Spectral
-dispersion with Sellmeier and wavelength importance sampling" (importance sampling by the CIE curves).
+dispersion with Sellmeier and wavelength importance sampling" (uniform and importance sampling by
+the CIE curves).
 """
 
 from __future__ import annotations

@@ -1,62 +1,35 @@
 """Scope views of cut grading: where the light a stone returns comes from.
 
-Every scope view here is a *direction-band decomposition* of the face-up image: the luminance
-Y_k(p) that pixel p receives from the environment directions whose angle from the observer's axis
-(+z, the zenith of a face-up stone) lies in a band [e_k, e_k+1), and the *leakage* Y_leak(p) it
-receives from below the girdle plane.  Renders under the uniform ``dome`` with a head cone of
-radius e (``head_radius``) return Y(p; e) = light from [e, 90 deg); a uniform ``constant`` sphere
-returns everything; so, exactly and linearly (the transport is linear in the light),
+Every scope view is a *direction-band decomposition* of the face-up image: the luminance Y_k(p)
+that pixel p receives from environment directions whose angle from the observer's axis (+z)
+lies in a band [e_k, e_k+1), and the *leakage* Y_leak(p) from below the girdle plane.  Renders
+under the ``dome`` with a head cone of radius e give Y(p; e), light from [e, 90 deg), and a
+uniform ``constant`` sphere gives everything, so exactly (the transport is linear in the light)
 
-    Y_k = Y(e_k) - Y(e_k+1),   Y_leak = Y_constant - Y(0).
+    Y_k = Y(e_k) - Y(e_k+1),   Y_leak = Y_constant - Y(0)
 
-(:func:`direction_bands`).  The stone is rendered without dispersion by default (a constant index
-n_D), so one path tree serves the whole spectrum and the bands do not depend on colour sampling;
-a clear stone then conserves energy per pixel: sum_k Y_k + Y_leak = Y_constant = 1 - absorption.
+(:func:`direction_bands`).  The stone is rendered without dispersion by default (a constant
+index n_D), so one path tree serves the whole spectrum; a clear stone then conserves energy per
+pixel: sum_k Y_k + Y_leak = 1 - absorption.
 
-- **ASET** (AGS Laboratories' Angular Spectrum Evaluation Tool; Sasian et al. 2007): red = light
-  from 45-90 deg above the girdle plane (the brightest, most direct light), green = 0-45 deg above
-  it (less intense light), blue = the observer's obstruction (light from the cone about the
-  viewing axis that the observer's head blocks: contrast), and black/white = leakage (light from
-  below the girdle plane, which in the instrument passes through the stone).  Zone angles from
-  the zenith: blue [0, r_head), red [r_head, 45), green [45, 90), leakage beyond 90.  Pixels are
-  shown as the mix of the zone colours weighted by each zone's share, leakage white.
+- **ASET** (Sasian et al. 2007): red = light from 45-90 deg above the girdle plane, green = 0-45
+  deg, blue = the observer's obstruction, white/black = leakage.  :func:`aset` reports each
+  zone's *energy* share (every path order, Fresnel partial reflections included) and the *area*
+  share of the pixels a zone dominates (what a grader reads off the image), over the ``centre``
+  (r < 0.3 girdle radii) and ``crown`` regions.
+- **Ideal Scope** (G. Holloway): the red reflector [r_hole, 45 deg) red, the hole black, lower
+  angles dark grey, leakage white.
+- **Hearts & Arrows**: a dark cone of ``viewer_radius_deg`` over a bright surround; the mains of
+  a well-made brilliant show 8 arrows face-up and 8 hearts face-down
+  (:func:`hearts_and_arrows`); :func:`count_dark_lobes`, :func:`count_pattern` and
+  :func:`rotational_asymmetry` measure the pattern.
 
-  Two kinds of zone fraction (:func:`aset`): the *energy* share of each zone in the stone's light
-  (``blue``, ``red``, ``green``, ``leak``: every path order, the additive mix the instrument's
-  image forms, Fresnel partial reflections included), and the *area* share of the pixels that a
-  zone dominates (``area_*``: the zone with the largest energy in the pixel, which is the colour a
-  grader reads off the image, where leakage shows as white/black *areas*).  They differ
-  where a weak higher-order path adds a little leakage to a pixel that another zone dominates: the
-  centre of a Tolkowsky brilliant has a 0.116 leakage energy share and no leakage area, because
-  the table's internal Fresnel reflection (R ~ 0.17) of the first-order ray returning at 17 deg
-  sends it to a pavilion main at 40.75 - 17 = 23.75 deg, below the critical angle 24.4 deg
-  (``scripts/reproduce/aset_hand_trace.py`` traces it independently of the renderer).
-  Regions in girdle radii r of the face-up image: ``centre`` r < 0.3 (the pavilion centre seen
-  through the table), ``crown`` r >= the table's corner radius (seen through the crown facets).
+The zones in detail and the hand-traced checks of the ASET figures (the Tolkowsky centre's
+leakage energy without leakage area, deep pavilions): docs/design/scopes.md.
 
-  Deep pavilions (the same script, the renderer agreeing within 0.02): the axial ray of a 43 deg
-  stone leaves the table 19.7 deg from the zenith (red), so its centre has no leakage area; its
-  extra leakage (0.116 of its light vs the Tolkowsky's 0.065 face-up, 48 px) comes through the
-  crown, leak-dominated area 0.11 vs 0.03 there, and, tilted 10 deg, under the table ring (0.17
-  vs 0.01).  The centre darkens by the head's reflection (blue, the "nailhead") for 44.0-46.0 deg
-  and leaks only above 55.5 deg, where the second main's transmitted light comes from below the
-  girdle plane (it transmits from 51.9 deg, but from above the plane: green).
-- **Ideal Scope** (G. Holloway's red-reflector viewer): light from the red reflector around the
-  viewing hole, [r_hole, 45 deg) from the axis, shows red, the hole black, light from lower angles
-  [45, 90) dark grey (the scope's sides), and leakage white (the back-lit stone lets it through).
-- **Hearts & Arrows** viewer: a dark cone of ``viewer_radius_deg`` about the axis (the viewer's
-  dark top) over a bright surround; the pavilion mains of a well-made brilliant reflect the dark
-  cone as 8 arrows face-up and, seen from the pavilion side (:func:`hearts_and_arrows` with
-  ``face_down=True``), as 8 hearts.  :func:`count_dark_lobes` counts them on a ring of the image,
-  :func:`count_pattern` over a set of rings (8, or a broken pattern), and
-  :func:`rotational_asymmetry` measures how far the pattern is from 8-fold symmetry.
-
-References:
-    J. Sasian, J. Quick, J. Sheffield, J. Caudill, P. Yantzer, "Evaluation of brilliance, fire,
-    and scintillation in round brilliant gemstones", Optical Engineering 46(9), 093604 (2007)
-    (ASET zones, observer at 25 cm, head obstruction).  AGS Laboratories, "ASET" and "AGS Light
-    Performance" grading documentation (red 45-90 deg, green 0-45 deg, blue: observer
-    obstruction, white/black: leakage).  G. Holloway, "The Ideal-Scope" (idealscope.com).
+References: Sasian, Quick, Sheffield, Caudill & Yantzer, "Evaluation of brilliance, fire, and
+scintillation in round brilliant gemstones", Opt. Eng. 46(9) 093604 (2007); AGS Laboratories,
+ASET grading documentation; G. Holloway, "The Ideal-Scope".
 """
 
 from __future__ import annotations

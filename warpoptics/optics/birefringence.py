@@ -4,65 +4,33 @@ coefficients, pleochroic absorption.
 All physics are ``@wp.func``s that the renderer's trace kernel calls per ray; each has a NumPy
 wrapper (bottom of the file) that launches it through ``warpoptics.device.elementwise``.
 
-Conventions
------------
-- Wave vectors ``k`` are in units of the vacuum wave number k0, so a propagating wave has
-  ``k = n s`` with ``s`` the unit wave normal and ``n`` its (effective) index.  Evanescent
-  waves have a complex ``k = k_re + i k_im`` (``k_im`` along the interface normal, pointing away
-  from the interface: the field decays).
-- ``normal`` is the unit interface normal pointing to the *incident* side (``d . normal < 0``
-  for the incident wave normal ``d``).  Reflected waves travel along ``+normal``, transmitted
-  ones along ``-normal``.
-- A medium is ``UniaxialMedium(no, ne, axis)`` with real indices (weak absorption is applied
-  separately by eq. 7 and 11) and unit optic axis ``a``.  ``axis = 0`` marks an isotropic medium;
-  its o/e frames are then the s/p frames of the interface (Guy & Soler: "the optical axis set to
-  be the normal").
-- o/e frames (Guy & Soler 2004, eq. 2): ``X_a(s) = a x s / |a x s|``, ``Y_a(s) = s x X_a`` so that
-  ``(X_a, Y_a, s)`` is right-handed.  The o-wave has D and E along X_a; the e-wave has D along Y_a
-  and ``E = eps^-1 D`` (normalised), which is not perpendicular to s.  Along the optic axis (and
-  for isotropic media) X_a falls back to the s-direction ``normal x s`` (``perpendicular(normal)``
-  at normal incidence), the frame the Fresnel amplitudes of ``fresnel.py`` use.
-- Extraordinary index: ``1/n_e(theta)^2 = cos^2(theta)/no^2 + sin^2(theta)/ne^2`` with
-  ``cos(theta) = s . a`` (eq. of v^e in §3.1 of Guy & Soler).
-- Extraordinary wave vectors solve the index-ellipsoid (Fresnel wave-normal) quadratic
-  ``k^T M k = 1``, ``M = I/ne^2 + (1/no^2 - 1/ne^2) a a^T``, for ``k = k_t + q m`` with the
-  tangential wave vector ``k_t`` conserved across the interface and ``m`` the unit normal into the
-  medium of the new wave.  Of the two roots the one whose ray (energy) direction ``t ~ M k``
-  points into that medium is taken; ``t = M k / |M k|`` is the Poynting direction (the normal to
-  the index ellipsoid).  This is the content of eq. 3 (refraction) and eq. 4 (internal
-  reflection) of Guy & Soler after Beyerle & McDermid 1998, written in the wave-vector form that
-  also gives the evanescent (complex) root under total reflection.
-- Generalized Fresnel coefficients (eq. 5, McClain et al. 1993): the continuity of the
-  tangential E and ``H = k x E`` for an incident wave of unit |E| and the four outgoing waves (o
-  and e, reflected and transmitted) of unit |E|; the unknowns are the complex amplitudes
-  ``(r_o, r_e, t_o, t_e)``.  We write H with the Maxwell relation ``H ~ k x E`` (eq. 5 prints
-  ``n h`` with a normalised ``h``, which is off by the walk-off cosine for e-waves and breaks
-  energy conservation).  Under total reflection the transmitted (or reflected) waves that cannot
-  propagate are kept in the system as evanescent waves with complex ``k``; this keeps the 4x4
-  system square and gives the phase of total internal reflection and ``|r| = 1`` exactly.  The
-  paper's "reduce to 2x2 by suppressing alpha_t" is then what the Jones matrices do: the columns
-  of evanescent waves are zero in ``interface_jones`` (they carry no energy).
-- Energy: each wave's normal Poynting flux per unit |amplitude|^2 is
-  ``flux = Re(E x conj(H)) . m`` (``m`` the normal into its medium; the incident flux uses
-  ``-normal``).  ``sum |coef|^2 flux_out = flux_in`` (tested); evanescent waves have zero flux.
-- Eq. 10 (the approximation used by the approx birefringence mode): the isotropic Fresnel
-  amplitudes of ``fresnel_amplitudes`` with one index per medium, wrapped in the frame rotations
-  from the incident o/e frame to the s/p frame and from the s/p frame of the Snell-reflected /
-  refracted direction to its o/e frame: ``M ~ R_out diag(F_s, F_p) R_in``.
-- Pleochroism (eq. 7): ``kappa_o = K_o``, ``kappa_e = K_o cos^2 theta + K_e (no/ne)^2 sin^2 theta``
-  with ``cos theta = s_e . a``; absorbance in 1/length, base e, for the *intensity*
-  (Bouguer-Lambert, eq. 6).  The field attenuation of eq. 11 is therefore taken as
-  ``A = diag(exp(-kappa_o l / 2), exp(-kappa_e l / 2))`` so that ``A J A^dagger`` decays the
-  intensity by ``exp(-kappa l)`` as eq. 6 requires (eq. 11 as printed squares it).
+Conventions (in full, with the derivations: docs/design/uniaxial_crystals.md):
+- Wave vectors ``k`` are in units of k0 (``k = n s``, ``s`` the unit wave normal); evanescent
+  waves have a complex ``k`` whose imaginary part points away from the interface.
+- ``normal`` points to the *incident* side (``d . normal < 0``); reflected waves travel along
+  ``+normal``, transmitted ones along ``-normal``.
+- ``UniaxialMedium(no, ne, axis)``: real indices (absorption is applied by eq. 7 and 11) and a
+  unit optic axis ``a``; ``axis = 0`` marks an isotropic medium, whose o/e frames are the s/p
+  frames of the interface.
+- o/e frames (Guy & Soler 2004 eq. 2): ``X_a = a x s / |a x s|``, ``Y_a = s x X_a``; the o-wave
+  has D and E along X_a, the e-wave D along Y_a and ``E = eps^-1 D``.  Along the optic axis X_a
+  falls back to the s-direction of ``fresnel.py``.
+- ``1/n_e(theta)^2 = cos^2(theta)/no^2 + sin^2(theta)/ne^2``, ``cos(theta) = s . a``.
+- Extraordinary wave vectors solve ``k^T M k = 1``, ``M = I/ne^2 + (1/no^2 - 1/ne^2) a a^T``,
+  with the tangential ``k`` conserved; the root whose ray direction ``t = M k / |M k|`` (the
+  Poynting direction) enters the new medium is taken (eq. 3-4, after Beyerle & McDermid 1998).
+- Generalized Fresnel (eq. 5, McClain et al. 1993): continuity of tangential E and
+  ``H ~ k x E`` (not the printed ``n h``, which breaks energy conservation for e-waves), with
+  evanescent waves kept in the 4x4 system, so total reflection has its phase and ``|r| = 1``.
+  Each wave's ``flux = Re(E x conj(H)) . m``, and ``sum |coef|^2 flux_out = flux_in``.
+- Eq. 10 (the ``approx`` mode): isotropic Fresnel amplitudes between o/e frame rotations.
+- Pleochroism (eq. 7): ``kappa_o = K_o``, ``kappa_e = K_o cos^2 + K_e (no/ne)^2 sin^2`` for the
+  intensity (base e, 1/length); the field attenuation of eq. 11 is taken with ``kappa l / 2``
+  so that the intensity decays by ``exp(-kappa l)`` (eq. 11 as printed squares it).
 
-References:
-    Guy, S., Soler, C. 2004. Graphics Gems Revisited: Fast and Physically-Based Rendering of
-        Gemstones. ACM TOG 23(3). §3.1 eq. 2-5, §3.2 eq. 6-7, §4.2 eq. 10-12.
-    Beyerle, G., McDermid, I. S. 1998. Ray-tracing formulas for refraction and internal
-        reflection in uniaxial crystals. Applied Optics 37(34), 7947-7953.
-    McClain, S. C., Hillman, L. W., Chipman, R. A. 1993. Polarization ray tracing in anisotropic
-        optically active media II. JOSA A 10(11).
-    Born, M., Wolf, E. 1999. Principles of Optics, 7th ed., §15.3 (uniaxial crystals).
+References: Guy & Soler 2004, "Graphics Gems Revisited", ACM TOG 23(3), §3.1 eq. 2-5, §3.2 eq.
+6-7, §4.2 eq. 10-12; Beyerle & McDermid 1998, Appl. Opt. 37(34); McClain, Hillman & Chipman
+1993, JOSA A 10(11); Born & Wolf, Principles of Optics, 7th ed., §15.3.
 """
 
 from __future__ import annotations
