@@ -3,23 +3,20 @@
 This module is the one place where a ray meets an interface.  The camera trace
 (``stages/trace.py``, backward from the eye), the optical bench (``stages/forward.py``) and the
 caustic light tracer (``stages/caustics.py``), forward from a light, and the coated solids of
-``stages/coated.py`` all call these ``@wp.func``\\ s; each event writes its children (reflected and
+``stages/coated.py`` all call these ``@wp.func`` functions; each event writes its children (reflected and
 refracted waves; o and e in a crystal) as rows of a candidate matrix (``optics/branches.py``) and
 returns their energies, and the tracer keeps them all or picks one.
 
 The laws it composes, each in its own place:
 
-- Fresnel amplitudes, Snell's law, the refracted direction and the transmitted flux ratio:
-  ``fresnel.fresnel_amplitudes``, ``refract_from_fresnel``, ``refracted_cos``,
-  ``transmitted_flux_ratio`` (the direction and the flux ratio are derived from the Fresnel
-  solution, as Mitsuba 3's ``refract`` reuses its ``fresnel()``'s ``cos_theta_t``);
+- Fresnel amplitudes, the refracted direction and the transmitted flux ratio, the last two
+  derived from the Fresnel solution (``fresnel.fresnel_amplitudes``, ``refract_from_fresnel``,
+  ``transmitted_flux_ratio``, as Mitsuba 3's ``refract`` reuses ``fresnel()``'s cos_theta_t);
 - a thin-film stack instead of the bare interface: :func:`interface_amplitudes`
   (``thinfilm.coating_amplitudes_scaled``);
-- crystals: ``biaxial.crystal_fresnel`` (Guy & Soler 2004 eq. 5, exact mode), which is
-  ``birefringence.generalized_fresnel`` for uniaxial/isotropic pairs and the biaxial solver
-  (``optics/biaxial.py``: fast/slow waves from Fresnel's equation of wave normals) when a side is
-  biaxial; or ``birefringence.interface_jones_approx`` (eq. 10, approx mode, uniaxial only: a
-  biaxial interface is always exact);
+- crystals: ``biaxial.crystal_fresnel`` (Guy & Soler 2004 eq. 5, exact mode: the uniaxial
+  solve, or the biaxial solver when a side is biaxial), or
+  ``birefringence.interface_jones_approx`` (eq. 10, approx mode, uniaxial only);
 - power normalisation of amplitudes: ``fresnel.flux_ratio`` with the waves' normal fluxes;
 - the Jones algebra of a child: ``branches.child_jones_sp`` (backward, eq. 12 accumulated from the
   eye) or ``jones_mul`` on the left (forward).
@@ -32,18 +29,8 @@ camera) and extend it on the right; forward events take the source-to-ray matrix
 the left.  Both normalise amplitudes by the square root of the normal flux ratio so that ``|M|^2``
 is power, and both handle total internal reflection (no refracted child; |r| = 1 with its phase).
 
-Adding a medium: give it its plane-wave solver (wave normals, ray directions,
-eigenpolarizations, fluxes) beside ``birefringence.py`` and a generalized-Fresnel solve with that
-medium on either side; the exact crystal events choose the solver by the media's kind.  Biaxial
-crystals were added so (``optics/biaxial.py``): the medium struct carries n_beta and the principal
-frame, :func:`backward_crystal_exact` (the exact event of every crystal)
-takes the two waves of a biaxial side from ``biaxial.medium_waves`` (one quartic for both) and
-solves with ``biaxial.crystal_fresnel``; :func:`forward_event`'s crystal branch solves with
-``crystal_fresnel``; in a biaxial medium a child's mode is its sheet, 0 fast and 1 slow.  With no
-biaxial side every call is the uniaxial one, unchanged.  The tracers do not change: they resolve
-media (``stages/media.py``), call the event for their media (camera: ``backward_isotropic``,
-``backward_coated`` or ``backward_crystal``; light: ``forward_event``) and keep or pick the
-children.
+Adding a medium (how biaxial crystals were added, and what the tracers call):
+docs/design/interface_event.md.
 
 References:
     Born, M., Wolf, E. 1999. Principles of Optics, 7th ed., §1.5 (Fresnel), §1.6 (stacks).

@@ -1,60 +1,34 @@
 """A plane wave through a plane-parallel plate: the two waves of a crystal added as amplitudes.
 
-A plate of thickness ``d`` between two half-spaces of the same isotropic medium (air, or a
-mounting medium) splits an incident plane wave at its entrance face into the two waves of the
-crystal (o and e of a uniaxial crystal, fast and slow of a biaxial one; s and p of an isotropic
-plate), each with the tangential wave vector of the incident wave (phase matching).  Both cross
-the plate and leave through the exit face along the incident direction again, so that in a
-plane wave they overlap everywhere behind the plate and interfere: their complex amplitudes are
-added before any intensity is formed.  This is what makes the interference colours of a thin
-section and the isochromes of a conoscopic figure; adding their powers instead
-(:func:`plate_mode_jones` returns the two waves apart) is the incoherent model of thick stones.
+A plate of thickness ``d`` between two half-spaces of the same isotropic medium splits an
+incident plane wave into the crystal's two waves (o and e, fast and slow, or s and p), each with
+the incident tangential wave vector.  Both leave along the incident direction again, overlap
+everywhere behind the plate and interfere: their complex amplitudes are added before any
+intensity is formed.  This makes the interference colours of a thin section and the isochromes
+of a conoscopic figure; adding their powers instead (:func:`plate_mode_jones` returns the two
+waves apart) is the incoherent model of thick stones.
 
-The laws composed, each from its own place:
+The laws composed: the faces' generalized Fresnel amplitudes (``biaxial.crystal_fresnel``, Guy
+& Soler 2004 eq. 5), power-normalised by the waves' normal fluxes; the optical phase across the
+plate, :func:`slab_phase`, ``2 pi (q - q_amb) d / lambda`` for ``k = k_t + q m`` (relative to the
+ambient medium, so no plate is the identity); Bouguer–Lambert absorption along each wave's ray
+with its own kappa (eq. 7; ``biaxial.biaxial_kappa``).  Only the directly transmitted light is
+kept (multiple reflections between the faces, 0.2 % of the power for quartz in air, would add
+Fabry–Perot fringes of that size).
 
-- entrance and exit faces: the generalized Fresnel amplitudes of ``biaxial.crystal_fresnel`` /
-  ``crystal_fresnel_both`` (Guy & Soler 2004 eq. 5; the biaxial solver when the plate is
-  biaxial), power-normalised by the waves' normal fluxes (``fresnel.flux_ratio``), as in every
-  interface event of ``optics/interface.py``;
-- the optical phase of a wave across the plate, :func:`slab_phase`: a plane wave
-  ``exp(i k0 k.r)`` with ``k = k_t + q m`` (``m`` the plate normal into the exit face) advances
-  by ``k0 q d`` between the faces at a fixed tangential position, whatever its walk-off; along
-  the wave's own ray of length ``L`` this is ``2 pi n L (s.t) / lambda`` (``n`` the wave's index,
-  ``s.t`` the walk-off cosine) less the tangential term common to both waves.  The phase is
-  carried relative to the ambient medium, ``2 pi (q - q_amb) d / lambda``: the Jones matrix is
-  that of inserting the plate into the beam (no plate: the identity);
-- absorption along each wave's ray: ``absorption.bouguer_lambert`` with the wave's own kappa
-  (``absorption.wave_kappa``, Guy & Soler eq. 7; ``biaxial.biaxial_kappa``), the field taking
-  the square root.
+Optical activity (quartz): :func:`plate_active_jones` couples the two linear waves by the
+gyration (:func:`active_retarder_jones`, with :func:`gyration_rotatory_power`): along the optic
+axis the plate turns the plane of vibration by rho d (the "bull's eye" between crossed
+polarizers); without activity it is :func:`plate_mode_jones`'s coherent sum.
 
-Only the directly transmitted light is kept (one pass: light reflected back and forth between
-the faces, 0.2 % of the power for quartz in air, 1e-5 in a mounting medium of index 1.54, is
-dropped; it would add Fabry-Perot fringes of that relative size).
+Frames: every Jones matrix maps components in the frame ``(x, k x x)`` of the incident direction
+``k``, ``x = jones.s_vector(k, normal)``, to the same components behind the plate; ``normal``
+is the plate normal on the side the light comes from (``k . normal < 0``).  ``|J e|^2`` is the
+transmitted power fraction of a unit-power field ``e``.
 
-Optical activity (quartz): :func:`plate_active_jones` couples the plate's two linear waves by
-the crystal's gyration inside the plate (:func:`active_retarder_jones`, the elliptic retarder of
-the coupled-wave equations, with the rotatory power of the wave's direction from
-:func:`gyration_rotatory_power`); entrance and exit faces are those of :func:`plate_mode_jones`.
-Along the optic axis the plate turns the plane of vibration by rho d, so that a plate cut
-across its axis shows the "bull's eye" (a bright centre between crossed polarizers) instead of
-the uniaxial cross there; off the axis the linear birefringence dominates and the cross and
-rings return.  Without activity (rho = 0) it is :func:`plate_mode_jones`'s coherent sum.
-
-Frames: every Jones matrix here maps field components in the frame ``(x, k x x)`` of the
-incident direction ``k`` with ``x = jones.s_vector(k, normal)`` (the s-direction of the plate
-face; ``perpendicular(normal)`` at normal incidence) to the same components behind the plate
-(the transmitted direction is ``k`` again).  ``normal`` is the unit plate normal on the side the
-light comes from (``k . normal < 0``).  Amplitudes are power-normalised: ``|J e|^2`` is the
-transmitted power fraction of a unit-power incident field ``e``.
-
-References:
-    Born, M., Wolf, E. 1999. Principles of Optics, 7th ed., §15.4 (interference with crystal
-        plates), §15.4.2 (convergent light).
-    Guy, S., Soler, C. 2004. Graphics Gems Revisited. ACM TOG 23(3). eq. 5, 7.
-    Jones, R. C. 1948. A new calculus for the treatment of optical systems. VII. Properties of
-        the N-matrices. JOSA 38(8), 671-685 (a medium with linear and circular birefringence).
-    Nye, J. F. 1985. Physical Properties of Crystals, ch. XIV (optical activity, gyration).
-    Yariv, A., Yeh, P. 1984. Optical Waves in Crystals, §5.1 (Jones calculus of wave plates).
+References: Born & Wolf, Principles of Optics, 7th ed., §15.4; Guy & Soler 2004, eq. 5, 7;
+Jones 1948, JOSA 38(8) 671-685 (linear and circular birefringence); Nye, Physical Properties
+of Crystals (1985), ch. XIV; Yariv & Yeh, Optical Waves in Crystals (1984), §5.1.
 """
 
 from __future__ import annotations
