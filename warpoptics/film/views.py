@@ -26,16 +26,8 @@ element), so views compose and save like renders.
   o-wave's D, perpendicular to the optic axis).  Along a principal axis the windows show the
   colours of the other two principal spectra; looking along X, Y and Z shows all three.
 
-Why a render-time source polarizer and not a Mueller film: the film would have to accumulate a
-4x4 Mueller matrix per pixel and channel (48 float64, 16x the Stokes film) in a source frame
-shared by all paths, and the trace leaf would evaluate four source states; the analyzer side is
-free after the render anyway, and by linearity three renders (source polarizer at 0°, 45°, 90°)
-give the response to any linear source polarization if ever needed.  A source polarized at 45°
-to a stone's optic axis feeds its o- and e-waves equally, like unpolarized light, so a plate's
-dichroscope shows the same two colours as with unpolarized light at half the brightness; in a
-faceted stone the facets mix o and e (the tourmaline of scenes/tourmaline_polariscope.toml:
-window colours within dE00 3.4 and 0.7, brightness 0.33 and 0.60 of the unpolarized render), so
-use unpolarized light for a dichroscope.
+Why the polariscope's polarizer is a render-time source and not a Mueller film, and why a
+dichroscope wants unpolarized light: docs/design/polarization_views.md.
 
 References:
     D. Goldstein, *Polarized Light*, 2nd ed. (2003), §5.3 (Mueller matrices).  R. Webster,

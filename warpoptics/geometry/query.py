@@ -27,21 +27,9 @@ world space, pointing out of the object (for a ray inside a solid the hit normal
 the ray).  A ray that starts exactly on a surface may report that surface at ``t ~ 0``: the
 caller offsets origins.  Geometry is float32.
 
-Use in a renderer's kernel (the scene is one argument)::
-
-    @wp.kernel
-    def trace(offset: int, geom: query.SceneGeometry, origins: wp.array(dtype=wp.vec3f),
-              directions: wp.array(dtype=wp.vec3f), ...):
-        i = wp.tid() + offset
-        hit = query.scene_closest_hit(geom, origins[i], directions[i], 1.0e30)
-        if hit.object >= 0:
-            ...  # hit.t, hit.facet, hit.normal (outward)
-
-    scene = query.GeometryScene([(gem, object_to_world), ground])
-    wo.device.launch_tiled(trace, n, [scene.geometry, origins, directions, ...])
+An example kernel: docs/design/ray_queries.md.
 
 References
-----------
 - E. Haines, "Fast Ray-Convex Polyhedron Intersection", in *Graphics Gems II*, J. Arvo (ed.),
   Academic Press, 1991, pp. 247-250.
 - S. Guy and C. Soler, "Graphics Gems Revisited", ACM TOG 23(3), 2004 (convexity of gems).

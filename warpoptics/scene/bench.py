@@ -1,7 +1,7 @@
 """Optical-bench scenes: ``BenchScene.load(path)`` validates a TOML file into frozen configs.
 
-A bench scene is a TOML file like a camera
-scene, with a ``[source]`` beam instead of the camera and ``[[sensor]]`` screens::
+A bench scene is a TOML file like a camera scene, with a ``[source]`` beam instead of the camera
+and ``[[sensor]]`` screens (every field, with units and defaults: the scene-file reference)::
 
     [source]
     type = "beam"                 # the only source type of a bench
@@ -16,13 +16,7 @@ scene, with a ``[source]`` beam instead of the camera and ``[[sensor]]`` screens
     power = 1.0                   # W
     rays = 256                    # beam positions (each traced at every wavelength sample)
 
-    [render]                      # all optional
-    wavelengths = 32              # spectral samples (strata of 360-830 nm)
-    max_depth = 16
-    split_threshold = 1e-4        # relative power above which rays split deterministically
-    max_deposits = 24             # screen deposits kept per beam ray
-    seed = 0
-    ambient_index = 1.0
+    [render]                      # optional: wavelengths, max_depth, split_threshold, ...
 
     [[sensor]]
     type = "screen"

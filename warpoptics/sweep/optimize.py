@@ -15,27 +15,15 @@ parameters scaled to [0, 1] with ``cma``'s bound transform; its random numbers c
 seeded generator of its own (``randn`` option), so a run is a deterministic function of its
 settings and of the metric values it is told.
 
-**Constraints** (:class:`Constraints`) are checked on the candidate's geometry before anything is
-rendered: total depth and table (fractions of the girdle width, ``geometry.cuts.Proportions``)
-within ranges, and *weight retention* V / V_rough at least a minimum, with V_rough the elliptic
-cylinder over the girdle's length x width of height ``rough_height`` x width (a sawn or
-preformed rough; for a round stone π/4 d² h).  A candidate that violates them costs no render:
-CMA-ES is told 1 + (its total relative violation), worse than any feasible value (-J <= 0 for
-metrics in [0, 1] with positive weights).  A candidate whose geometry cannot be built (a GemCAD
-tier re-cut until its facets vanish) counts as a violation of 1.
+**Constraints** (:class:`Constraints`: total depth and table within ranges, weight retention
+V / V_rough at least a minimum against the elliptic-cylinder rough of height ``rough_height``)
+are checked on the geometry before anything is rendered; a violating or unbuildable candidate
+costs no render: CMA-ES is told 1 + its total relative violation, worse than any feasible value.
 
-**Parallel and resumable.**  Each generation's feasible candidates are one zipped sweep of the
-protocol (:func:`~warpoptics.sweep.grading.protocol_sweep`) run by
-:class:`~warpoptics.sweep.SweepRunner` in ``generations/gNNN/`` (``resume=True``: in a pool or on
-Dask with ``workers``, ``dask_local`` or ``scheduler``).  Every evaluation is appended to
-``journal.csv`` (fsynced rows, a torn last line dropped).  A rerun with ``resume=True`` replays
-the search: CMA-ES asks the same candidates, the ones in the journal are not rendered again, a
-generation cut short by a kill resumes inside its sweep folder.  ``optimizer.json`` holds the
-settings; a journal of other settings is refused.  With ``dask_local=N`` one local cluster
-(:func:`~warpoptics.sweep.backends.local_cluster`, started when the first generation needs a
-render) serves every generation, its workers keeping Warp and the kernels loaded; each worker
-renders with cores / N threads.  The renders do not depend on the thread count, so a run on Dask
-journals the same values as a serial one with the same seed (``tests/test_grading_sweeps.py``).
+Parallel and resumable: each generation's feasible candidates are one zipped protocol sweep
+run by :class:`~warpoptics.sweep.SweepRunner` (a pool or Dask), every evaluation is journalled
+(``journal.csv``), and ``resume=True`` replays the search without rendering again what the
+journal holds; docs/design/cut_optimizer.md has the layout and the Dask cluster's reuse.
 
 **GemCAD tier angles** are parameters like any keyword: ``object.0.tier_angles.<tier>`` (a tier
 name or ``#k``, :func:`warpoptics.geometry.gemcad.recut_tiers`: the tier re-cut at the angle
