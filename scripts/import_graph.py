@@ -25,8 +25,8 @@ from pathlib import Path
 
 # The layer table, bottom to top (module names relative to the package; ``x.*`` is the package
 # ``x`` and everything under it; ``__init__`` is the top-level package).  A module may import only
-# from its own layer or below.  The lead adjusts this while the package is being re-layered; a
-# module that no entry matches is reported as unplaced.
+# from its own layer or below.  A new module gets its place here; a module that no entry matches is
+# reported as unplaced.
 LAYERS: list[tuple[str, ...]] = [
     ("errors", "device", "validate", "atomic", "interrupt"),
     ("spectra", "color", "fields"),

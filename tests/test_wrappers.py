@@ -12,9 +12,9 @@ for stacks, colour-science for CMFs and the Mallett–Yuksel basis, scipy's rota
 turbulence fields have no closed form: their shape tests compare every element with the wrapper's
 own item-shaped call, and they are checked for determinism and seeding.
 
-Public import paths only (``wo.optics.fresnel``...): the modules are being reorganized.
-Tolerances: the kernels run in float32 (docs/conventions.md, "Precision"), so 2e-6 relative plus an absolute
-floor for values near zero covers rounding; compiled with FMA, hence not bit-exact.  Wrappers with
+Public import paths only (``wo.optics.fresnel``...): what a user imports is what is tested.
+Tolerances: the kernels run in float32 (docs/conventions.md, "Precision"), so 2e-6 relative plus
+an absolute floor for values near zero covers rounding; compiled with FMA, hence not bit-exact.  Wrappers with
 float64 kernels (the thin-film stacks) are held to 1e-9; looser ones say why beside them.
 """
 

@@ -1,8 +1,11 @@
 """Fresnel amplitude coefficients at a plane interface between isotropic media.
 
-``fresnel_amplitudes(cos_i, n1, n2)`` is the one place where the Fresnel laws live; the
-renderer's trace kernel, the thin-film stack and the uniaxial approximation (eq. 10 of Guy &
-Soler) call it per ray.
+``fresnel_amplitudes(cos_i, n1, n2)`` is the one place where the Fresnel laws of a bare
+interface live: the interface event (``optics/interface.py``, every tracer), the glossy coat of
+``stages/surfaces.py`` and the uniaxial approximation (eq. 10 of Guy & Soler) call it per ray.
+The thin-film stack computes its amplitudes by the characteristic-matrix method in float64
+(a bare interface is its zero-layer case, tested against this function) and takes only the
+flux laws from here (``flux_transmittance``, ``p_normal_flux``).
 
 Conventions
 -----------
@@ -19,13 +22,10 @@ Conventions
       ts = 2 n1 cos i / (n1 cos i + n2 cos t)
       tp = 2 n1 cos i / (n2 cos i + n1 cos t)
 
-  so that at normal incidence ``rp = -rs`` (the reflected p axis is reversed with respect to
-  the incident one because the frames stay right-handed).  These are the formulas of fig. 2 of
-  Guy & Soler 2004 (``F_r^perp = -sin(i-t)/sin(i+t)``, ``F_r^par = tan(i-t)/tan(i+t)``), and
-  the ones the generalized 4x4 solution of ``birefringence.py`` reduces to (tested).  We keep
-  right-handed frames for every ray because Jones matrices, Stokes S3 and the frame rotations of
-  eq. 12 are only meaningful in right-handed frames; the alternative "rs = rp at normal
-  incidence" convention needs a left-handed reflected frame.
+  so that at normal incidence ``rp = -rs``: every frame stays right-handed, which Jones
+  matrices, Stokes S3 and the frame rotations of eq. 12 need.  These are Guy & Soler 2004's
+  fig. 2 formulas and what the generalized 4x4 solution of ``birefringence.py`` reduces to
+  (tested).
 - ``N2 cos t`` is taken on the physical branch (Im >= 0, decaying / evanescent) by
   ``c_normal_component``.  Beyond the critical angle ``N2 cos t = i |.|`` and ``|rs| = |rp| = 1``
   with the total-internal-reflection phase; exactly at the critical angle ``rs = rp = 1``; at
