@@ -192,3 +192,118 @@ def test_optimize_resume_of_an_intact_journal_renders_nothing(journal_run, tmp_p
     rc = cli.main([*_OPT, "--budget", "4", "--resume", "-o", str(out)])
     assert rc == 0, capsys.readouterr().err
     assert (out / "journal.csv").read_text() == before  # every candidate came from the journal
+
+
+# ---- chart: the interference colour of a thick plate, the chart's limits ---------------------------
+
+CHART_CASES = [
+    (["chart", "michel-levy", "--max-thickness", "-5"], ["--max-thickness", "-5"]),
+    (["chart", "michel-levy", "--max-retardation", "1e9"], ["--max-retardation", "1e9", "100000"]),
+    (["chart", "michel-levy", "--max-retardation", "nan"], ["--max-retardation", "finite"]),
+    (["chart", "conoscope", "--thickness", "0.1", "--wavelength", "100"], ["--wavelength", ">= 360"]),
+    (["chart", "conoscope", "--thickness", "-1"], ["--thickness", "-1", ">= 0"]),
+    (["chart", "conoscope", "--thickness", "0.1", "--na", "1.5"], ["--na", "1.5"]),
+    (["chart", "conoscope", "--thickness", "0.1", "--size", "0"], ["--size"]),
+    (["chart", "colour", "--thickness", "inf"], ["--thickness", "finite"]),
+    (["chart", "colour", "--thickness", "0.1", "--axis", "0", "nan", "1"], ["--axis"]),
+]
+
+
+@pytest.mark.parametrize(("argv", "needles"), CHART_CASES, ids=[" ".join(c[0][1:]) for c in CHART_CASES])
+def test_chart_flags_refused_before_any_work(tmp_path, capsys, argv, needles):
+    _refused([*argv, "-o", tmp_path / "chart.png"], capsys, *needles)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_conoscope_and_microscope_scenes_share_the_wavelength_bound():
+    from warpoptics import spectra
+    from warpoptics.commands import chart
+
+    parser = cli.build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command").choices["chart"]
+    wl = next(a for a in sub._actions if a.dest == "wavelength")
+    assert wl.type(str(spectra.LAMBDA_MIN)) == spectra.LAMBDA_MIN
+    assert chart.LAMBDA_MIN is spectra.LAMBDA_MIN
+
+
+def _dense_quartz_lab(thickness_mm: float):
+    """CIELAB (D65) of a quartz plate (optic axis in the plate at 45 degrees, in air) between
+    crossed polarizers, from colour-science's sd_to_XYZ on a 0.01 nm grid: each wave crosses two
+    faces (Fresnel amplitude t = 4n / (1 + n)^2 at normal incidence), so I = 1/4 (t_o^2 + t_e^2 -
+    2 t_o t_e cos delta), delta = 2 pi d (n_e - n_o) / lambda.  ``thickness_mm=None``: the
+    fringe-free limit (cos delta averaged to 0)."""
+    colour = pytest.importorskip("colour")
+    import numpy as np
+
+    import warpoptics as wo
+
+    quartz = wo.materials.get("quartz")
+    shape = colour.SpectralShape(360.0, 830.0, 0.01)
+    lam = np.asarray(shape.wavelengths, dtype=np.float64)
+    lo, hi = quartz.wavelength_range_nm
+    n = np.asarray(quartz.n(np.clip(lam, lo, hi)), dtype=np.float64)
+    n_o, n_e = n[:, 0], n[:, 1]
+    t_o, t_e = 4 * n_o / (1 + n_o) ** 2, 4 * n_e / (1 + n_e) ** 2
+    cos_d = 0.0 if thickness_mm is None else np.cos(2 * np.pi * thickness_mm * 1e6 * (n_e - n_o) / lam)
+    t = 0.25 * (t_o**2 + t_e**2 - 2 * t_o * t_e * cos_d)
+    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"].copy().align(shape)
+    d65 = colour.SDS_ILLUMINANTS["D65"].copy().align(shape)
+    xyz = colour.sd_to_XYZ(colour.SpectralDistribution(t, shape), cmfs, d65, method="Integration") / 100.0
+    white = colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D65"]
+    return colour.XYZ_to_Lab(xyz, white), colour
+
+
+@pytest.mark.parametrize("thickness_mm", [3.0, 10.0])
+def test_thick_plate_colour_matches_a_dense_integration(thickness_mm):
+    """3 mm and 10 mm of quartz: fringes 4.7 and 1.4 nm apart at 360 nm, finer than the 5 nm
+    grid, used to alias into a = -1.7, b = 3.2 and a = 4.8, b = 2.1; now within 0.2 CIEDE2000
+    of the dense integral (both nearly neutral)."""
+    from warpoptics import materials
+    from warpoptics.pipelines import microscope as ms
+
+    ref, colour = _dense_quartz_lab(thickness_mm)
+    ic = ms.interference_colour(materials.get("quartz"), thickness_mm)
+    assert colour.delta_E(ref, ic.lab, method="CIE 2000") < 0.2, (ref, ic.lab)
+    assert abs(ic.lab[1]) < 0.5 and abs(ic.lab[2]) < 0.5
+
+
+def test_a_kilometre_plate_is_neutral():
+    """1 km: the fringes (1e-5 nm apart) average away; the colour is that of the o and e powers
+    added (within 0.1 CIEDE2000), neutral to |a*|, |b*| < 0.25, and the grid stays bounded."""
+    from warpoptics import materials
+    from warpoptics.pipelines import microscope as ms
+
+    ref, colour = _dense_quartz_lab(None)
+    ic = ms.interference_colour(materials.get("quartz"), 1.0e6)
+    assert ic.wavelength_nm.size <= ms.MAX_COLOUR_SAMPLES
+    assert colour.delta_E(ref, ic.lab, method="CIE 2000") < 0.1, (ref, ic.lab)
+    assert abs(ic.lab[1]) < 0.25 and abs(ic.lab[2]) < 0.25
+
+
+def test_thin_plate_colour_unchanged_by_the_band_average():
+    """A 30 um section: fringes far wider than the grid; the band average changes its colour by
+    less than 0.05 CIEDE2000 from the point samples."""
+    colour = pytest.importorskip("colour")
+    import numpy as np
+
+    from warpoptics import materials, spectra
+    from warpoptics.color import xyz_to_lab
+    from warpoptics.pipelines import microscope as ms
+
+    ic = ms.interference_colour(materials.get("quartz"), 0.03)
+    lam = ic.wavelength_nm
+    point = xyz_to_lab(spectra.spectrum_to_xyz(lam, ic.transmission * spectra.illuminant("D65", lam)))
+    assert colour.delta_E(point, ic.lab, method="CIE 2000") < 0.05
+    assert np.all(np.abs(ic.band_transmission - ic.transmission) < 0.01)
+
+
+def test_michel_levy_high_orders_are_grey(tmp_path):
+    import numpy as np
+
+    from warpoptics.pipelines import microscope as ms
+
+    chart = ms.michel_levy_chart(max_retardation_nm=1.0e5, columns=41)
+    far = chart.srgb[chart.retardation_nm > 2.0e4]
+    assert np.ptp(far, axis=-1).max() < 0.02  # R = G = B: no aliased colours
+    with pytest.raises(ms.InputError, match="max_retardation_nm"):
+        ms.michel_levy_chart(max_retardation_nm=1.0e9)

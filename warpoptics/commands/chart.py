@@ -20,7 +20,10 @@ import argparse
 
 import numpy as np
 
+from .. import validate as val
 from ..errors import InputError
+from ..pipelines.microscope import MAX_CHART_RETARDATION_NM
+from ..spectra import LAMBDA_MAX, LAMBDA_MIN
 
 __all__ = ["draw_michel_levy", "draw_conoscope", "register", "run"]
 
@@ -73,7 +76,9 @@ def draw_michel_levy(chart, path, *, max_thickness_um: float = 50.0):
         ax.text(t * 1000.0 * dn, t, name, fontsize=6, rotation=0, ha="left", va="bottom", alpha=0.8)
     ax.axhline(30.0, color="w", lw=0.6, ls="--")
     ax.text(4.0, 30.5, "30 µm thin section", fontsize=7, color="w", va="bottom")
-    for m in range(1, int(rmax // 550.0) + 1):
+    orders = int(rmax // 550.0)
+    every = max(1, -(-orders // 40))  # at most 40 order lines (a 1e5 nm chart has 181 orders)
+    for m in range(every, orders + 1, every):
         ax.axvline(550.0 * m, color="w", lw=0.4, alpha=0.6)
         ax.text(550.0 * (m - 0.5), 1.0, f"order {m}", fontsize=7, ha="center", color="w")
     ax.set_xlim(0.0, rmax)
@@ -138,8 +143,8 @@ def run(args) -> int:
         return 0
     mat = _material(args.material)
     axis = tuple(args.axis) if args.axis else None
-    if args.thickness is None or not args.thickness >= 0:
-        raise InputError("plate thickness (mm) is required", field="--thickness", value=args.thickness)
+    if args.thickness is None:
+        raise InputError("the plate thickness (mm) is required", field="--thickness")
     if args.chart == "colour":
         ic = microscope.interference_colour(
             mat,
@@ -193,24 +198,61 @@ def register(sub) -> None:
     p.add_argument("chart", choices=["michel-levy", "conoscope", "colour"])
     p.add_argument("-o", "--output", default=None, help="output figure (.png, .pdf, .svg)")
     p.add_argument(
-        "--max-retardation", type=float, default=2000.0, help="michel-levy: largest retardation (nm)"
+        "--max-retardation",
+        type=val.flag(float, lo=0.0, lo_open=True, hi=MAX_CHART_RETARDATION_NM, unit="nm"),
+        default=2000.0,
+        help=f"michel-levy: largest retardation (nm; default 2000, at most {MAX_CHART_RETARDATION_NM:g})",
     )
-    p.add_argument("--max-thickness", type=float, default=50.0, help="michel-levy: largest thickness (µm)")
+    p.add_argument(
+        "--max-thickness",
+        type=val.flag(float, lo=0.0, lo_open=True, hi=1.0e5, unit="µm"),
+        default=50.0,
+        help="michel-levy: largest thickness (µm; default 50)",
+    )
     p.add_argument("--illuminant", default="D65", help="CIE illuminant (default D65)")
     p.add_argument("--material", default="calcite", help="conoscope/colour: a library material")
-    p.add_argument("--thickness", type=float, default=None, help="conoscope/colour: plate thickness (mm)")
     p.add_argument(
-        "--axis", type=float, nargs=3, default=None, help="optic axis (world; z = microscope axis)"
+        "--thickness",
+        type=val.flag(float, lo=0.0, hi=1.0e9, unit="mm"),
+        default=None,
+        help="conoscope/colour: plate thickness (mm)",
     )
-    p.add_argument("--na", type=float, default=0.5, help="conoscope: numerical aperture (default 0.5)")
-    p.add_argument("--wavelength", type=float, default=589.3, help="conoscope: wavelength (nm)")
+    p.add_argument(
+        "--axis",
+        type=val.flag(float),
+        nargs=3,
+        default=None,
+        help="optic axis (world; z = microscope axis)",
+    )
+    p.add_argument(
+        "--na",
+        type=val.flag(float, lo=0.0, lo_open=True, hi=1.0, hi_open=True),
+        default=0.5,
+        help="conoscope: numerical aperture (default 0.5; in air < 1)",
+    )
+    p.add_argument(
+        "--wavelength",
+        type=val.flag(float, lo=LAMBDA_MIN, hi=LAMBDA_MAX, unit="nm"),
+        default=589.3,
+        help=f"conoscope: wavelength (nm, {LAMBDA_MIN:g} to {LAMBDA_MAX:g})",
+    )
     p.add_argument("--white", action="store_true", help="conoscope: white light instead of --wavelength")
-    p.add_argument("--size", type=int, default=201, help="conoscope: image size (pixels)")
+    p.add_argument(
+        "--size",
+        type=val.flag(int, lo=8, hi=4096, unit="pixels"),
+        default=201,
+        help="conoscope: image size (pixels, 8 to 4096)",
+    )
     p.add_argument(
         "--accessory-nm",
-        type=float,
+        type=val.flag(float, lo=0.0, hi=1.0e5, unit="nm"),
         default=0.0,
         help="accessory plate before the analyzer: retardation in nm (550 first-order red, 147 quarter-wave)",
     )
-    p.add_argument("--accessory-deg", type=float, default=45.0, help="its slow direction (default 45: NE-SW)")
+    p.add_argument(
+        "--accessory-deg",
+        type=val.flag(float, lo=-360.0, hi=360.0, unit="degrees"),
+        default=45.0,
+        help="its slow direction (default 45: NE-SW)",
+    )
     p.set_defaults(func=run)

@@ -64,6 +64,9 @@ __all__ = [
 #: the plate of the Michel-Lévy chart: n_o of quartz, birefringence 0.01, mounted in n_o
 CHART_N_O = 1.544
 CHART_BIREFRINGENCE = 0.01
+#: the largest retardation (nm) a Michel-Lévy chart spans (about 180 orders; the colours are a
+#: uniform high-order white long before)
+MAX_CHART_RETARDATION_NM = 1.0e5
 
 
 @dataclass(frozen=True)
@@ -71,11 +74,16 @@ class InterferenceColour:
     """One plate seen between the polarizers: ``wavelength_nm`` (W,), ``transmission`` (W,)
     (coherent; ``incoherent`` the o and e powers added instead), ``xyz`` (3,), ``lab`` (3,) (D65
     white), ``srgb`` (3,) encoded sRGB in [0, 1] (Smits-Meyer gamut clip at ``exposure``),
-    ``retardation_nm`` d |n_1 - n_2| of the two waves along the axis at ``reference_nm``."""
+    ``retardation_nm`` d |n_1 - n_2| of the two waves along the axis at ``reference_nm``.
+    ``band_transmission`` (W,) is ``transmission`` averaged over each sample's band
+    (``_band_average``): what the colour integrates, so that a thick plate's fringes, finer
+    than the grid, do not alias (the grid itself is refined with the retardation,
+    ``_band_grid``)."""
 
     wavelength_nm: np.ndarray
     transmission: np.ndarray
     incoherent: np.ndarray
+    band_transmission: np.ndarray
     xyz: np.ndarray
     lab: np.ndarray
     srgb: np.ndarray
@@ -168,16 +176,74 @@ def plate_optics(material: Material, wavelength_nm, *, crystal_axes=None, optic_
 
 def plate_retardation(material: Material, thickness_mm: float, *, wavelength_nm: float = 550.0, **orient):
     """Retardation d |n_1 - n_2| (nm) of the two waves of a plate along the microscope axis."""
-    n3, _, frame = plate_optics(material, wavelength_nm, **orient)
+    return float(_retardation_spectrum(material, thickness_mm, [wavelength_nm], **orient)[0])
+
+
+def _retardation_spectrum(material: Material, thickness_mm: float, wavelength_nm, **orient) -> np.ndarray:
+    """:func:`plate_retardation` (nm) at each of ``wavelength_nm`` (W,)."""
+    lam = np.atleast_1d(np.asarray(wavelength_nm, dtype=np.float64))
+    n3, _, frame = plate_optics(material, lam, **orient)
     if isinstance(material, Biaxial):
-        _, _, idx = biaxial_waves((0.0, 0.0, 1.0), (0.0, 0.0, -1.0), frame, 1.0, n3[0, 0], n3[0, 1], n3[0, 2])
-        dn = abs(float(idx[1] - idx[0]))
+        w = lam.size
+        _, _, idx = biaxial_waves(
+            np.tile([0.0, 0.0, 1.0], (w, 1)),
+            np.tile([0.0, 0.0, -1.0], (w, 1)),
+            np.broadcast_to(frame, (w, 3, 3)),
+            np.ones(w),
+            n3[:, 0],
+            n3[:, 1],
+            n3[:, 2],
+        )
+        dn = np.abs(np.asarray(idx, dtype=np.float64).reshape(w, 2) @ np.array([-1.0, 1.0]))
     elif isinstance(material, Uniaxial):
-        ne_t = float(extraordinary_index(frame[2, 2], n3[0, 0], n3[0, 2]))
-        dn = abs(ne_t - float(n3[0, 0]))
+        ne_t = np.asarray(extraordinary_index(np.full(lam.size, frame[2, 2]), n3[:, 0], n3[:, 2]))
+        dn = np.abs(ne_t.astype(np.float64) - n3[:, 0])
     else:
-        dn = 0.0
+        dn = np.zeros(lam.size)
     return float(thickness_mm) * 1e6 * dn
+
+
+#: the finest wavelength grid a colour integral refines to (``_band_grid``): 470 nm in 20000 steps
+MAX_COLOUR_SAMPLES = 20001
+
+
+def _band_grid(step_nm: float, retardation_nm) -> np.ndarray:
+    """The wavelength grid of a colour integral of a plate whose retardation is at most
+    ``retardation_nm``: ``step_nm``, refined until the fastest fringe (period lambda^2 / Delta,
+    shortest at 360 nm) has at least four samples, and no finer than
+    :data:`MAX_COLOUR_SAMPLES` over 360-830 nm (beyond that the fringes are averaged away by
+    :func:`_band_average`, which holds for any grid)."""
+    lam = _colour_grid(step_nm)
+    r = float(np.max(retardation_nm, initial=0.0))
+    if r > 0.0:
+        period = spectra.LAMBDA_MIN**2 / r
+        floor = (spectra.LAMBDA_MAX - spectra.LAMBDA_MIN) / (MAX_COLOUR_SAMPLES - 1)
+        h = max(min(float(step_nm), period / 4.0), floor)
+        if h < float(step_nm):
+            lam = spectra.grid(step=h)
+    return lam
+
+
+def _band_average(coherent, incoherent, wavelength_nm, retardation_nm) -> np.ndarray:
+    """The coherent transmission averaged over each sample's band of the wavelength grid.
+
+    Two waves through the plate add as I = I_o + I_e + 2 Re(a_o a_e* exp(i delta)) with
+    delta = 2 pi Delta / lambda: the incoherent part I_o + I_e (the stage's ``incoherent``) and
+    a fringe term (``coherent - incoherent``).  Over a band of width h the phase runs linearly
+    at delta' = d delta / d lambda, so the band mean of the fringe term is its value times
+    sin(x) / x, x = delta' h / 2 (the mean of cos(delta_0 + delta' u) for |u| <= h / 2).  A
+    thick plate, whose fringes are far finer than the band, keeps the incoherent part alone:
+    neutral (Michel-Levy's "high-order white"), where point samples alias into false colours.
+    ``retardation_nm`` (..., W) broadcasts against ``coherent`` (..., W)."""
+    lam = np.asarray(wavelength_nm, dtype=np.float64)
+    coh = np.asarray(coherent, dtype=np.float64)
+    inc = np.asarray(incoherent, dtype=np.float64)
+    if lam.size < 2:
+        return coh
+    delta = 2.0 * np.pi * np.asarray(retardation_nm, dtype=np.float64) / lam
+    slope = np.gradient(delta, lam, axis=-1)
+    h = np.gradient(lam)  # the band of each sample (trapezoid weights / 1)
+    return inc + (coh - inc) * np.sinc(slope * h / (2.0 * np.pi))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -274,7 +340,10 @@ def interference_colour(
     """The interference colour of a plate (orthoscopic, light along the microscope axis)."""
     if not (isinstance(thickness_mm, (int, float)) and np.isfinite(thickness_mm) and thickness_mm >= 0):
         raise InputError("must be a number >= 0", field="thickness_mm", value=thickness_mm, allowed=">= 0")
-    lam = _colour_grid(step_nm)
+    orient = _orientation(material, optic_axis, crystal_axes)
+    act = resolve_activity(material, optical_activity)
+    ret_max = _retardation_spectrum(material, thickness_mm, _colour_grid(step_nm), **orient)
+    lam = _band_grid(step_nm, ret_max)
     coh, inc = _through_plate(
         material,
         [[0.0, 0.0, 1.0]],
@@ -290,21 +359,22 @@ def interference_colour(
         device,
         optical_activity,
     )
-    xyz = _xyz(lam, coh[0], illuminant)
+    if act is None:
+        ret = _retardation_spectrum(material, thickness_mm, lam, **orient)
+        band = _band_average(coh[0], inc[0], lam, ret)
+    else:  # optically active: the waves are coupled, not two fringes of one phase (point samples)
+        band = coh[0]
+    xyz = _xyz(lam, band, illuminant)
     _, srgb = _display(xyz, exposure)
     return InterferenceColour(
         wavelength_nm=lam,
         transmission=coh[0],
         incoherent=inc[0],
+        band_transmission=band,
         xyz=xyz,
         lab=xyz_to_lab(xyz),
         srgb=srgb,
-        retardation_nm=plate_retardation(
-            material,
-            thickness_mm,
-            wavelength_nm=reference_nm,
-            **_orientation(material, optic_axis, crystal_axes),
-        ),
+        retardation_nm=plate_retardation(material, thickness_mm, wavelength_nm=reference_nm, **orient),
         reference_nm=float(reference_nm),
         exposure=float(exposure),
     )
@@ -325,19 +395,24 @@ def michel_levy_chart(
     ``exposure`` scales XYZ before the gamut clip (default: the brightest colour gets Y = 1)."""
     if not (isinstance(columns, int) and columns >= 2):
         raise InputError("must be an integer >= 2", field="columns", value=columns)
-    if not (np.isfinite(max_retardation_nm) and max_retardation_nm > 0):
-        raise InputError("must be > 0", field="max_retardation_nm", value=max_retardation_nm)
-    lam = _colour_grid(step_nm)
+    if not (np.isfinite(max_retardation_nm) and 0 < max_retardation_nm <= MAX_CHART_RETARDATION_NM):
+        raise InputError(
+            "out of range (past ~5000 nm every colour is the same high-order white)",
+            field="max_retardation_nm",
+            value=max_retardation_nm,
+            allowed=f"> 0 and <= {MAX_CHART_RETARDATION_NM:g} nm",
+        )
+    lam = _band_grid(step_nm, max_retardation_nm)
     ret = np.linspace(0.0, float(max_retardation_nm), columns)
     n3 = np.tile([CHART_N_O, 0.0, CHART_N_O + CHART_BIREFRINGENCE], (lam.size, 1))
     s = np.sqrt(0.5)
     frame = np.array([[0.0, 0.0, 1.0], [-s, s, 0.0], [s, s, 0.0]])  # optic axis at 45 degrees
     k = np.tile([0.0, 0.0, 1.0], (columns, 1))
     cfg = PolariscopeConfig(n_ambient=CHART_N_O)
-    coh, _ = plate_between_polarizers(
+    coh, inc = plate_between_polarizers(
         k, ret * 1e-6 / CHART_BIREFRINGENCE, lam, n3, crystal_frame=frame, config=cfg, device=device
     )
-    xyz = _xyz(lam, coh, illuminant)
+    xyz = _xyz(lam, _band_average(coh, inc, lam, np.broadcast_to(ret[:, None], coh.shape)), illuminant)
     if exposure is None:
         exposure = 1.0 / float(np.max(xyz[:, 1]))
     rgb, srgb = _display(xyz, exposure)

@@ -44,7 +44,7 @@ from ..errors import InputError
 from ..materials.activity import optical_activity
 from ..materials.dispersion import Biaxial, Material, Uniaxial
 from ..materials.spec import material_from_spec
-from ..spectra import ILLUMINANTS
+from ..spectra import ILLUMINANTS, LAMBDA_MAX, LAMBDA_MIN
 
 __all__ = [
     "MICROSCOPE_MODES",
@@ -227,7 +227,7 @@ def _microscope(t: dict, file: str) -> MicroscopeConfig:
         kw["wavelength"] = (
             None
             if w == "white"
-            else float(val.number(w, file=file, field=f + "wavelength", lo=360.0, hi=830.0))
+            else float(val.number(w, file=file, field=f + "wavelength", lo=LAMBDA_MIN, hi=LAMBDA_MAX))
         )
     if "size" in t:
         kw["size"] = val.integer(t["size"], file=file, field=f + "size", lo=8, hi=4096)
