@@ -226,8 +226,9 @@ def _get(url):
         return r.status, dict(r.headers), r.read()
 
 
-def _post(url, body: bytes):
-    req = urllib.request.Request(url, data=body, method="POST", headers={"Content-Type": "application/json"})
+def _post(url, body: bytes, token: str):
+    headers = {"Content-Type": "application/json", "X-Warpoptics-Token": token}
+    req = urllib.request.Request(url, data=body, method="POST", headers=headers)
     try:
         with urllib.request.urlopen(req, timeout=TIMEOUT) as r:
             return r.status, json.loads(r.read())
@@ -277,16 +278,20 @@ def test_server_frames_refine_and_restart(device):
         assert np.corrcoef(a, b)[0, 1] > 0.95 and abs(np.mean(a - b)) < 3.0
         assert rgb.std() > 5.0  # a gem, not a blank frame
         # a change restarts the accumulation: the draft of generation 1, then its pass 1
-        status, reply = _post(srv.url + "controls", json.dumps({"object.0.crown_angle": 30.0}).encode())
+        status, reply = _post(
+            srv.url + "controls", json.dumps({"object.0.crown_angle": 30.0}).encode(), srv.token
+        )
         assert status == 200 and reply["generation"] == 1 and reply["values"]["object.0.crown_angle"] == 30.0
         _, headers, _ = _get(srv.url + "frame.jpg")
         assert (headers["X-Draft"], headers["X-Passes"], headers["X-Generation"]) == ("1", "0", "1")
         _, headers, _ = _get(srv.url + "frame.jpg")
         assert (headers["X-Draft"], headers["X-Passes"], headers["X-Generation"]) == ("0", "1", "1")
         # bad input: 400 and one line, nothing changed
-        status, reply = _post(srv.url + "controls", json.dumps({"object.0.crown_angle": 80.0}).encode())
+        status, reply = _post(
+            srv.url + "controls", json.dumps({"object.0.crown_angle": 80.0}).encode(), srv.token
+        )
         assert status == 400 and "out of range" in reply["error"] and "\n" not in reply["error"]
-        status, reply = _post(srv.url + "controls", b"{not json")
+        status, reply = _post(srv.url + "controls", b"{not json", srv.token)
         assert status == 400
         assert p.generation == 1 and p.passes == 1
         # the PNG snapshot is the frame, lossless, and adds no pass
@@ -373,3 +378,23 @@ def test_page_in_headless_chromium(device, tmp_path):
     assert np.abs(crop - expect).mean() < 6.0
     # the control panel was built from /state: the page is not just the image
     assert page[:, 12 + w + 16 :].std() > 5.0
+
+
+@pytest.mark.skipif(_chromium() is None, reason="no Chromium installed (apt-get install chromium)")
+def test_page_sends_its_changes_with_the_token(device, tmp_path):
+    """The real page's POST passes the server's checks (same origin, JSON, the launch's token):
+    ``?set=azimuth=10`` makes the page send one change, as a slider does, and the preview takes it."""
+    p = Preview(_scene(width=16, height=12), device=device)
+    with ViewServer(p, port=0) as srv:
+        cmd = [
+            _chromium(),
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--virtual-time-budget=20000",
+            f"--user-data-dir={tmp_path / 'profile'}",
+            "--dump-dom",
+            srv.url + "?frames=3&set=azimuth=10",
+        ]
+        subprocess.run(cmd, timeout=120, capture_output=True, env={**os.environ, "HOME": str(tmp_path)})
+        assert p.values()["azimuth"] == 10.0 and p.generation == 1

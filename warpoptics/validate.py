@@ -76,7 +76,11 @@ def number(
     if isinstance(v, bool) or not ok_type:
         kind = "an integer" if integer else "a number"
         raise InputError(f"must be {kind}", file=file, field=field, value=v)
-    if not math.isfinite(v):
+    try:
+        finite = math.isfinite(v)
+    except OverflowError:  # an int beyond the float range (a JSON or TOML integer of 400 digits)
+        finite = False
+    if not finite:
         raise InputError("must be a finite number", file=file, field=field, value=v)
     if v < lo or v > hi or (lo_open and v == lo):
         raise InputError(

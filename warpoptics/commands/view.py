@@ -13,12 +13,26 @@ watches it and the machine is idle when none does.  Endpoints:
 ``GET /frame.png``   the image as it is (no new pass), lossless
 ``POST /controls``   JSON ``{name: value}``: 200 with the new generation and values, or 400 with
                      the one-line error (nothing changed)
+
+Who may ask (docs/preview_security.md): every request must name this server in ``Host``
+(``127.0.0.1:PORT``, ``localhost:PORT`` or ``[::1]:PORT``; else 403), which defeats DNS
+rebinding: a page of another site whose name was made to resolve to 127.0.0.1 sends its own name.
+A write (any POST) must also come from the page itself: ``Origin`` (when sent) one of those
+hosts, ``Content-Type: application/json`` (else 415: a form or a ``no-cors`` fetch of another
+site cannot send it without a preflight, which this server never grants) and the header
+``X-Warpoptics-Token`` equal to the random token of this launch that only the served page holds
+(else 403).  The body is at most :data:`MAX_BODY` bytes (413 beyond, 411 without a length);
+a body that is cut short, not JSON, nested too deeply, not an object, or names an unknown control
+or a non-finite value is answered 400, never a traceback.
 """
 
 from __future__ import annotations
 
+import contextlib
 import io
 import json
+import math
+import secrets
 import sys
 import threading
 from http import HTTPStatus
@@ -30,7 +44,39 @@ from ..errors import InputError
 __all__ = ["ViewServer", "register", "run"]
 
 HOST = "127.0.0.1"  # never another interface: the page can change what this process computes
-_MAX_BODY = 65536
+MAX_BODY = 65536  # bytes of a POST body
+TOKEN_HEADER = "X-Warpoptics-Token"
+TOKEN_PLACEHOLDER = "@WARPOPTICS_TOKEN@"  # in view_page.PAGE: replaced by the launch's token
+_READ_TIMEOUT = 30.0  # seconds a client may take to send its request (a stalled body: 408)
+
+
+def allowed_hosts(port: int) -> frozenset[str]:
+    """The ``Host`` values that name this server (lower case): the loopback names with the port
+    (and without it on port 80, as browsers send it there)."""
+    names = ("127.0.0.1", "localhost", "[::1]")
+    hosts = {f"{n}:{int(port)}" for n in names}
+    if int(port) == 80:
+        hosts.update(names)
+    return frozenset(hosts)
+
+
+def _finite_float(text: str) -> float:
+    x = float(text)
+    if not math.isfinite(x):
+        raise ValueError(f"a number beyond the float range: {text[:40]}")
+    return x
+
+
+def _no_constant(name: str):
+    raise ValueError(f"{name} is not a JSON number")
+
+
+class _Refused(Exception):
+    """A request answered with an error status: ``status`` and a one-line ``message``."""
+
+    def __init__(self, status: HTTPStatus, message: str):
+        super().__init__(message)
+        self.status = status
 
 
 def _encode(rgb, fmt: str) -> bytes:
@@ -49,7 +95,8 @@ class ViewServer:
     """An HTTP server for a preview on ``127.0.0.1:port`` (0: any free port, see :attr:`port`).
 
     ``start()`` serves from a background thread; ``shutdown()`` stops it and closes the socket.
-    Usable as a context manager.
+    Usable as a context manager.  :attr:`token` is this launch's write token (embedded in the
+    page; see the module docstring for what each request must carry).
     """
 
     def __init__(self, preview, *, port: int = 0, verbose: bool = False):
@@ -57,25 +104,34 @@ class ViewServer:
 
         self.preview = preview
         self.verbose = verbose
-        self._page = PAGE.encode("utf-8")
+        self.token = secrets.token_urlsafe(32)
+        self._page = PAGE.replace(TOKEN_PLACEHOLDER, self.token).encode("utf-8")
         self._frame_lock = threading.Lock()  # one frame at a time: a pass, then its encoding
         self._cache: tuple | None = None  # (key, jpeg bytes) of the last frame
         self.frames = 0  # frames served
         server = self
 
         class Handler(BaseHTTPRequestHandler):
+            timeout = _READ_TIMEOUT  # a client that stops sending mid-request frees its thread
+
             def log_message(self, format, *args):  # noqa: A002 (the base class's name)
                 if server.verbose:
                     super().log_message(format, *args)
 
             def do_GET(self):
-                server._get(self)
+                server._answer(self, server._get)
 
             def do_POST(self):
-                server._post(self)
+                server._answer(self, server._post)
+
+        class Server(ThreadingHTTPServer):
+            def handle_error(self, request, client_address):
+                # what escaped a handler (it should not): one line, never a traceback
+                exc = sys.exc_info()[1]
+                print(f"warpoptics view: a request failed: {type(exc).__name__}: {exc}", file=sys.stderr)
 
         try:
-            self.httpd = ThreadingHTTPServer((HOST, int(port)), Handler)
+            self.httpd = Server((HOST, int(port)), Handler)
         except OSError as exc:
             raise InputError(
                 f"cannot listen on {HOST}:{port} ({exc.strerror})", field="--port", value=port
@@ -146,6 +202,7 @@ class ViewServer:
         h.send_header("Content-Type", ctype)
         h.send_header("Content-Length", str(len(body)))
         h.send_header("Cache-Control", "no-store")
+        h.send_header("X-Content-Type-Options", "nosniff")
         for k, v in (headers or {}).items():
             h.send_header(k, v)
         h.end_headers()
@@ -154,45 +211,107 @@ class ViewServer:
     def _json(self, h, status, obj) -> None:
         self._send(h, status, json.dumps(obj).encode("utf-8"), "application/json")
 
+    def _answer(self, h, method) -> None:
+        """Check the ``Host``, then run ``method``; a refusal becomes its status with a one-line
+        JSON error; a client gone mid-request (reset, broken pipe, stalled past the timeout) ends
+        the connection quietly."""
+        try:
+            try:
+                host = (h.headers.get("Host") or "").strip().lower()
+                if host not in allowed_hosts(self.port):
+                    raise _Refused(HTTPStatus.FORBIDDEN, f"this server answers only as {HOST}:{self.port}")
+                method(h)
+            except _Refused as exc:
+                h.close_connection = True  # an unread body must not be taken for the next request
+                self._json(h, exc.status, {"error": str(exc)})
+        except (BrokenPipeError, ConnectionResetError, TimeoutError):
+            h.close_connection = True  # the page went away mid-answer
+        except Exception as exc:  # a fault of this program, not of the request: 500 and one line
+            h.close_connection = True
+            message = f"{type(exc).__name__}: {str(exc).splitlines()[0][:500] if str(exc) else ''}"
+            print(f"warpoptics view: {h.command} {h.path[:200]} failed: {message}", file=sys.stderr)
+            with contextlib.suppress(OSError):
+                self._json(h, HTTPStatus.INTERNAL_SERVER_ERROR, {"error": message})
+
     def _get(self, h) -> None:
         path = urlsplit(h.path).path
+        if path in ("/", "/index.html"):
+            csp = (
+                "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; "
+                "img-src 'self' blob:; connect-src 'self'; frame-ancestors 'none'"
+            )
+            headers = {"Content-Security-Policy": csp, "X-Frame-Options": "DENY"}
+            self._send(h, HTTPStatus.OK, self._page, "text/html; charset=utf-8", headers)
+        elif path == "/state":
+            self._json(h, HTTPStatus.OK, self.state())
+        elif path == "/frame.jpg":
+            body, headers = self.frame()
+            self._send(h, HTTPStatus.OK, body, "image/jpeg", headers)
+        elif path == "/frame.png":
+            with self._frame_lock:
+                body = _encode(self.preview.frame(), "PNG")
+            self._send(h, HTTPStatus.OK, body, "image/png")
+        else:
+            raise _Refused(HTTPStatus.NOT_FOUND, f"no such page: {path[:200]}")
+
+    def _check_write(self, h) -> None:
+        """A write must come from the served page: same origin, JSON, this launch's token."""
+        origin = h.headers.get("Origin")
+        if origin is not None and origin.strip().lower() not in {
+            f"http://{x}" for x in allowed_hosts(self.port)
+        }:
+            raise _Refused(
+                HTTPStatus.FORBIDDEN, f"writes are accepted only from this server's page, not {origin[:200]}"
+            )
+        ctype = (h.headers.get("Content-Type") or "").split(";")[0].strip().lower()
+        if ctype != "application/json":
+            raise _Refused(HTTPStatus.UNSUPPORTED_MEDIA_TYPE, "expected Content-Type: application/json")
+        token = h.headers.get(TOKEN_HEADER) or ""
+        if not secrets.compare_digest(token.encode("utf-8", "replace"), self.token.encode("ascii")):
+            raise _Refused(
+                HTTPStatus.FORBIDDEN, f"missing or wrong {TOKEN_HEADER} (the page of this launch sends it)"
+            )
+
+    def _read_json(self, h):
+        """The request's body, parsed: at most :data:`MAX_BODY` bytes, strict JSON (no NaN or
+        Infinity, no number beyond the float range), any depth Python's parser takes."""
+        if h.headers.get("Transfer-Encoding") or h.headers.get("Content-Length") is None:
+            raise _Refused(HTTPStatus.LENGTH_REQUIRED, "expected a Content-Length")
         try:
-            if path in ("/", "/index.html"):
-                self._send(h, HTTPStatus.OK, self._page, "text/html; charset=utf-8")
-            elif path == "/state":
-                self._json(h, HTTPStatus.OK, self.state())
-            elif path == "/frame.jpg":
-                body, headers = self.frame()
-                self._send(h, HTTPStatus.OK, body, "image/jpeg", headers)
-            elif path == "/frame.png":
-                with self._frame_lock:
-                    body = _encode(self.preview.frame(), "PNG")
-                self._send(h, HTTPStatus.OK, body, "image/png")
-            else:
-                self._json(h, HTTPStatus.NOT_FOUND, {"error": f"no such page: {path}"})
-        except (BrokenPipeError, ConnectionResetError):
-            pass  # the page went away mid-answer
+            n = int(h.headers["Content-Length"])
+        except ValueError:
+            raise _Refused(HTTPStatus.BAD_REQUEST, "Content-Length is not a number") from None
+        if n > MAX_BODY:
+            raise _Refused(HTTPStatus.REQUEST_ENTITY_TOO_LARGE, f"a body of at most {MAX_BODY} bytes")
+        if n <= 0:
+            raise _Refused(HTTPStatus.BAD_REQUEST, f"expected a JSON body of 1 to {MAX_BODY} bytes")
+        try:
+            data = h.rfile.read(n)
+        except TimeoutError:
+            raise _Refused(
+                HTTPStatus.REQUEST_TIMEOUT, f"the body did not arrive within {_READ_TIMEOUT:g} s"
+            ) from None
+        if len(data) < n:
+            raise _Refused(HTTPStatus.BAD_REQUEST, f"the body ended after {len(data)} of {n} bytes")
+        try:
+            return json.loads(data.decode("utf-8"), parse_float=_finite_float, parse_constant=_no_constant)
+        except RecursionError:
+            raise _Refused(HTTPStatus.BAD_REQUEST, "the JSON is nested too deeply") from None
+        except ValueError as exc:  # bad JSON, bad UTF-8, a non-finite number
+            raise _Refused(
+                HTTPStatus.BAD_REQUEST, f"not valid JSON: {str(exc).splitlines()[0][:200]}"
+            ) from None
 
     def _post(self, h) -> None:
         path = urlsplit(h.path).path
+        self._check_write(h)  # before the path: a foreign page learns nothing from the answer
         if path != "/controls":
-            self._json(h, HTTPStatus.NOT_FOUND, {"error": f"no such endpoint: {path}"})
-            return
+            raise _Refused(HTTPStatus.NOT_FOUND, f"no such endpoint: {path[:200]}")
+        values = self._read_json(h)
         try:
-            n = int(h.headers.get("Content-Length") or 0)
-        except ValueError:
-            n = -1
-        if not 0 < n <= _MAX_BODY:
-            self._json(
-                h, HTTPStatus.BAD_REQUEST, {"error": f"expected a JSON body of 1 to {_MAX_BODY} bytes"}
-            )
-            return
-        try:
-            values = json.loads(h.rfile.read(n).decode("utf-8"))
             generation = self.preview.update(values)
-        except (ValueError, UnicodeDecodeError) as exc:  # InputError is a ValueError, as is bad JSON
-            self._json(h, HTTPStatus.BAD_REQUEST, {"error": str(exc).splitlines()[0]})
-            return
+        except (ValueError, OverflowError, RecursionError) as exc:  # InputError is a ValueError
+            raise _Refused(HTTPStatus.BAD_REQUEST, str(exc).splitlines()[0][:500]) from None
         self._json(h, HTTPStatus.OK, {"generation": generation, "values": self.preview.values()})
 
 

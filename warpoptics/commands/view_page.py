@@ -6,7 +6,11 @@ repeat; when the preview has all its passes it asks again every 300 ms.  Draggin
 orbits (left/right) and tilts (up/down) the camera, the wheel changes the distance; sliders and
 menus change the scene.  Changes are sent as one ``POST /controls`` at a time (later ones are
 merged while one is in flight), so a fast drag costs one restart per frame, not per mouse event.
-``?frames=N`` stops the loop after N frames (for a headless browser to settle).
+``?frames=N`` stops the loop after N frames (for a headless browser to settle); ``?set=NAME=VALUE``
+(numbers only) sends one change after the controls are built, as a slider would (for a headless
+browser to drive the page).  Every ``POST`` carries the launch's token, which the server writes
+into the page's ``warpoptics-token`` meta tag (``@WARPOPTICS_TOKEN@`` below), in the
+``X-Warpoptics-Token`` header, as JSON: the server refuses writes without them.
 """
 
 from __future__ import annotations
@@ -17,6 +21,7 @@ PAGE = r"""<!doctype html>
 <html lang="en">
 <head>
 <meta charset="utf-8">
+<meta name="warpoptics-token" content="@WARPOPTICS_TOKEN@">
 <title>warpoptics view</title>
 <style>
   body { font: 14px system-ui, sans-serif; margin: 12px; background: #1e1e1e; color: #ddd; }
@@ -44,6 +49,7 @@ PAGE = r"""<!doctype html>
 "use strict";
 const params = new URLSearchParams(location.search);
 const maxFrames = params.has("frames") ? parseInt(params.get("frames")) : Infinity;
+const token = document.querySelector('meta[name="warpoptics-token"]').content;
 const img = document.getElementById("frame");
 const statusEl = document.getElementById("status");
 const errorEl = document.getElementById("error");
@@ -77,8 +83,11 @@ async function send() {
   const body = Object.assign({}, pending);
   for (const k of Object.keys(body)) delete pending[k];
   try {
-    const r = await fetch("/controls", { method: "POST", headers: { "Content-Type": "application/json" },
-                                         body: JSON.stringify(body) });
+    const r = await fetch("/controls", {
+      method: "POST",
+      headers: { "Content-Type": "application/json", "X-Warpoptics-Token": token },
+      body: JSON.stringify(body),
+    });
     const j = await r.json();
     errorEl.textContent = r.ok ? "" : j.error;
     for (const [k, v] of Object.entries(j.values || {})) {
@@ -187,6 +196,10 @@ async function loop() {
 fetch("/state").then(r => r.json()).then(s => {
   img.width = s.width; img.height = s.height;
   build(s.controls);
+  for (const item of params.getAll("set")) {
+    const i = item.indexOf("=");
+    if (i > 0 && inputs[item.slice(0, i)]) set(item.slice(0, i), parseFloat(item.slice(i + 1)));
+  }
   loop();
 });
 </script>
