@@ -18,9 +18,11 @@ extensions = [
     "sphinx.ext.mathjax",
     "myst_parser",
     "scene_reference",
+    "api_pages",
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 exclude_patterns = ["_build", "notebook.ipynb", "gallery/grading/*"]
+autodoc_mock_imports: list[str] = []
 myst_enable_extensions = ["colon_fence", "deflist"]
 myst_heading_anchors = 3
 
@@ -34,3 +36,5 @@ autodoc_member_order = "bysource"
 autodoc_typehints = "description"
 autodoc_default_options = {"members": True, "show-inheritance": False}
 autosummary_generate = False
+# a short name in a docstring that two modules define (chromophores) stays plain text
+suppress_warnings = ["ref.python"]
