@@ -136,6 +136,11 @@ def test_library_types_and_all_names_build(device):
         "moissanite",
         "andalusite_uniaxial",
     }
+    # chromophore varieties are uniaxial when their host crystal is
+    from warpoptics.materials.chromophores import host_info
+    from warpoptics.materials.datasets.varieties import VARIETIES
+
+    uni |= {name for name, v in VARIETIES.items() if host_info(v["host"])["polarizations"] == ("o", "e")}
     for name in M.names():
         mat = M.get(name)
         assert isinstance(mat, M.Uniaxial) == (name in uni), name

@@ -1,4 +1,9 @@
-"""`warpoptics material NAME [--plot FILE]`: a library material's optical constants."""
+"""`warpoptics material NAME [--plot FILE]`: a library material's optical constants.
+
+`warpoptics material fit HOST --spectrum FILE.csv ... | --lab L,a,b --thickness MM ...`: the
+chromophore concentrations of a host crystal that reproduce a measured absorption spectrum or a
+target colour (:func:`warpoptics.materials.fit.fit_chromophores`), with the fit's residual.
+"""
 
 from __future__ import annotations
 
@@ -134,9 +139,67 @@ def _plot(mat, path: str) -> None:
     plt.close(fig)
 
 
+#: the options that belong to `material fit` (argparse dest names)
+_FIT_OPTIONS = ("spectrum", "lab", "thickness", "path_mm", "chromophores", "polarization", "baseline")
+
+
+def _numbers(text: str, count: int, option: str) -> tuple[float, ...]:
+    try:
+        values = tuple(float(v) for v in text.split(","))
+    except ValueError:
+        values = ()
+    if len(values) != count:
+        raise InputError(f"needs {count} comma-separated numbers", field=option, value=text)
+    return values
+
+
+def _fit(args) -> int:
+    from ..materials.fit import fit_chromophores
+
+    if not args.host:
+        raise InputError("name the host crystal: warpoptics material fit HOST ...", field="HOST")
+    if (args.spectrum is None) == (args.lab is None):
+        raise InputError("give --spectrum FILE.csv or --lab L,a,b (one of them)", field="--spectrum/--lab")
+    common = dict(chromophores=args.chromophores)
+    if args.spectrum is not None:
+        result = fit_chromophores(
+            args.host,
+            spectrum=args.spectrum,
+            quantity=args.quantity,
+            path_mm=args.path_mm,
+            polarization=args.polarization,
+            baseline=args.baseline,
+            wavelength_range_nm=_numbers(args.range, 2, "--range"),  # type: ignore[arg-type]
+            **common,
+        )
+    else:
+        target = _numbers(args.lab, 3, "--lab")
+        if args.thickness is None:
+            raise InputError(
+                "a colour fit needs --thickness MM (the stone's path length)", field="--thickness"
+            )
+        result = fit_chromophores(
+            args.host,
+            target_lab=target,
+            illuminant=args.illuminant,
+            thickness_mm=args.thickness,
+            **common,
+        )
+    print(result.summary())
+    return 0
+
+
 def run(args) -> int:
     from .. import materials
 
+    if args.name == "fit":
+        return _fit(args)
+    given = [o for o in _FIT_OPTIONS if getattr(args, o) not in (None, False, "mean")]
+    if args.host or given:
+        raise InputError(
+            "these options belong to `warpoptics material fit HOST ...`",
+            field=", ".join((["HOST"] if args.host else []) + [f"--{o.replace('_', '-')}" for o in given]),
+        )
     mat = materials.get(args.name)
     if args.plot:
         from ..film.image import FIGURE_FORMATS
@@ -160,11 +223,37 @@ def register(sub) -> None:
     p = sub.add_parser(
         "material", help="print a library material's indices, dispersion and source; plot n and alpha"
     )
-    p.add_argument("name", help='library name, e.g. "diamond", "sapphire", "rose_bengal_10"')
+    p.add_argument(
+        "name", help='library name, e.g. "diamond", "sapphire", "rose_bengal_10"; or "fit" (see below)'
+    )
+    p.add_argument("host", nargs="?", default=None, help="fit: the host crystal, e.g. quartz, tourmaline")
     p.add_argument(
         "--plot",
         metavar="FILE",
         default=None,
         help="write a plot of n(λ) and alpha(λ) (PNG); biaxial: n_alpha/beta/gamma, 2V(λ), alpha_X/Y/Z",
     )
+    f = p.add_argument_group(
+        "fit",
+        "warpoptics material fit HOST --spectrum FILE.csv [...] | --lab L,a,b --thickness MM [...]: "
+        "non-negative chromophore concentrations that reproduce a measured spectrum or a colour "
+        "(a cut stone enters a colour fit only as its effective path length --thickness)",
+    )
+    f.add_argument("--spectrum", default=None, help="CSV: wavelength (nm), value (# comments, one header)")
+    f.add_argument(
+        "--quantity",
+        default="absorbance",
+        choices=("absorbance", "alpha_per_mm", "alpha_per_cm"),
+        help="what the CSV's values are (absorbance: decadic, needs --path-mm; default absorbance)",
+    )
+    f.add_argument("--path-mm", type=float, default=None, help="path length of the absorbance (mm)")
+    f.add_argument(
+        "--polarization", default="mean", help="the host polarization measured (o, e, x, y, z) or mean"
+    )
+    f.add_argument("--baseline", action="store_true", help="also fit a flat baseline (1/mm)")
+    f.add_argument("--range", default="400,700", help="wavelength window of the fit, nm (default 400,700)")
+    f.add_argument("--lab", default=None, help="target CIELAB L,a,b")
+    f.add_argument("--illuminant", default="D65", help="light of the target colour (default D65)")
+    f.add_argument("--thickness", type=float, default=None, help="plate thickness / path length (mm)")
+    f.add_argument("--chromophores", default=None, help="fit only these, comma-separated (default all)")
     p.set_defaults(func=run)

@@ -39,6 +39,7 @@ from .dispersion import (
     material_eval_channel,
     rgb3_alpha_of,
 )
+from .fit import FitResult, fit_chromophores, read_absorption_csv
 from .kramers_kronig import anomalous, kramers_kronig, rose_bengal_absorption
 from .library import chromophore_material, fuchsine_solution, get, names, rose_bengal_solution
 from .refractiveindex import from_refractiveindex
@@ -54,6 +55,9 @@ __all__ = [
     "get",
     "names",
     "chromophore_material",
+    "fit_chromophores",
+    "FitResult",
+    "read_absorption_csv",
     "Material",
     "Isotropic",
     "Uniaxial",
