@@ -47,6 +47,10 @@ def run(args) -> int:
                 + f": {p['dE_mean']:.3f} / {p['dE_p95']:.3f} / {p['dE_mean_color']:.3f}"
             )
     sys.stdout.flush()
+    if not result.complete:
+        # rows are missing (a worker died twice on a job): say which and why, and exit non-zero
+        print(f"warpoptics sweep: incomplete: {result.report()}", file=sys.stderr)
+        return 1
     return 0
 
 

@@ -13,13 +13,14 @@ import contextlib
 import json
 import sys
 import time
-from dataclasses import dataclass
+from collections.abc import Iterator
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
-from .backends import dask_results, local_results, pool_results
+from .backends import LostJob, dask_results, local_results, pool_results
 from .report import write_contact_sheet, write_pairs, write_plots, write_summary
 from .results import append_line, csv_line, format_value, image_path, read_results, write_text_atomic
 from .spec import METRICS, Job, Sweep, scene_for, view_settings
@@ -126,7 +127,9 @@ def run_job(payload: dict) -> dict:
 
 @dataclass
 class SweepResult:
-    """What a run produced: rows of results.csv (job order), pair rows, and the output paths."""
+    """What a run produced: rows of results.csv (job order), pair rows, the output paths, and
+    the jobs of this run that no worker finished (``failed``: (job, reason) pairs, e.g. a pool
+    worker killed by the out-of-memory killer twice)."""
 
     out_dir: Path
     jobs: list[Job]
@@ -134,6 +137,32 @@ class SweepResult:
     pairs: list[dict]
     rendered: int
     files: dict[str, Path]
+    failed: list[tuple[Job, str]] = field(default_factory=list)
+
+    @property
+    def complete(self) -> bool:
+        return len(self.rows) == len(self.jobs)
+
+    def report(self) -> str:
+        """One paragraph: rows done, rows failed and why, where the results are."""
+        done, total = len(self.rows), len(self.jobs)
+        where = self.files.get("results", self.out_dir / "results.csv")
+        text = f"{done} of {total} rows done ({self.rendered} rendered in this run); results in {where}"
+        if "summary" in self.files:
+            text += f", summary in {self.files['summary']}"
+        text += "."
+        if self.failed:
+            shown = "; ".join(f"job {j.index} ({j.label or j.key}): {why}" for j, why in self.failed[:5])
+            more = f"; and {len(self.failed) - 5} more" if len(self.failed) > 5 else ""
+            text += f" {len(self.failed)} failed: {shown}{more}."
+        if done < total:
+            missing = total - done - len(self.failed)
+            if missing > 0:
+                text += f" {missing} not run."
+            text += (
+                " The missing rows have no plots or summary yet: run again with --resume to render only them."
+            )
+        return text
 
 
 class SweepRunner:
@@ -237,6 +266,7 @@ class SweepRunner:
                 + "\n",
             )
             pending = [j for j in jobs if j.key not in done]
+            self._failed: list[tuple[Job, str]] = []  # jobs no worker finished (backends.LostJob)
             rendered = self._execute(pending, header, len(jobs) - len(pending), len(jobs))
             return self._finalize(jobs, header, rendered)
 
@@ -320,6 +350,7 @@ class SweepRunner:
         threads = self.threads or (max(1, cpu_threads() // parallel) if parallel > 1 else None)
         payloads = [self._payload(j, data, path, threads) for j in pending]
         by_key = {j.key: j for j in pending}
+        results: Iterator[dict | LostJob]
         if self.scheduler or self.dask_local:
             results = dask_results(run_job, payloads, scheduler=self.scheduler, dask_local=self.dask_local)
         elif self.workers > 1:
@@ -341,6 +372,9 @@ class SweepRunner:
         n = 0
         try:
             for res in results:
+                if isinstance(res, LostJob):
+                    self._failed.append((by_key[res.key], res.reason))
+                    continue
                 self._record(by_key[res["key"]], res, header)
                 n += 1
                 if bar is not None:
@@ -433,5 +467,11 @@ class SweepRunner:
                 self.sweep, self.out_dir, jobs, by_key, pairs, rendered, archived=archived, moved=len(stale)
             )
         return SweepResult(
-            out_dir=self.out_dir, jobs=jobs, rows=ordered, pairs=pairs, rendered=rendered, files=files
+            out_dir=self.out_dir,
+            jobs=jobs,
+            rows=ordered,
+            pairs=pairs,
+            rendered=rendered,
+            files=files,
+            failed=list(self._failed),
         )
