@@ -73,10 +73,12 @@ def _stack(ns):
 
 def test_diamond_in_index_matched_cube_is_the_bare_diamond(device):
     """A clear diamond inside an invisible n = 1.0 cube once rendered nearly black
-    (stone Y 0.0098 vs 0.489).  Now the image is the bare stone's to float32 round-off."""
+    (stone Y 0.0098 vs 0.489), then 4.9 % darker at the same max_depth (the cube's entry and
+    exit counted as two scattering events).  Now, at the same max_depth 8, the image is the bare
+    stone's to float32 round-off: an index-matched crossing without a film spends no depth."""
     bare = copy.deepcopy(DIAMOND)
     nested = copy.deepcopy(DIAMOND)
-    nested["render"]["max_depth"] = 10  # the cube's entry and exit are two more interfaces
+    assert nested["render"]["max_depth"] == 8
     nested["object"].append({"shape": "cube", "size": 12.0, "material": {"cauchy": [1.0]}})
     r, b = _render(nested, device)
     assert list(r.geometry.geometry.parent.numpy()) == [1, -1]
@@ -137,7 +139,7 @@ def test_stone_in_water_is_the_relative_index_stone_in_air(device):
     water = copy.deepcopy(DIAMOND)
     water["object"][0]["material"] = {"cauchy": [2.4]}
     water["render"]["ambient_index"] = 1.333
-    water["render"]["max_depth"] = 9  # every path leaves the sphere once
+    # the same max_depth: leaving the water sphere into water (ambient 1.333) spends no depth
     water["object"].append({"shape": "sphere", "diameter": 200.0, "material": {"cauchy": [1.333]}})
     rel = copy.deepcopy(DIAMOND)
     rel["object"][0]["material"] = {"cauchy": [2.4 / 1.333]}
@@ -181,6 +183,40 @@ def test_bench_beam_through_glass_in_water_is_the_closed_form(device):
     _, t = _stack([1.0, 1.333, 1.5, 1.333, 1.0])
     assert r.ledger["screen"] == pytest.approx(t, rel=1e-5)
     assert r.ledger["screen"] + r.ledger["escaped"] == pytest.approx(1.0, abs=1e-5)
+
+
+def test_bench_beam_through_an_index_matched_cube_spends_no_depth(device):
+    """The forward tracer: a glass cube (n 1.5) at max_depth 2 passes T = (1 - R)^2 straight
+    through (two interfaces); inside an invisible n = 1.0 cube, at the same max_depth, the same
+    power reaches the screen (the container's two crossings are no scattering events)."""
+    screen = {
+        "type": "screen",
+        "center": [0.0, 0.0, -10.0],
+        "normal": [0.0, 0.0, 1.0],
+        "up": [0.0, 1.0, 0.0],
+        "size": [20.0, 20.0],
+        "resolution": [8, 8],
+    }
+    data = {
+        "source": {
+            "type": "beam",
+            "position": [0.0, 0.0, 10.0],
+            "direction": [0.0, 0.0, -1.0],
+            "width": 0.5,
+            "lines": [550.0],
+            "rays": 16,
+        },
+        "render": {"max_depth": 2, "split_threshold": 1.0e-9, "max_deposits": 512},
+        "object": [{"shape": "cube", "size": 4.0, "material": {"cauchy": [1.5]}}],
+        "sensor": [screen],
+    }
+    bare = bench(BenchScene.from_dict(copy.deepcopy(data)), device=device).ledger["screen"]
+    data["object"].insert(0, {"shape": "cube", "size": 10.0, "material": {"cauchy": [1.0]}})
+    boxed = bench(BenchScene.from_dict(data), device=device).ledger["screen"]
+    _, t = _stack([1.0, 1.5, 1.0])
+    t_single = (1.0 - ((1.5 - 1.0) / 2.5) ** 2) ** 2  # no multiple reflections at max_depth 2
+    assert bare == pytest.approx(t_single, rel=1e-5) and t_single < t
+    assert boxed == pytest.approx(bare, rel=1e-5)
 
 
 def _box(size, at=(0.0, 0.0, 0.0)):
@@ -306,8 +342,7 @@ def test_stone_shadow_through_an_index_matched_cube(device):
             {"shape": "round_brilliant", "diameter": 6.5, "material": "diamond", "position": [0.0, 0.0, 10.0]}
         ],
     }
-    nested = copy.deepcopy(base)
-    nested["render"]["max_depth"] = 8
+    nested = copy.deepcopy(base)  # the same max_depth: the invisible cube spends no depth
     nested["object"].append(
         {"shape": "cube", "size": 11.0, "material": {"cauchy": [1.0]}, "position": [0.0, 0.0, 10.0]}
     )

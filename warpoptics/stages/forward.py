@@ -57,7 +57,7 @@ from ..optics.branches import (
     read_row,
     write_row,
 )
-from ..optics.interface import forward_event, ray_power
+from ..optics.interface import forward_event, is_uniaxial, ray_power
 from ..optics.jones import (
     Jones,
     coherency_transform,
@@ -202,14 +202,22 @@ def forward_step(
         e_abs = e * (1.0 - att)
         w = w * att
         e = e * att
-    if r.depth >= fp.max_depth:
-        return st, n, rng, wp.vec3f(e_abs, e, 0.0)
-    if e <= 0.0:
+    if e <= 0.0 and r.depth < fp.max_depth:
         return st, n, rng, wp.vec3f(e_abs, 0.0, 0.0)
     obj_b = hit.object
     if wp.dot(r.d, hit.normal) >= 0.0:
         obj_b = geom.parent[hit.object]  # leaving the solid: into the one around it (nesting)
     med_b, n_b, alpha_b = _medium(fp, mats, obj_b, wl)
+    # the same index on both sides and no coating (an index-matched, invisible container):
+    # nothing reflects and nothing bends, so the crossing does not count toward max_depth
+    depth = r.depth
+    if fp.object_coating[hit.object] < 0 and not is_uniaxial(med_a) and not is_uniaxial(med_b):
+        if n_a[0] == n_b[0] and n_a[1] == n_b[1]:
+            depth = r.depth - 1  # forward_event gives its children depth + 1
+    if depth >= fp.max_depth:
+        return st, n, rng, wp.vec3f(e_abs, e, 0.0)
+    if e <= 0.0:
+        return st, n, rng, wp.vec3f(e_abs, 0.0, 0.0)
     x = r.o + r.d * hit.t
     cand, ea, e_sum, c = forward_event(
         r.d,
@@ -217,7 +225,7 @@ def forward_step(
         r.b,
         r.m,
         r.mode,
-        r.depth,
+        depth,
         hit.normal,
         x,
         r.inside,

@@ -445,7 +445,7 @@ def _make_trace_radiance(fluorescence: bool, coherent: bool):
                     m = segment_phase(
                         m, med_a, mode, wn, d, hit.t, depth, _start_offset(geom, inside, left), wl
                     )
-                if depth >= p.max_depth or w <= 0.0:
+                if w <= 0.0:
                     continue
                 x = o + d * hit.t
                 eps = geom.epsilon[hit.object]  # origin offset of the children (query.offset_epsilon)
@@ -468,6 +468,12 @@ def _make_trace_radiance(fluorescence: bool, coherent: bool):
                 energies = wp.vec4f(0.0, 0.0, 0.0, 0.0)
                 film_kind = p.films.kind[hit.object]
                 crystal = is_uniaxial(med_a) or is_uniaxial(med_b)
+                # the same index on both sides and no film (an index-matched, invisible container):
+                # nothing reflects and nothing bends, so the crossing is not a scattering event and
+                # does not count toward max_depth
+                matched = film_kind == 0 and not crystal and n_a[0] == n_b[0]
+                if depth >= p.max_depth and not matched:
+                    continue
                 if film_kind != 0 and film_kind != KIND_COATED and not crystal:
                     # a thin shell or an opaque film surface (stages/coated.py)
                     obj_f = hit.object
@@ -549,6 +555,9 @@ def _make_trace_radiance(fluorescence: bool, coherent: bool):
                             polarized,
                             p.birefringence,
                         )
+                if matched:
+                    for k in range(count):
+                        cand[k, ROW_DEPTH] = float(depth)
                 if p.films.kind[hit.object] == 0:
                     # the children in the ambient medium leave the solid's surface (reflected off it from
                     # outside, or transmitted out): remember which, so their query can skip it if convex
