@@ -469,3 +469,89 @@ def _band_tables():
         {"center_nm": 480, "width_nm": 80, "peak_alpha_per_mm": 0.9},
         {"center_nm": 620, "width_nm": 60, "peak_alpha_per_mm": 1.6},
     ]
+
+
+# ---------------------------------------------------------------------------------------------
+# the scenes: each zone shows in its own colour (tiny renders, seen from straight above in a
+# uniform white light so that every path carries the body colour)
+# ---------------------------------------------------------------------------------------------
+
+
+def _top_view(name, size=24, view=12.0, **extra):
+    sc = wo.Scene.load(ROOT / "scenes" / f"zoning_{name}.toml")
+    over = {
+        "camera.type": "orthographic",
+        "camera.position": [0.0, 0.0, 30.0],
+        "camera.look_at": [0.0, 0.0, 0.0],
+        "camera.up": [0.0, 1.0, 0.0],
+        "camera.view_height": view,
+        "camera.width": size,
+        "camera.height": size,
+        "render.wavelengths": 8,
+        **extra,
+    }
+    data = sc.with_overrides(over).data
+    data["light"] = [{"type": "constant"}]
+    return wo.Scene.from_dict(data, path=sc.path)
+
+
+def _lch(img, mask):
+    """CIELAB L*, C*, h (degrees) of the alpha-weighted mean XYZ of the pixels in ``mask``."""
+    import colour
+
+    w = img.alpha[mask][:, None]
+    xyz = (img.xyz[mask] * w).sum(axis=0) / w.sum()
+    lab = colour.XYZ_to_Lab(xyz / xyz[1] * 0.5)  # the hue does not depend on the exposure
+    return lab[0], float(np.hypot(lab[1], lab[2])), float(np.degrees(np.arctan2(lab[2], lab[1])) % 360.0)
+
+
+def _x_of_columns(size, view):
+    return (np.arange(size) + 0.5) / size * view - 0.5 * view
+
+
+def test_ametrine_halves_are_purple_and_yellow(device):
+    size, view = 24, 12.0
+    img = wo.render(_top_view("ametrine", size, view), device=device)
+    x = np.broadcast_to(_x_of_columns(size, view)[None, :], (size, size))
+    stone = img.alpha > 0.5
+    _, c_a, h_a = _lch(img, stone & (x < -0.6))
+    _, c_c, h_c = _lch(img, stone & (x > 0.6))
+    assert 285.0 < h_a < 340.0 and c_a > 10.0  # amethyst: purple
+    assert 70.0 < h_c < 110.0 and c_c > 10.0  # citrine: yellow
+
+
+def test_watermelon_core_is_pink_and_rim_green(device):
+    size, view = 32, 10.0
+    img = wo.render(_top_view("watermelon", size, view), device=device)
+    x = _x_of_columns(size, view)
+    r = np.hypot(x[None, :], x[:, None])
+    stone = img.alpha > 0.5
+    _, c_core, h_core = _lch(img, stone & (r < 1.2))
+    _, c_rim, h_rim = _lch(img, stone & (r > 3.2))
+    assert (h_core > 320.0 or h_core < 20.0) and c_core > 10.0  # pink to red
+    assert 110.0 < h_rim < 180.0 and c_rim > 10.0  # green
+
+
+def test_sapphire_bands_alternate(device):
+    """Columns inside the strong bands are more saturated than those inside the pale bands;
+    without the zoning (every band strong) the columns are alike."""
+    size, view = 36, 12.0
+    sc = _top_view("sapphire", size, view)
+    img = wo.render(sc, device=device)
+    x = _x_of_columns(size, view)
+    offsets = [-2.6, -1.4, -0.6, 0.4, 1.1, 2.2]
+    band = np.searchsorted(offsets, x)
+    clear_of_edges = np.min(np.abs(x[:, None] - np.asarray(offsets)[None, :]), axis=1) > 0.25
+    stone = img.alpha > 0.5
+    strong = stone & (clear_of_edges & (band % 2 == 0) & (np.abs(x) < 3.0))[None, :]
+    pale = stone & (clear_of_edges & (band % 2 == 1))[None, :]
+    _, c_s, h_s = _lch(img, strong)
+    _, c_p, _ = _lch(img, pale)
+    assert 240.0 < h_s < 300.0  # blue
+    assert c_s > 1.5 * c_p
+    strong_all = {"bands": [{"center_nm": 640, "width_nm": 60, "peak_alpha_per_mm": 0.8}]}
+    uniform = sc.with_overrides({"object.0.zoning.absorption": [strong_all] * 7})
+    img_u = wo.render(uniform, device=device)
+    _, c_su, _ = _lch(img_u, strong)
+    _, c_pu, _ = _lch(img_u, pale)
+    assert c_pu > 0.75 * c_su
