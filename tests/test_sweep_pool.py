@@ -139,14 +139,14 @@ def _rows(out: Path) -> int:
         return 0
 
 
-def _start(tmp_path: Path, *extra: str) -> tuple[subprocess.Popen, Path]:
+def _start(tmp_path: Path, *extra: str, pool=("--workers", "2")) -> tuple[subprocess.Popen, Path]:
     (tmp_path / "scene.toml").write_text(SCENE)
     (tmp_path / "sweep.toml").write_text(SWEEP)
     out = tmp_path / "out"
     env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
     cmd = [sys.executable, "-m", "warpoptics.cli", "sweep", str(tmp_path / "sweep.toml"), "-o", str(out)]
     proc = subprocess.Popen(
-        [*cmd, "--workers", "2", "--quiet", *extra],
+        [*cmd, *pool, "--quiet", *extra],
         env=env,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
@@ -228,12 +228,16 @@ def test_sweep_reports_jobs_whose_workers_keep_dying(tmp_path):
 
 
 @linux
-def test_ctrl_c_on_a_pooled_sweep_prints_one_line(tmp_path):
+@pytest.mark.parametrize("pool", [("--workers", "2"), ("--dask-local", "2")])
+def test_ctrl_c_on_a_pooled_sweep_prints_one_line(tmp_path, pool):
     """SIGINT to the process group (Ctrl-C in a terminal) after the first row: one
-    "interrupted" line (the workers leave Ctrl-C to the parent), status 130, the finished rows
-    kept, and no worker left running."""
+    "interrupted" line (the workers, of the process pool or of a local Dask cluster, leave
+    Ctrl-C to the parent: no traceback from each), status 130, the finished rows kept, and no
+    worker left running."""
+    if pool[0] == "--dask-local":
+        pytest.importorskip("distributed")
     t0 = time.monotonic()
-    proc, out = _start(tmp_path)
+    proc, out = _start(tmp_path, pool=pool)
     _wait_for_first_row(proc, out, t0)
     workers = [p for p, cmd in _children(proc.pid) if "spawn_main" in cmd]
     os.killpg(proc.pid, signal.SIGINT)

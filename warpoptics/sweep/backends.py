@@ -98,6 +98,23 @@ def _death(exitcode: int | None) -> str:
     return f"its worker process exited with status {exitcode} before finishing it"
 
 
+@contextlib.contextmanager
+def _children_ignore_sigint() -> Iterator[None]:
+    """Processes started within start with SIGINT ignored (a disposition survives exec, and
+    Python then installs no KeyboardInterrupt handler), so that Ctrl-C in a terminal, sent to the
+    whole process group, reaches only this process, even while a child imports: one
+    "interrupted" line, no traceback per worker; this process stops its workers itself.  A
+    Ctrl-C pressed within is lost (only the main thread can change the handler)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:  # (None: a handler set outside Python, which cannot be restored: Python's own)
+        signal.signal(signal.SIGINT, signal.default_int_handler if previous is None else previous)
+
+
 class _Worker:
     """One spawned worker process and the parent's end of its pipe."""
 
@@ -108,16 +125,10 @@ class _Worker:
         self.process = ctx.Process(
             target=_worker_main, args=(child_end, fn), name="warpoptics-sweep", daemon=True
         )
-        # the worker starts with SIGINT ignored (a disposition survives exec; Python keeps it), so
-        # that Ctrl-C in the terminal, sent to the whole process group, reaches only the parent
-        # even while the worker imports; the parent stops the workers itself
-        main = threading.current_thread() is threading.main_thread()
-        previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
         try:
-            self.process.start()
+            with _children_ignore_sigint():
+                self.process.start()
         finally:
-            if main:
-                signal.signal(signal.SIGINT, previous)
             child_end.close()
 
     def stop(self, timeout: float) -> None:
@@ -204,13 +215,14 @@ def local_cluster(n_workers: int) -> Iterator[str]:
     the ``with`` block lasts: yields its scheduler address.  Runs that share it (the cut
     optimizer's generations) keep their workers, with Warp started and the kernels loaded."""
     distributed = _distributed("--dask-local")
-    cluster = distributed.LocalCluster(
-        n_workers=int(n_workers),
-        threads_per_worker=1,
-        processes=True,
-        dashboard_address=None,  # type: ignore[arg-type]  # dask documents None: no dashboard
-        silence_logs=40,
-    )
+    with _children_ignore_sigint():  # the workers leave Ctrl-C to this process (it closes them)
+        cluster = distributed.LocalCluster(
+            n_workers=int(n_workers),
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,  # type: ignore[arg-type]  # dask documents None: no dashboard
+            silence_logs=40,
+        )
     try:
         yield str(cluster.scheduler_address)
     finally:
