@@ -197,3 +197,18 @@ def test_bodies_too_long_short_or_missing(server, preview, capfd):
     assert send(port, request("GET", "/state", host))[0] == 200
     assert preview.generation == gen
     assert "Traceback" not in capfd.readouterr().err
+
+
+def test_clients_that_vanish_print_nothing(server, capfd):
+    """Connections aborted before, inside or after the request line, or half sent and closed,
+    or a frame's client gone mid-answer: the terminal stays silent and the server serves on."""
+    port = server.port
+    host = f"127.0.0.1:{port}"
+    send(port, b"", reset=True)
+    send(port, b"GET /sta", reset=True)
+    send(port, b"GET /state HTTP/1.1\r\nHost: " + host.encode(), reset=True)
+    send(port, request("GET", "/frame.jpg", host), reset=True)
+    status, _ = send(port, b"GET /state HTTP/1.1\r\nHost: " + host.encode(), shut=True)
+    assert status == 200  # the headers end at the close: the request as sent, this server's Host
+    assert send(port, request("GET", "/state", host))[0] == 200
+    assert capfd.readouterr().err == ""

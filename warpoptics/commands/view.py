@@ -126,9 +126,11 @@ class ViewServer:
 
         class Server(ThreadingHTTPServer):
             def handle_error(self, request, client_address):
-                # what escaped a handler (it should not): one line, never a traceback
+                # what escaped a handler: a client gone before its request line (quiet), else one
+                # line, never a traceback
                 exc = sys.exc_info()[1]
-                print(f"warpoptics view: a request failed: {type(exc).__name__}: {exc}", file=sys.stderr)
+                if not isinstance(exc, (BrokenPipeError, ConnectionResetError, TimeoutError)):
+                    print(f"warpoptics view: a request failed: {type(exc).__name__}: {exc}", file=sys.stderr)
 
         try:
             self.httpd = Server((HOST, int(port)), Handler)
