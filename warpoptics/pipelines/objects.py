@@ -125,7 +125,7 @@ def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -
 def _zoned(ob: ObjectConfig, host, *, file: str | None, where: str):
     """The host material of a colour-zoned object with its zones (materials/zoning.py): each
     zone's absorption spec resolved as a material (an inline table without ``base`` or
-    ``cauchy`` takes the host's base), the zones placed with the object."""
+    ``cauchy`` takes the object's), the zones placed with the object."""
     zoning = ob.zoning
     assert zoning is not None
     resolved = []
@@ -133,17 +133,20 @@ def _zoned(ob: ObjectConfig, host, *, file: str | None, where: str):
         if spec == "none":
             spec = {"cauchy": [1.0]}  # a clear zone (only a zone's absorption is used)
         if isinstance(spec, dict) and "base" not in spec and "cauchy" not in spec:
-            base = ob.material if isinstance(ob.material, str) else None
-            if isinstance(ob.material, dict):
-                base = ob.material.get("base")
-            if base is None:
+            # the object's own base (a library name) or Cauchy index
+            host_spec = ob.material
+            if isinstance(host_spec, str):
+                host_spec = {"base": host_spec}
+            lent = {}
+            if isinstance(host_spec, dict):
+                lent = {k: host_spec[k] for k in ("base", "cauchy") if k in host_spec}
+            if not lent:
                 raise InputError(
-                    "an inline zone absorption needs a base library material (the object's "
-                    "material has none to lend it)",
+                    'an inline zone absorption needs base = "<library name>" or cauchy = [...]',
                     file=file,
                     field=f"{where}.zoning.absorption.{j}.base",
                 )
-            spec = {"base": base, **spec}
+            spec = {**lent, **spec}
         try:
             resolved.append(material_from_spec(spec))
         except InputError as exc:

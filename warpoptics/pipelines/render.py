@@ -529,6 +529,11 @@ def _non_dispersive(mats, step_nm: float = COARSE_STEP_NM) -> bool:
             return False
         if np.abs(a).max() > 0.0:
             return False
+        # a colour-zoned stone absorbs with its zones' materials (materials/zoning.py)
+        zoning = getattr(m, "zoning", None)
+        for z in zoning.absorption if zoning is not None else ():
+            if np.abs(np.asarray(z.alpha(grid), dtype=np.float64)).max() > 0.0:
+                return False
     return True
 
 
