@@ -81,13 +81,13 @@ BAND_SETS = {
         reference_concentration=1.0,
         bands=dict(
             o=((714.0, 73.0, 1.0, _GW), (1111.0, 185.0, 2.0, _GW)),
-            e=((714.0, 73.0, 0.1, _GW), (1111.0, 185.0, 0.2, _GW)),
+            e=((714.0, 73.0, 0.08, _GW), (1111.0, 185.0, 0.16, _GW)),
         ),
         source=(
             "Mattson & Rossman 1987, Phys. Chem. Minerals 14, 163 (abstract: Fe2+ bands "
             "intensified by adjacent Fe3+, E⊥c growing > 10x E∥c)"
         ),
-        note=_NOTE + "; the E⊥c/E∥c ratio of 10 is the source's lower bound",
+        note=_NOTE + "; E⊥c/E∥c = 12.5, above the source's 'more than ten times'",
     ),
     "Fe2+-Ti4+": dict(
         unit="1/mm (peak alpha of the 450 nm band, E⊥c)",
