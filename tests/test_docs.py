@@ -54,3 +54,31 @@ def test_a_docstring_that_is_not_rest_is_shown_as_written(api):
     assert not api._parses("an inline ``literal without its end\n")
     doc = api._clean_doc("broken ``literal\n\n  indented oddly\nback")
     assert doc.startswith("::")
+
+
+def test_every_gallery_image_is_shown_with_its_command():
+    page = (ROOT / "docs/gallery.md").read_text()
+    sections = page.split("\n### ")[1:]
+    shown = {}
+    for section in sections:
+        for image in (part.split(")")[0] for part in section.split("](gallery/")[1:]):
+            shown[image] = section
+    images = sorted(p.name for p in (ROOT / "docs/gallery").glob("*.png"))
+    assert images and sorted(shown) == images
+    for image, section in shown.items():
+        assert "```bash\n" in section and ("warpoptics " in section or "python scripts/" in section), image
+
+
+def test_the_pages_name_files_that_exist():
+    """Every scene, script and test file a documentation page names exists."""
+    import re
+
+    missing = []
+    for page in sorted((ROOT / "docs").rglob("*.md")):
+        if "_build" in page.parts:
+            continue
+        text = page.read_text()
+        for path in re.findall(r"(?:scenes|scripts|tests)/[\w/.-]+\.(?:toml|exr|py|asc)", text):
+            if not (ROOT / path).is_file():
+                missing.append(f"{page.relative_to(ROOT)}: {path}")
+    assert not missing, missing
