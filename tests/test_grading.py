@@ -99,7 +99,7 @@ def test_presets_scene_and_tilt_rotation():
 def test_light_return_peaks_inside_gia_excellent_range():
     # the tilted, head-obscured protocol (reduced: 32 px, face-up + 10 deg, one azimuth) puts the
     # maximum of 40 / 41 / 42 deg at 41 deg, inside GIA's Excellent 40.6-41.8 deg; the face-up
-    # dome without the head (the old metric) prefers the shallower 40 deg (README: peak at 39.5)
+    # dome without the head (the old metric) prefers the shallower 40 deg (grading guide: 39.5)
     import dataclasses
 
     proto = dataclasses.replace(PROTOCOL, tilts=(0.0, 10.0), azimuths=(0.0,), size=32, wavelengths=4)

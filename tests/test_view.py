@@ -129,7 +129,7 @@ def test_white_furnace_after_orbit_restart(device):
     stone, empty = images
     assert empty.alpha.max() == 0 and stone.alpha.sum() > 20
     ratio = stone.xyz[..., 1] / empty.xyz[..., 1]
-    # tolerance as tests/test_render.py's furnace: the transport conserves energy to 2e-4 (README);
+    # tolerance as tests/test_render.py's furnace: the transport conserves energy to 2e-4 (docs/accuracy.md);
     # 1 % leaves room for the few Russian-roulette paths of 3 samples
     assert ratio.min() > 0.99 and ratio.max() < 1.01
 

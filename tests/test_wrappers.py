@@ -1449,7 +1449,7 @@ def test_noise_is_deterministic_and_seeded(device, w):
 
 
 # ---------------------------------------------------------------------------------------------
-# The naming rule (README "How it is built"): every element-wise wrapper ``f`` names the
+# The naming rule (docs/architecture.md, "Naming"): every element-wise wrapper ``f`` names the
 # ``@wp.func`` it launches as ``f.wp``; a device function that would share its wrapper's name
 # carries the suffix ``_wp`` (no other suffixes: ``_func``, ``_f``).  Methods of material and
 # colour-table objects evaluate through the device-side material table / table lookup instead.
