@@ -34,10 +34,8 @@ Conventions
   Re(n1 cos i)`` and ``Tp = Re(conj(N2) cos t) |tp|^2 / Re(n1 cos i)`` are the normal energy
   fluxes just past the interface (valid for a non-absorbing medium 1); ``R + T = 1``.
 
-References:
-    Born, M., Wolf, E. 1999. Principles of Optics, 7th ed., §1.5.2 eq. 20-21, §13.2 (absorbing).
-    Hecht, E. 2017. Optics, 5th ed., §4.6.2 eq. 4.42-4.45.
-    Guy, S., Soler, C. 2004. Graphics Gems Revisited, fig. 2.
+References: Born & Wolf, Principles of Optics, 7th ed., §1.5.2 eq. 20-21, §13.2 (absorbing);
+Hecht, Optics, 5th ed. (2017), §4.6.2 eq. 4.42-4.45; Guy & Soler 2004, fig. 2.
 """
 
 from __future__ import annotations

@@ -32,12 +32,9 @@ is power, and both handle total internal reflection (no refracted child; |r| = 1
 Adding a medium (how biaxial crystals were added, and what the tracers call):
 docs/design/interface_event.md.
 
-References:
-    Born, M., Wolf, E. 1999. Principles of Optics, 7th ed., §1.5 (Fresnel), §1.6 (stacks).
-    Guy, S., Soler, C. 2004. Graphics Gems Revisited. ACM TOG 23(3). eq. 2-5, 10, 12.
-    Beyerle, G., McDermid, I. S. 1998. Ray-tracing formulas for refraction and internal
-        reflection in uniaxial crystals. Applied Optics 37(34).
-    Jakob, W. et al. 2022. Mitsuba 3, ``include/mitsuba/render/fresnel.h`` (``refract``).
+References: Born & Wolf, Principles of Optics, 7th ed., §1.5-1.6; Guy & Soler 2004, "Graphics
+Gems Revisited", eq. 2-5, 10, 12; Beyerle & McDermid 1998, Appl. Opt. 37(34); Mitsuba 3,
+``include/mitsuba/render/fresnel.h`` (``refract``).
 """
 
 from __future__ import annotations
