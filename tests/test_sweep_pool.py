@@ -10,6 +10,7 @@ and find its workers among its child processes in /proc (Linux).
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import subprocess
@@ -29,7 +30,8 @@ linux = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /
 
 def job(payload: dict) -> dict:
     """The pool tests' job: ``action`` "ok" returns, "die" SIGKILLs its own worker, "die_once"
-    does so only the first time (a marker file remembers), "raise" raises a ValueError."""
+    does so only the first time (a marker file remembers), "raise" raises a ValueError, "sleep"
+    writes its marker file and sleeps 300 s."""
     action = payload["action"]
     if action == "die_once":
         marker = Path(payload["marker"])
@@ -40,6 +42,9 @@ def job(payload: dict) -> dict:
         os.kill(os.getpid(), signal.SIGKILL)
     elif action == "raise":
         raise ValueError(f"job {payload['job']['key']}: a bad value")
+    elif action == "sleep":
+        Path(payload["marker"]).write_text("started")
+        time.sleep(300)
     return {"key": payload["job"]["key"], "pid": os.getpid()}
 
 
@@ -130,6 +135,15 @@ def _children(pid: int) -> list[tuple[int, str]]:
         except (OSError, ValueError):
             continue
     return found
+
+
+def _alive(pid: int) -> bool:
+    """Whether process ``pid`` exists and is not a zombie (a reaped or dead process is not)."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return False
+    return stat[stat.rindex(")") + 2] != "Z"
 
 
 def _rows(out: Path) -> int:
@@ -246,6 +260,34 @@ def test_ctrl_c_on_a_pooled_sweep_prints_one_line(tmp_path, pool):
     assert stderr.count("interrupted") == 1 and "Traceback" not in stderr
     assert _rows(out) >= 1
     deadline = time.monotonic() + 30
-    while any(Path(f"/proc/{p}").exists() for p in workers) and time.monotonic() < deadline:
+    while any(_alive(p) for p in workers) and time.monotonic() < deadline:
         time.sleep(0.1)
-    assert not any(Path(f"/proc/{p}").exists() for p in workers)
+    assert not any(_alive(p) for p in workers)
+
+
+@linux
+def test_workers_end_with_a_killed_sweep(tmp_path):
+    """The sweep itself SIGKILLed (by the out-of-memory killer, say) while its workers are in
+    jobs of 300 s: they do not run on for nobody, the kernel ends them with their parent."""
+    payloads = _payloads(["sleep", "sleep"], tmp_path)
+    code = (
+        "import sys; sys.path.insert(0, sys.argv[1]); import json\n"
+        "from test_sweep_pool import job\n"
+        "from warpoptics.sweep.backends import pool_results\n"
+        "list(pool_results(job, json.loads(sys.argv[2]), 2, 'process'))\n"
+    )
+    env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    args = [sys.executable, "-c", code, str(Path(__file__).parent), json.dumps(payloads)]
+    proc = subprocess.Popen(args, env=env, start_new_session=True)
+    t0 = time.monotonic()
+    while not all((tmp_path / f"marker{i}").exists() for i in range(2)):
+        assert proc.poll() is None and time.monotonic() - t0 < BOUND, "the jobs did not start"
+        time.sleep(0.05)
+    workers = [p for p, cmd in _children(proc.pid) if "spawn_main" in cmd]
+    assert len(workers) == 2
+    proc.send_signal(signal.SIGKILL)
+    proc.wait(timeout=60)
+    deadline = time.monotonic() + 30
+    while any(_alive(p) for p in workers) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not any(_alive(p) for p in workers)

@@ -8,7 +8,9 @@ process (spawned pools and Dask pickle it by reference).
 from __future__ import annotations
 
 import contextlib
+import os
 import signal
+import sys
 import threading
 from collections import deque
 from collections.abc import Callable, Iterator
@@ -63,10 +65,27 @@ def pool_results(
         ex.shutdown(wait=True, cancel_futures=True)
 
 
-def _worker_main(conn, fn: Callable[[dict], dict]) -> None:
+def _die_with_parent(parent_pid: int) -> None:
+    """Linux: have the kernel SIGKILL this process when its parent dies (``PR_SET_PDEATHSIG``),
+    so that a sweep killed itself (SIGKILL, the out-of-memory killer) leaves no worker rendering
+    on for nobody; elsewhere a worker ends after its job, when it finds its pipe closed."""
+    if not sys.platform.startswith("linux"):
+        return
+    import ctypes
+
+    try:
+        ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL))  # 1: PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        return
+    if os.getppid() != parent_pid:  # the parent died before the request took effect
+        os._exit(1)
+
+
+def _worker_main(conn, fn: Callable[[dict], dict], parent_pid: int) -> None:
     """A pool worker: run ``fn`` on each payload received on ``conn`` and send back ``("ok",
     result)`` or ``("error", exception)``, until ``None`` or the parent's end closes."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's: it stops the workers
+    _die_with_parent(parent_pid)
     while True:
         try:
             payload = conn.recv()
@@ -123,7 +142,7 @@ class _Worker:
         self.conn = parent_end
         self.job: int | None = None  # the payload index it is running
         self.process = ctx.Process(
-            target=_worker_main, args=(child_end, fn), name="warpoptics-sweep", daemon=True
+            target=_worker_main, args=(child_end, fn, os.getpid()), name="warpoptics-sweep", daemon=True
         )
         try:
             with _children_ignore_sigint():
