@@ -1,3 +1,7 @@
+import os
+import signal
+import time
+
 import numpy as np
 import pytest
 import warp as wp
@@ -25,6 +29,36 @@ def test_tiled_equals_single_launch(device):
         tiled = wp.zeros(n, dtype=wp.float32, device=device)
         launch_tiled(_work, n, [x, tiled], device=device, threads=threads, tile_size=tile)
         assert np.array_equal(single.numpy(), tiled.numpy()), (threads, tile)
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs os.fork")
+def test_tiled_launch_works_in_a_forked_child():
+    """A child forked after the thread pool started has none of its threads: its tiled launches
+    must start a pool of their own, not wait forever on the parent's (a fork-context
+    multiprocessing pool, a fuzz case)."""
+    n = 4001
+    x = wp.array(np.linspace(0.0, 1.0, n, dtype=np.float32), device="cpu")
+    want = wp.zeros(n, dtype=wp.float32, device="cpu")
+    launch_tiled(_work, n, [x, want], device="cpu", threads=2, tile_size=500)  # the pool starts
+    pid = os.fork()
+    if pid == 0:  # pragma: no cover (the child)
+        code = 1
+        try:
+            got = wp.zeros(n, dtype=wp.float32, device="cpu")
+            launch_tiled(_work, n, [x, got], device="cpu", threads=2, tile_size=500)
+            code = 0 if np.array_equal(got.numpy(), want.numpy()) else 3
+        finally:
+            os._exit(code)
+    deadline = time.monotonic() + 60.0
+    while time.monotonic() < deadline:
+        done, status = os.waitpid(pid, os.WNOHANG)
+        if done:
+            assert os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0, status
+            return
+        time.sleep(0.05)
+    os.kill(pid, signal.SIGKILL)
+    os.waitpid(pid, 0)
+    pytest.fail("the forked child's tiled launch did not finish within 60 s")
 
 
 def test_elementwise_broadcasts(device):
