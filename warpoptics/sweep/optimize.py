@@ -340,6 +340,11 @@ class CutOptimizer:
         return {self._key(r): r for r in rows}
 
     def _journal(self, e: _Eval) -> None:
+        def cell(v: float) -> str:
+            """A number, or an empty cell for what was not measured (an infeasible candidate's
+            objective, a metric the objective does not need): no NaN in the file."""
+            return format_value(float(v)) if math.isfinite(v) else ""
+
         m = {k: e.metrics.get(k, float("nan")) for k in OBJECTIVE_METRICS}
         row = [
             e.index,
@@ -347,10 +352,10 @@ class CutOptimizer:
             e.candidate,
             *[format_value(float(e.values[p.name])) for p in self.parameters],
             "true" if e.feasible else "false",
-            format_value(e.violation),
-            *[format_value(e.measured[k]) for k in ("depth", "table", "weight_retention")],
-            *[format_value(float(m[k])) for k in OBJECTIVE_METRICS],
-            format_value(float(e.objective)),
+            cell(e.violation),
+            *[cell(e.measured[k]) for k in ("depth", "table", "weight_retention")],
+            *[cell(m[k]) for k in OBJECTIVE_METRICS],
+            cell(e.objective),
             e.renders,
         ]
         append_line(self.journal_path, csv_line(row))
@@ -362,6 +367,8 @@ class CutOptimizer:
         where = f"journal row eval {row.get('eval', '?')}"
 
         def num(name: str) -> float:
+            if row.get(name) == "":  # not measured (journals before this read "nan")
+                return math.nan
             try:
                 return float(row[name])
             except (KeyError, TypeError, ValueError):
@@ -378,7 +385,7 @@ class CutOptimizer:
             )
         feasible = row["feasible"] == "true"
         violation = num("violation")
-        metrics = {k: num(k) for k in OBJECTIVE_METRICS if row.get(k) != "nan"}
+        metrics = {k: num(k) for k in OBJECTIVE_METRICS if row.get(k) not in ("", "nan")}
         objective = num("objective")
         if feasible:
             bad = [k for k in self.objective if not math.isfinite(metrics.get(k, math.nan))]
