@@ -624,3 +624,57 @@ def test_every_estimator_sees_the_zones(device):
     assert lx / lz > 1.1 * (rx / rz)
     clear = _half_means(Renderer(_halves_scene("beam", zoned=False), device=device).run())
     assert clear[0][0] / clear[0][2] == pytest.approx(clear[1][0] / clear[1][2], rel=0.05)
+
+
+# ---------------------------------------------------------------------------------------------
+# shadow rays (stages/surfaces.py): the straight-through filter of a zoned stone
+# ---------------------------------------------------------------------------------------------
+
+
+def _shadow_scene(obj, *, nested=False):
+    s = 1 / math.sqrt(2)
+    objects = [obj]
+    if nested:  # the plate inside a clear box of index 1: the nested shadow path
+        objects = [
+            {"shape": "cube", "size": 8.0, "position": [0.0, 0.0, 4.6], "material": {"cauchy": [1.0]}},
+            obj,
+        ]
+    return wo.Scene.from_dict(
+        {
+            "camera": {
+                "type": "orthographic",
+                "position": [3.0, 0.0, 20.0],
+                "look_at": [3.0, 0.0, 0.0],
+                "up": [0.0, 1.0, 0.0],
+                "view_height": 0.5,
+                "width": 4,
+                "height": 4,
+            },
+            "render": {"spectral": "rgb3", "wavelengths": 3, "diffuse_depth": 1, "seed": 1},
+            "surface": [{"type": "plane", "height": 0.0, "color": [0.8, 0.8, 0.8]}],
+            "light": [{"type": "directional", "direction": [s, 0.0, -s], "irradiance": 1.0}],
+            "object": objects,
+        }
+    )
+
+
+@pytest.mark.parametrize("nested", [False, True], ids=["plain", "nested"])
+def test_shadow_through_a_zoned_plate(device, nested):
+    """A 1 mm plate whose lower half (0.5 mm) absorbs like garnet and whose upper half is clear:
+    its shadow at 45 degrees is exp(-K chord / 2) per rgb3 channel, K the garnet's eq. 9
+    absorbances (the same test as the unzoned garnet plate's in test_surfaces.py)."""
+    from warpoptics.pipelines.render import Renderer
+
+    plate = {"shape": "plate", "width": 4.0, "length": 4.0, "thickness": 1.0, "position": [0.0, 0.0, 3.0]}
+    zoning = {"type": "halves", "normal": [0.0, 0.0, 1.0], "absorption": ["garnet", "none"]}
+    clear = Renderer(
+        _shadow_scene(dict(plate, material="garnet", absorption_scale=0.0), nested=nested), device=device
+    )
+    zoned = Renderer(
+        _shadow_scene(dict(plate, material="garnet", zoning=zoning), nested=nested), device=device
+    )
+    ratio = zoned.run().rgb.mean(axis=(0, 1)) / clear.run().rgb.mean(axis=(0, 1))
+    table, ids = build_material_table([material_from_spec("garnet")], device)
+    k = table.rgb3_alpha_o.numpy()[ids[0]]
+    chord = 1.0 / math.cos(math.radians(45.0))
+    np.testing.assert_allclose(ratio, np.exp(-k * chord * 0.5), rtol=0.02)

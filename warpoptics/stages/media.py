@@ -39,6 +39,7 @@ __all__ = [
     "zone_alpha",
     "zoned_kappa",
     "zoned_isotropic_kappa",
+    "zoned_alpha_pair",
 ]
 
 
@@ -141,6 +142,24 @@ def zone_alpha(mats: MaterialTable, zone_id: int, rgb3_channel: int, wavelength:
 
 
 @wp.func
+def _zone_lengths_of(mats: MaterialTable, mat_id: int, origin: wp.vec3f, direction: wp.vec3f, length: float):
+    """``optics.zoning.zone_lengths`` of a world segment in zoned material ``mat_id``'s zones
+    (the segment turned into its stone's frame)."""
+    m = mats.zone_frame[mat_id]
+    return zone_lengths(
+        mats.zone_kind[mat_id],
+        mats.zone_axis[mat_id],
+        mats.zone_origin[mat_id],
+        mats.zone_bound,
+        mats.zone_start[mat_id],
+        mats.zone_count[mat_id],
+        wp.transform_point(m, origin),
+        wp.transform_vector(m, direction),
+        length,
+    )
+
+
+@wp.func
 def zoned_kappa(
     mats: MaterialTable,
     mat_id: int,
@@ -166,18 +185,7 @@ def zoned_kappa(
     if count == 0:
         return kappa
     start = mats.zone_start[mat_id]
-    m = mats.zone_frame[mat_id]
-    lengths = zone_lengths(
-        mats.zone_kind[mat_id],
-        mats.zone_axis[mat_id],
-        mats.zone_origin[mat_id],
-        mats.zone_bound,
-        start,
-        count,
-        wp.transform_point(m, origin),
-        wp.transform_vector(m, direction),
-        length,
-    )
+    lengths = _zone_lengths_of(mats, mat_id, origin, direction, length)
     kap = ZoneVector()
     held = int(-1)
     for i in range(count):
@@ -223,4 +231,37 @@ def zoned_isotropic_kappa(
         origin,
         direction,
         length,
+    )
+
+
+@wp.func
+def zoned_alpha_pair(
+    mats: MaterialTable,
+    mat_id: int,
+    alpha_o: float,
+    alpha_e: float,
+    rgb3_channel: int,
+    wavelength: float,
+    origin: wp.vec3f,
+    direction: wp.vec3f,
+    length: float,
+):
+    """Mean (alpha_o, alpha_e) in 1/mm along a world segment inside material ``mat_id``: the
+    given pair for an unzoned material, else each zone's o and e absorption weighted by the
+    segment's length in it (``optics.zoning.zoned_optical_depth`` / length): the straight
+    shadow rays' filter (``stages.surfaces.gem_transmittance``)."""
+    count = mats.zone_count[mat_id]
+    if count == 0 or length <= 0.0:
+        return wp.vec2f(alpha_o, alpha_e)
+    start = mats.zone_start[mat_id]
+    lengths = _zone_lengths_of(mats, mat_id, origin, direction, length)
+    k_o = ZoneVector()
+    k_e = ZoneVector()
+    for i in range(count):
+        if lengths[i] > 0.0:
+            a = zone_alpha(mats, mats.zone_material[start + i], rgb3_channel, wavelength)
+            k_o[i] = a[0]
+            k_e[i] = a[2]
+    return wp.vec2f(
+        zoned_optical_depth(lengths, k_o, count) / length, zoned_optical_depth(lengths, k_e, count) / length
     )

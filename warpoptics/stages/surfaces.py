@@ -69,7 +69,7 @@ from ..spectra import (
 )
 from ..validate import choice, finite_array
 from .environment import Environment, environment_radiance
-from .media import medium_alpha, object_medium
+from .media import medium_alpha, object_medium, zoned_alpha_pair
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -538,7 +538,15 @@ def _nested_transmittance(
             n_outer = n_nxt
             n_inner = n_cur
         cos_i = wp.abs(wp.dot(d, h.normal))
-        tr *= wp.exp(-a_cur * h.t) * _interface_t(cos_i, wp.vec2f(n_outer, 0.0), wp.vec2f(n_inner, 0.0))
+        a_seg = a_cur
+        if cur >= 0:
+            if mats.zone_count[obj_material[cur]] > 0:
+                # a colour-zoned stone: the mean o/e absorption of this segment through its zones
+                pair = zoned_alpha_pair(
+                    mats, obj_material[cur], 0.0, 0.0, rgb3_channel, wavelength, o, d, h.t
+                )
+                a_seg = 0.5 * (pair[0] + pair[1]) * obj_absorption[cur]
+        tr *= wp.exp(-a_seg * h.t) * _interface_t(cos_i, wp.vec2f(n_outer, 0.0), wp.vec2f(n_inner, 0.0))
         eps = geom.epsilon[k]
         remaining = remaining - h.t - eps
         if remaining <= 0.0:
@@ -593,6 +601,10 @@ def gem_transmittance(
         mid = obj_material[k]
         med, no, ne, alpha = object_medium(mats, mid, wp.vec3f(0.0), wavelength)
         a_o, a_e = medium_alpha(mats, mid, alpha, rgb3_channel)
+        # a colour-zoned stone: the mean o/e absorption of the chord through its zones
+        a_oe = zoned_alpha_pair(mats, mid, a_o, a_e, rgb3_channel, wavelength, p_in, d, chord)
+        a_o = a_oe[0]
+        a_e = a_oe[1]
         sc = obj_absorption[k]
         amb = wp.vec2f(ambient, 0.0)
         n_o = wp.vec2f(no[0], 0.0)
