@@ -95,6 +95,16 @@ def test_every_request_must_name_this_server(server, capfd):
             assert b"controls" not in body and b"warpoptics-token" not in body
     for host in (f"127.0.0.1:{port}", f"localhost:{port}", f"LocalHost:{port}", f"[::1]:{port}"):
         assert send(port, request("GET", "/state", host))[0] == 200, host
+    # another site's page that names the right host (<img src="http://127.0.0.1:PORT/frame.jpg">):
+    # its browser says so, and the request is refused before any pass is rendered
+    passes = server.preview.passes
+    for site in ("cross-site", "same-site"):
+        for path in ("/frame.jpg", "/state", "/"):
+            headers = {"Sec-Fetch-Site": site}
+            assert send(port, request("GET", path, f"127.0.0.1:{port}", headers))[0] == 403, (site, path)
+    assert server.preview.passes == passes
+    for site in ("same-origin", "none"):  # the page's own requests; a typed address or a bookmark
+        assert send(port, request("GET", "/state", f"127.0.0.1:{port}", {"Sec-Fetch-Site": site}))[0] == 200
     # a rebinding page's POST is refused for its Host, token or not
     body = b'{"azimuth": 90}'
     headers = {"Content-Type": "application/json", "Content-Length": "15", "X-Warpoptics-Token": server.token}

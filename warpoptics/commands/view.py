@@ -16,7 +16,9 @@ watches it and the machine is idle when none does.  Endpoints:
 
 Who may ask (docs/preview_security.md): every request must name this server in ``Host``
 (``127.0.0.1:PORT``, ``localhost:PORT`` or ``[::1]:PORT``; else 403), which defeats DNS
-rebinding: a page of another site whose name was made to resolve to 127.0.0.1 sends its own name.
+rebinding: a page of another site whose name was made to resolve to 127.0.0.1 sends its own name;
+and a browser's ``Sec-Fetch-Site``, when sent, must be ``same-origin`` or ``none`` (else 403: an
+``<img>`` of another site's page may not make this machine render).
 A write (any POST) must also come from the page itself: ``Origin`` (when sent) one of those
 hosts, ``Content-Type: application/json`` (else 415: a form or a ``no-cors`` fetch of another
 site cannot send it without a preflight, which this server never grants) and the header
@@ -222,6 +224,13 @@ class ViewServer:
                 host = (h.headers.get("Host") or "").strip().lower()
                 if host not in allowed_hosts(self.port):
                     raise _Refused(HTTPStatus.FORBIDDEN, f"this server answers only as {HOST}:{self.port}")
+                # a browser says which site's page asks: another's <img>, <script> or frame may
+                # not make this machine render (nor read what its answer reveals)
+                site = (h.headers.get("Sec-Fetch-Site") or "none").strip().lower()
+                if site not in ("same-origin", "none"):
+                    raise _Refused(
+                        HTTPStatus.FORBIDDEN, f"requests from other sites' pages are refused ({site})"
+                    )
                 method(h)
             except _Refused as exc:
                 h.close_connection = True  # an unread body must not be taken for the next request
