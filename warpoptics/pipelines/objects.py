@@ -122,27 +122,32 @@ def build_objects(objects: Sequence[ObjectConfig], *, file: str | None = None) -
     return SceneObjects(meshes=meshes, materials=mats, axes=axes, parents=parents)
 
 
+# what an inline material table starts from (materials/spec.py); a zone's table may omit it
+_STARTS = ("base", "host", "cauchy")
+
+
 def _zoned(ob: ObjectConfig, host, *, file: str | None, where: str):
     """The host material of a colour-zoned object with its zones (materials/zoning.py): each
-    zone's absorption spec resolved as a material (an inline table without ``base`` or
-    ``cauchy`` takes the object's), the zones placed with the object."""
+    zone's absorption spec resolved as a material (an inline table without ``base``, ``host``
+    or ``cauchy`` takes the object's), the zones placed with the object."""
     zoning = ob.zoning
     assert zoning is not None
     resolved = []
     for j, spec in enumerate(zoning.absorption):
         if spec == "none":
             spec = {"cauchy": [1.0]}  # a clear zone (only a zone's absorption is used)
-        if isinstance(spec, dict) and "base" not in spec and "cauchy" not in spec:
-            # the object's own base (a library name) or Cauchy index
+        if isinstance(spec, dict) and not any(k in spec for k in _STARTS):
+            # the object's own base (a library name), chromophore host or Cauchy index
             host_spec = ob.material
             if isinstance(host_spec, str):
                 host_spec = {"base": host_spec}
             lent = {}
             if isinstance(host_spec, dict):
-                lent = {k: host_spec[k] for k in ("base", "cauchy") if k in host_spec}
+                lent = {k: host_spec[k] for k in _STARTS if k in host_spec}
             if not lent:
                 raise InputError(
-                    'an inline zone absorption needs base = "<library name>" or cauchy = [...]',
+                    'an inline zone absorption needs base = "<library name>", host = "<crystal>" '
+                    "or cauchy = [...]",
                     file=file,
                     field=f"{where}.zoning.absorption.{j}.base",
                 )
