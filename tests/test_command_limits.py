@@ -307,3 +307,77 @@ def test_michel_levy_high_orders_are_grey(tmp_path):
     assert np.ptp(far, axis=-1).max() < 0.02  # R = G = B: no aliased colours
     with pytest.raises(ms.InputError, match="max_retardation_nm"):
         ms.michel_levy_chart(max_retardation_nm=1.0e9)
+
+
+# ---- microscope: thin sections at their limits ---------------------------------------------------
+
+
+def test_voronoi_grain_map_is_the_nearest_centre():
+    """The KD-tree grain map (O(P log G), where 4096 x 4096 px of 4096 grains once took > 120 s
+    and 2.5 GB by brute force) is the brute-force nearest centre."""
+    import numpy as np
+
+    from warpoptics.pipelines import microscope as ms
+
+    grain, centres = ms.voronoi_grains(300, 3, 64, 2.0, 30.0)
+    c = ((np.arange(64) + 0.5) / 64 - 0.5) * 2.0
+    xx, yy = np.meshgrid(c, -c)
+    p = np.stack([xx.ravel(), yy.ravel()], axis=-1) @ ms.stage_turn(-30.0)[:2, :2].T
+    brute = np.argmin(((p[:, None, :] - centres[None]) ** 2).sum(-1), axis=1).reshape(64, 64)
+    assert np.array_equal(grain, brute)
+
+
+@pytest.mark.parametrize("material", ["quartz", "tanzanite"])
+def test_thin_section_grains_in_one_launch_are_each_plates_colour(material):
+    """All grains at once (a crystal frame per direction in the polariscope stage) give each
+    grain the colour of :func:`interference_colour` of that grain alone."""
+    import numpy as np
+
+    from warpoptics import materials
+    from warpoptics.pipelines import microscope as ms
+    from warpoptics.scene.microscope import MicroscopeScene
+
+    data = {
+        "microscope": {
+            "mode": "orthoscopic",
+            "polarizer": 0.0,
+            "analyzer": 90.0,
+            "size": 16,
+            "mounting_index": 1.54,
+        },
+        "sample": {
+            "kind": "thin_section",
+            "material": material,
+            "thickness_mm": 0.03,
+            "grains": 6,
+            "seed": 2,
+        },
+    }
+    view = ms.microscope_view(MicroscopeScene.from_dict(data))
+    mat = materials.get(material)
+    for k, axes in enumerate(view.crystal_axes):
+        kw = {"crystal_axes": axes} if material == "tanzanite" else {"optic_axis": tuple(axes[2])}
+        one = ms.interference_colour(mat, 0.03, n_ambient=1.54, **kw)
+        np.testing.assert_allclose(view.grain_xyz[k], one.xyz, rtol=1e-5, atol=1e-7)
+
+
+def test_microscope_view_refuses_what_memory_cannot_hold():
+    from warpoptics.errors import InputError
+    from warpoptics.pipelines import microscope as ms
+
+    need = ms.check_microscope_memory(4096, available=2**40)
+    assert need == 4096 * 4096 * ms.MICROSCOPE_BYTES_PER_PIXEL
+    with pytest.raises(InputError, match=r"microscope.size = 4096: the view would need about 2.8 GiB"):
+        ms.check_microscope_memory(4096, available=2**30)
+
+
+@pytest.mark.parametrize(
+    ("flags", "needles"),
+    [(["--size", "5000"], ["--size", "5000", "<= 4096"]), (["--stage", "nan"], ["--stage", "finite"])],
+)
+def test_microscope_flags_refused_before_any_work(tmp_path, capsys, flags, needles):
+    from _helpers import ROOT
+
+    scene = ROOT / "scenes" / "microscope" / "quartz_thin_section.toml"
+    _refused(["microscope", scene, "-o", tmp_path / "m.png", *flags], capsys, *needles)
+    assert list(tmp_path.iterdir()) == []

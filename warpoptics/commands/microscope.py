@@ -35,11 +35,9 @@ def run(args) -> int:
     scene = MicroscopeScene.load(args.scene)
     mic = scene.microscope
     if args.size is not None:
-        mic = dataclasses.replace(mic, size=val.integer(args.size, field="--size", lo=8, hi=4096))
+        mic = dataclasses.replace(mic, size=args.size)
     if args.stage is not None:
-        mic = dataclasses.replace(
-            mic, stage_rotation=float(val.number(args.stage, field="--stage", lo=-360.0, hi=360.0))
-        )
+        mic = dataclasses.replace(mic, stage_rotation=float(args.stage))
     scene = dataclasses.replace(scene, microscope=mic)
     view = microscope_view(scene, device=args.device)
     path = write_png(args.output, np.clip(view.srgb, 0.0, 1.0))
@@ -59,8 +57,16 @@ def register(sub) -> None:
     )
     p.add_argument("scene", help="microscope scene file (.toml)")
     p.add_argument("-o", "--output", default=None, help="output image (.png)")
-    p.add_argument("--size", type=int, default=None, help="image size in pixels (overrides microscope.size)")
     p.add_argument(
-        "--stage", type=float, default=None, help="stage rotation in degrees (overrides the scene)"
+        "--size",
+        type=val.flag(int, lo=8, hi=4096, unit="pixels"),
+        default=None,
+        help="image size in pixels, 8 to 4096 (overrides microscope.size)",
+    )
+    p.add_argument(
+        "--stage",
+        type=val.flag(float, lo=-360.0, hi=360.0, unit="degrees"),
+        default=None,
+        help="stage rotation in degrees (overrides the scene)",
     )
     p.set_defaults(func=run)

@@ -23,6 +23,8 @@ Arrays (all on the stage's device; the caller owns the outputs):
     wavelength   (W,) float  nm
     indices      (W,) vec3   (n_o, 0, n_e) | (n_alpha, n_beta, n_gamma) | (n, 0, n)
     alpha        (W,) vec3   intensity absorption coefficients, 1/mm (see ``optics.plate``)
+    frames       (N,) mat33  the crystal frame per direction (rows X, Y, Z, world): one plate seen
+                             in many directions, or many plates (a thin section's grains) at once
     out_coherent, out_incoherent  (N, W) float
 """
 
@@ -111,7 +113,7 @@ def _polariscope_kernel(
     wavelength: wp.array(dtype=float),
     indices: wp.array(dtype=wp.vec3f),
     alpha: wp.array(dtype=wp.vec3f),
-    frame: wp.mat33,
+    frames: wp.array(dtype=wp.mat33),
     n_ambient: float,
     pol: wp.vec3f,
     ana: wp.vec3f,
@@ -125,7 +127,7 @@ def _polariscope_kernel(
     i, j = wp.tid()
     k = wp.normalize(directions[i])
     amb = uniaxial_medium(n_ambient, n_ambient, wp.vec3f(0.0, 0.0, 0.0))
-    med = plate_medium(indices[j], frame)
+    med = plate_medium(indices[j], frames[i])
     j0, j1 = plate_mode_jones(k, _NORMAL, amb, med, thickness[i], wavelength[j], alpha[j])
     x = s_vector(k, _NORMAL)
     p = lens_polarizer_field(pol, _BEAM, x)
@@ -187,7 +189,14 @@ class StagePolariscope:
         for name, arr in (("out_coherent", out_coherent), ("out_incoherent", out_incoherent)):
             if tuple(arr.shape) != (n, w):
                 raise ValueError(f"{name} has shape {tuple(arr.shape)}, expected {(n, w)}")
-        f = np.asarray(crystal_frame, dtype=np.float64).reshape(3, 3)
+        f = np.asarray(crystal_frame, dtype=np.float64).reshape(-1, 3, 3)
+        if f.shape[0] not in (1, n):
+            raise ValueError(f"crystal_frame has {f.shape[0]} frames, expected 1 or {n}")
+        frames = wp.array(
+            np.ascontiguousarray(np.broadcast_to(f, (n, 3, 3)), dtype=np.float32),
+            dtype=wp.mat33,
+            device=self.device,
+        )
         wp.launch(
             _polariscope_kernel,
             dim=(n, w),
@@ -197,7 +206,7 @@ class StagePolariscope:
                 wavelength,
                 indices,
                 alpha,
-                wp.mat33(*f.ravel().tolist()),
+                frames,
                 float(self.config.n_ambient),
                 self._pol,
                 self._ana,
@@ -227,8 +236,9 @@ def plate_between_polarizers(
     """NumPy form of :class:`StagePolariscope`: ``directions`` (N, 3), ``thickness_mm`` (N,) or
     a scalar, ``wavelength_nm`` (W,), ``indices`` (W, 3), ``alpha`` (W, 3) or None (lossless),
     ``crystal_frame`` (3, 3) rows X, Y, Z (Z the optic axis of a uniaxial plate; default the
-    identity); ``rotatory_rad_mm`` (W,) or a scalar: optical activity (:meth:`StagePolariscope.run`;
-    None: none).  Returns (coherent, incoherent) transmitted intensities, each (N, W)."""
+    identity), or (N, 3, 3): a frame per direction (many plates in one launch);
+    ``rotatory_rad_mm`` (W,) or a scalar: optical activity (:meth:`StagePolariscope.run`; None:
+    none).  Returns (coherent, incoherent) transmitted intensities, each (N, W)."""
     dev = get_device(device)
     k = val.finite_array(np.asarray(directions, dtype=np.float64).reshape(-1, 3), field="directions")
     if np.any(k[:, 2] <= 0.0):
