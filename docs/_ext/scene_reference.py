@@ -23,6 +23,11 @@ def _tables() -> list:
     return _CACHE["tables"]
 
 
+def _text(text: str) -> str:
+    """Plain text in a table cell; a lone "-" (no unit) would start a bullet list."""
+    return "\\" + text if text.startswith(("-", "+", "*")) else text
+
+
 def _cell(text: str) -> str:
     return f"``{text}``" if text else ""
 
@@ -47,10 +52,10 @@ def table_rst(table) -> list[str]:
         lines += [
             f"   * - ``{r.key}``",
             f"     - {r.type}",
-            f"     - {r.unit}",
+            f"     - {_text(r.unit)}",
             f"     - {_cell(r.range)}",
             f"     - {_cell(r.default)}",
-            f"     - {r.description}",
+            f"     - {_text(r.description)}",
         ]
     return lines + [""]
 
