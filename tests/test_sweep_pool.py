@@ -291,3 +291,14 @@ def test_workers_end_with_a_killed_sweep(tmp_path):
     while any(_alive(p) for p in workers) and time.monotonic() < deadline:
         time.sleep(0.1)
     assert not any(_alive(p) for p in workers)
+
+
+@pytest.mark.parametrize("workers", [0, -1, 257, 10**6])
+def test_workers_out_of_range_are_refused(tmp_path, workers):
+    from warpoptics.errors import InputError
+    from warpoptics.sweep import Sweep, SweepRunner
+
+    (tmp_path / "scene.toml").write_text(SCENE)
+    (tmp_path / "sweep.toml").write_text(SWEEP)
+    with pytest.raises(InputError, match=r"--workers = -?\d+: out of range \(allowed: 1 to 256\)"):
+        SweepRunner(Sweep.load(tmp_path / "sweep.toml"), tmp_path / "out", workers=workers)

@@ -25,7 +25,9 @@ from .report import write_contact_sheet, write_pairs, write_plots, write_summary
 from .results import append_line, csv_line, format_value, image_path, read_results, write_text_atomic
 from .spec import METRICS, Job, Sweep, scene_for, view_settings
 
-__all__ = ["run_job", "nondispersive", "SweepRunner", "SweepResult"]
+__all__ = ["run_job", "nondispersive", "SweepRunner", "SweepResult", "MAX_WORKERS"]
+
+MAX_WORKERS = 256  # jobs at once on this machine (as `grade --workers`)
 
 
 def nondispersive(scene):
@@ -190,8 +192,8 @@ class SweepRunner:
         device: str | None = None,
         threads: int | None = None,
     ):
-        if workers < 1:
-            raise InputError("must be >= 1", field="--workers", value=workers)
+        if not 1 <= workers <= MAX_WORKERS:  # each a process that loads Warp and renders
+            raise InputError("out of range", field="--workers", value=workers, allowed=f"1 to {MAX_WORKERS}")
         if executor not in ("process", "thread"):
             raise InputError("unknown executor", field="executor", value=executor, allowed="process, thread")
         if scheduler and dask_local:
