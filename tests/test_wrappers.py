@@ -47,6 +47,19 @@ class W:
     nan_kwargs: tuple[str, ...] = ()
 
 
+def _zoned_depth_ref(o, d, t):
+    """Optical depth and zone lengths of the segment o + d s, s in [0, t], through the planes
+    u . x = -0.3 and 0.4 (u = (0, 0.6, 0.8)) with kappa 0.5, 2.0, 1.2 below, between, above:
+    the crossing parameters sorted and each piece's zone found at its midpoint (float64)."""
+    u, b, kap = np.array([0.0, 0.6, 0.8]), np.array([-0.3, 0.4]), np.array([0.5, 2.0, 1.2])
+    s0, ds, t = float(np.dot(o, u)), float(np.dot(d, u)), float(t)
+    cuts = sorted({0.0, t, *[min(max((bj - s0) / ds, 0.0), t) for bj in b if ds != 0.0]})
+    lengths = np.zeros(3)
+    for a, c in zip(cuts[:-1], cuts[1:], strict=True):
+        lengths[np.searchsorted(b, s0 + ds * 0.5 * (a + c), side="right")] += c - a
+    return [float(kap @ lengths), lengths]
+
+
 def _c(x):
     return np.asarray(x, dtype=complex)
 
@@ -283,6 +296,20 @@ WRAPPERS = [
             ("length", [3.0, 0.5, 10.0]),
         ],
         lambda c, ko, ke, o, e, s: [np.exp(-np.array([ko, _kappa_e(c, ko, ke, o, e)]) * s / 2)],
+    ),
+    W(
+        "optics.segment_optical_depth",
+        lambda origin, direction, length, **k: wo.optics.segment_optical_depth(
+            origin, direction, length, **k
+        ),
+        [
+            ("origin", [[0.3, -1.0, -2.0], [0.0, 0.0, 0.1], [1.0, 2.0, 3.0]]),
+            ("direction", [[0.0, 0.6, 0.8], [1.0, 0.0, 0.0], [0.0, -0.6, -0.8]]),
+            ("length", [4.0, 2.0, 5.0]),
+        ],
+        lambda o, d, t: _zoned_depth_ref(o, d, t),
+        kwargs=dict(kind="planes", axis=[0.0, 0.6, 0.8], bounds=[-0.3, 0.4], kappa=[0.5, 2.0, 1.2]),
+        nan_kwargs=("axis", "bounds", "kappa", "centre"),
     ),
     W(
         "materials.pleochroic_alpha",

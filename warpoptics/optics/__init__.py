@@ -6,7 +6,7 @@ called per ray by the renderer's kernels; the NumPy wrappers re-exported here la
 those functions.
 """
 
-from . import biaxial, birefringence, complex, jones, photoelastic, plate, polarizer  # noqa: F401
+from . import biaxial, birefringence, complex, jones, photoelastic, plate, polarizer, zoning  # noqa: F401
 from .biaxial import biaxial_absorption, biaxial_fresnel_coefficients, biaxial_waves, optic_axial_angle
 from .birefringence import (
     GeneralizedFresnelResult,
@@ -32,6 +32,7 @@ from .jones import (
 )
 from .plate import plate_jones
 from .polarizer import analyze, mueller_polarizer, sheet_polarizer_stokes
+from .zoning import segment_optical_depth
 
 __all__ = [
     "biaxial",
@@ -41,6 +42,7 @@ __all__ = [
     "photoelastic",
     "plate",
     "polarizer",
+    "zoning",
     # Fresnel (isotropic)
     "fresnel",
     "fresnel_power",
@@ -76,4 +78,6 @@ __all__ = [
     "optic_axial_angle",
     # crystal plates (coherent o/e sum)
     "plate_jones",
+    # colour zoning: a segment's optical depth through zones
+    "segment_optical_depth",
 ]

@@ -44,6 +44,7 @@ import warp as wp
 
 from ..device import device_function, elementwise
 from ..errors import InputError
+from ..validate import finite_array
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -213,8 +214,13 @@ def segment_optical_depth(
     """
     if kind not in _KINDS:
         raise InputError("unknown zone family", field="kind", value=kind, allowed="planes, cylinders")
-    k = np.asarray(kappa, dtype=np.float64).reshape(-1)
-    b = np.asarray(bounds, dtype=np.float64).reshape(-1)
+    origin = finite_array(origin, field="origin")
+    direction = finite_array(direction, field="direction")
+    length = finite_array(length, field="length")
+    if np.any(length < 0.0):
+        raise InputError("must be >= 0", field="length", value=float(length[length < 0.0].flat[0]))
+    k = finite_array(kappa, field="kappa").astype(np.float64).reshape(-1)
+    b = finite_array(bounds, field="bounds").astype(np.float64).reshape(-1)
     if not 1 <= k.size <= MAX_ZONES:
         raise InputError("wrong number of zones", field="kappa", value=k.size, allowed=f"1 to {MAX_ZONES}")
     if b.size != k.size - 1:
@@ -223,7 +229,7 @@ def segment_optical_depth(
         )
     if b.size > 1 and np.any(np.diff(b) <= 0.0):
         raise InputError("must increase", field="bounds", value=b.tolist())
-    ax = np.asarray(axis, dtype=np.float64).reshape(3)
+    ax = finite_array(axis, field="axis").astype(np.float64).reshape(3)
     if not np.linalg.norm(ax) > 0.0:
         raise InputError("must be a non-zero vector", field="axis", value=ax.tolist())
     ax = ax / np.linalg.norm(ax)
@@ -236,7 +242,7 @@ def segment_optical_depth(
         extra=(
             _KINDS[kind],
             wp.vec3f(*ax.astype(np.float32)),
-            wp.vec3f(*np.asarray(centre, dtype=np.float32).reshape(3)),
+            wp.vec3f(*finite_array(centre, field="centre").astype(np.float32).reshape(3)),
             dev_bounds,
             dev_kappa,
             int(k.size),

@@ -286,6 +286,25 @@ def _specs() -> list[_Spec]:
             None,
         ),
     ]
+    zones = {
+        "planar": {"normal": [0.0, 0.0, 1.0], "offsets": [0.0], "absorption": ["none", "none"]},
+        "halves": {"normal": [0.0, 0.0, 1.0], "absorption": ["none", "none"]},
+        "core_rim": {"axis": [0.0, 0.0, 1.0], "radii": [1.0], "absorption": ["none", "none"]},
+    }
+    for kind, zone in zones.items():
+        specs.append(
+            _Spec(
+                f'[[object]] zoning = {{ type = "{kind}" }}',
+                "camera",
+                "Colour zones inside the stone (docs/guide/zoning.md): the host's indices"
+                " everywhere, one absorption per zone.",
+                f"object.zoning.{kind}",
+                _load_camera,
+                _camera_scene(object=[dict(_SPHERE, zoning=dict(zone, type=kind))]),
+                ("object", 0, "zoning"),
+                lambda s: {"origin": s.objects[0].zoning.origin, "offset": s.objects[0].zoning.bounds[0]},
+            )
+        )
     for kind in ("plane", "rectangle"):
         specs.append(
             _Spec(
@@ -849,6 +868,42 @@ FIELDS: dict[str, dict[str, FieldDoc]] = {
         ),
         "optic_axis": _F("vector", NO_UNIT, "optic axis of a uniaxial material"),
         "fluorescence": _F("table", NO_UNIT, "a luminescent centre: a name or a table (below)"),
+    },
+    **{
+        f"object.zoning.{kind}": {
+            "type": _F("choice", NO_UNIT, "the zones' family"),
+            **keys,
+            "origin": _F("vector", _MM, "the point the offsets are measured from, or a point of the axis"),
+            "absorption": _F(
+                "list",
+                NO_UNIT,
+                "one material per zone whose absorption it has: a library name, an inline"
+                ' material table (without a start: the object\'s), or "none" (clear)',
+            ),
+        }
+        for kind, keys in (
+            (
+                "planar",
+                {
+                    "normal": _F("vector", NO_UNIT, "the bands' normal (object frame)"),
+                    "offsets": _F("list", _MM, "increasing offsets of the planes between the bands"),
+                },
+            ),
+            (
+                "halves",
+                {
+                    "normal": _F("vector", NO_UNIT, "the normal of the plane between the halves"),
+                    "offset": _F("number", _MM, "the plane's offset along its normal"),
+                },
+            ),
+            (
+                "core_rim",
+                {
+                    "axis": _F("vector", NO_UNIT, "the cylinders' axis (object frame)"),
+                    "radii": _F("list", _MM, "increasing radii between the core, the shells and the rim"),
+                },
+            ),
+        )
     },
     "object.material.bands": {
         "center_nm": _F("number", _NM, "centre wavelength of the band"),
