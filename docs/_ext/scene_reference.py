@@ -80,6 +80,12 @@ class SceneReference(SphinxDirective):
         return container.children
 
 
+def _always_reread(app, env, added, changed, removed) -> list[str]:
+    """The pages with a reference read the code, which Sphinx does not watch: read them again."""
+    return [name for name in env.found_docs if name == "reference/scene"]
+
+
 def setup(app):
     app.add_directive("scene-reference", SceneReference)
+    app.connect("env-get-outdated", _always_reread)
     return {"version": "1", "parallel_read_safe": True}
