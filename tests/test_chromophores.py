@@ -4,7 +4,9 @@ hosts are checked against the digitized points of their sources (tests/data/chro
 
 from __future__ import annotations
 
+import csv
 import types
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -155,3 +157,62 @@ def test_host_alpha_and_material(test_host, device):
 def test_scene_material_errors(test_host, spec, match):
     with pytest.raises(InputError, match=match):
         wo.materials.material_from_spec(spec)
+
+
+# ----------------------------------------------------------------------------------------------
+# Band sets of the corundum, beryl, chrysoberyl, spinel, garnet and diamond hosts against the band
+# maxima and polarization orders their sources state (tests/data/chromophores/a_*.csv)
+# ----------------------------------------------------------------------------------------------
+
+DATA = Path(__file__).parent / "data" / "chromophores"
+
+
+def _rows(name: str) -> list[dict]:
+    with open(DATA / name, encoding="utf-8") as f:
+        return list(csv.DictReader(line for line in f if not line.startswith("#")))
+
+
+STATED_CENTRES = _rows("a_band_centres.csv")
+STATED_ORDERS = _rows("a_polarization_order.csv")
+
+
+def _reference(host: str, chromophore: str) -> dict[str, float]:
+    return {chromophore: C.band_set(host, chromophore).reference_concentration}
+
+
+@pytest.mark.parametrize(
+    "row",
+    STATED_CENTRES,
+    ids=lambda r: f"{r['host']}-{r['chromophore']}-{r['polarization']}-{r['centre_nm']}",
+)
+def test_band_maximum_where_the_source_states_it(row, device):
+    """A local maximum of the band set's alpha(λ) lies within 5 nm of each stated band maximum."""
+    c = float(row["centre_nm"])
+    lam = np.arange(c - 40.0, c + 40.0 + 1e-9, 0.25)
+    host, name = row["host"], row["chromophore"]
+    a = C.chromophore_alpha(host, _reference(host, name), lam, row["polarization"], device=device)
+    inner = (a[1:-1] >= a[:-2]) & (a[1:-1] >= a[2:]) & (a[1:-1] > 0)
+    peaks = lam[1:-1][inner]
+    assert peaks.size, f"no maximum within 40 nm of {c} nm"
+    nearest = peaks[np.argmin(np.abs(peaks - c))]
+    assert abs(nearest - c) <= 5.0, f"maximum at {nearest} nm, stated {row['as_stated']}"
+
+
+@pytest.mark.parametrize("row", STATED_ORDERS, ids=lambda r: f"{r['chromophore']}-{r['wavelength_nm']}")
+def test_polarization_order_stated_by_the_source(row, device):
+    host, name = row["host"], row["chromophore"]
+    lam = np.array([float(row["wavelength_nm"])])
+    strong = C.chromophore_alpha(host, _reference(host, name), lam, row["stronger"], device=device)[0]
+    weak = C.chromophore_alpha(host, _reference(host, name), lam, row["weaker"], device=device)[0]
+    assert strong > float(row["ratio_min"]) * weak > 0 or (strong > 0 and weak == 0), row["as_stated"]
+
+
+def test_every_band_set_of_these_hosts_says_what_it_is():
+    """Each band set names its source; a set whose strengths were chosen says so in its note."""
+    for host in ("corundum", "beryl", "chrysoberyl", "spinel", "almandine", "spessartine", "grossular"):
+        for name in C.chromophores(host):
+            bs = C.band_set(host, name)
+            assert bs.source and "chosen" in bs.note, (host, name)
+    for host in ("andradite", "diamond"):
+        for name in C.chromophores(host):
+            assert "chosen" in C.band_set(host, name).note

@@ -49,6 +49,7 @@ wp.set_module_options({"enable_backward": False})  # no adjoint code (see device
 __all__ = [
     "Fluorescence",
     "with_fluorescence",
+    "with_own_excitation",
     "centre",
     "slab_reemission",
     "fluorescence_yield",
@@ -218,6 +219,27 @@ def with_fluorescence(mat: Material, fl: Fluorescence, *, name: str | None = Non
     out.fluorescence = fl
     out.fluorescence_host = mat  # the material without the centre (spec.py re-applies on it)
     out.__dict__.pop("_table_cache", None)  # built while validating, before the centre was set
+    return out
+
+
+def with_own_excitation(mat: Material, fl: Fluorescence) -> Material:
+    """``mat`` carrying ``fl`` whose absorption is already ``mat``'s own (its bands are the
+    centre's, e.g. a chromophore variety's Cr3+): alpha_x = ``mat``'s alpha (the weaker wave of a
+    birefringent crystal, so that alpha_x <= alpha for every wave) on the light grid, nothing
+    added; ``fl`` gives the emission and the yield."""
+    import copy
+
+    g = light_grid()
+    lo, hi = mat.wavelength_range_nm
+    inside = (g >= lo) & (g <= hi)
+    a = np.zeros_like(g)
+    alpha = np.asarray(mat.alpha(g[inside]))
+    a[inside] = alpha.min(axis=-1) if alpha.ndim > 1 else alpha
+    fl = fl.with_excitation(AbsorptionSpectrum(g, a, name=f"{mat.name} absorption", source=mat.source))
+    out = copy.copy(mat)
+    out.__dict__.pop("_table_cache", None)
+    out.fluorescence = fl
+    out.fluorescence_host = mat
     return out
 
 

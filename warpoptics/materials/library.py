@@ -249,7 +249,13 @@ def chromophore_material(
     info = host_info(host)
     conc = normalize_concentrations(host, concentrations)
     label = name or host
-    base = _gem(label, {"index": index or info["index"], "source": source or info["source"]})
+    index = index or info["index"]
+    if index[0] == "isotropic_constants":  # (kind, n_D, dispersion): a cubic crystal's gem constants
+        base: Material = cauchy_from_gem_constants(
+            index[1], index[2], name=label, source=source or info["source"]
+        )
+    else:
+        base = _gem(label, {"index": index, "source": source or info["source"]})
     spectra = host_alpha(host, conc)
     src = f"{base.source}; {spectra[0].source}"
     absorption = spectra[0] if len(spectra) == 1 else spectra
@@ -264,7 +270,17 @@ def _variety(name: str) -> Material:
     """Library entry ``name`` of :data:`~.datasets.varieties.VARIETIES`."""
     v = VARIETIES[name]
     mat = chromophore_material(v["host"], v["concentrations"], name=name, index=v.get("index"))
+    if "optic_axis" in v:
+        mat = Uniaxial(
+            mat.ordinary, mat.extraordinary, optic_axis=v["optic_axis"], name=name, source=mat.source
+        )
+        mat.chromophore_host = v["host"]
+        mat.chromophore_concentrations = normalize_concentrations(v["host"], v["concentrations"])
     mat.source = f"{mat.source}; concentrations: {v['source']}"
+    if "fluorescence" in v:  # the centre's absorption is the variety's own bands
+        from .fluorescence import centre, with_own_excitation
+
+        mat = with_own_excitation(mat, centre(v["fluorescence"]))
     return mat
 
 
@@ -300,10 +316,10 @@ def fuchsine_solution(percent: float = 1.0, *, device=None) -> Isotropic:
     )
 
 
-#: fluorescent library entries: name -> (host library name, centre of datasets.fluorescence)
+#: fluorescent library entries: name -> (host library name, centre of datasets.fluorescence); the
+#: chromophore varieties name their centre in their own entry (red_spinel: "Cr3+ spinel")
 FLUORESCENT = {
     "diamond_n3": ("diamond", "N3"),
-    "red_spinel": ("spinel", "Cr3+ spinel"),
     "uranium_glass": ("bk7", "uranyl glass"),
 }
 

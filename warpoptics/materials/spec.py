@@ -30,7 +30,6 @@ the library's ruby holds the Cr3+ bands)).
 
 from __future__ import annotations
 
-import copy
 import difflib
 from typing import Any
 
@@ -38,7 +37,6 @@ import numpy as np
 
 from .. import validate as val
 from ..errors import InputError
-from ..spectra import light_grid
 from .absorption import AbsorptionSpectrum, Band, spectrum_from_rgb, with_absorption
 from .datasets.fluorescence import CENTRES
 from .dispersion import Cauchy, Material, Uniaxial
@@ -230,7 +228,7 @@ def _chromophores(spec: dict) -> Material:
 def _fluorescence(value: Any, mat: Material, own) -> Material:
     """Apply a ``fluorescence`` value (module docstring) to ``mat``."""
     from .. import validate as val
-    from .fluorescence import centre, with_fluorescence
+    from .fluorescence import centre, with_fluorescence, with_own_excitation
 
     if isinstance(value, str):
         value = {"centre": value}
@@ -254,19 +252,7 @@ def _fluorescence(value: Any, mat: Material, own) -> Material:
             allowed=", ".join(CENTRES),
         )
     if not add:
-        # the base's absorption is the centre's (its bands): alpha_x = the base's alpha (the
-        # weaker wave of a uniaxial crystal, so that alpha_x <= alpha for both), the centre
-        # gives the emission and the yield
-        g = light_grid()
-        lo, hi = mat.wavelength_range_nm
-        inside = (g >= lo) & (g <= hi)
-        a = np.zeros_like(g)
-        alpha = mat.alpha(g[inside])
-        a[inside] = alpha.min(axis=-1) if alpha.ndim > 1 else alpha
-        fl = fl.with_excitation(AbsorptionSpectrum(g, a, name=f"{mat.name} absorption", source=mat.source))
-        out = copy.copy(mat)
-        out.__dict__.pop("_table_cache", None)
-        out.fluorescence = fl
-        out.fluorescence_host = mat
-        return out
+        # the base's absorption is the centre's (its bands): the centre gives the emission and
+        # the yield
+        return with_own_excitation(mat, fl)
     return with_fluorescence(mat, fl)

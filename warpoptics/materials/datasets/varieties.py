@@ -4,22 +4,140 @@ Each entry of :data:`VARIETIES` is a library material (``warpoptics.materials.ge
 
 ``host``            a host of :mod:`.chromophores` (its colourless index and its band sets)
 ``concentrations``  {chromophore: concentration in that band set's unit}, typical of the variety
-``source``          where the typical concentrations come from (analyses of real stones)
+``source``          where the concentrations come from
 ``orientation``     how the stone is usually cut relative to the optic axis / principal axes
                     and the pleochroic colours, as plain text
 ``index``           optional: the index entry (:data:`.gems.GEMS` format) in place of the host's
+``optic_axis``      optional (uniaxial): the optic axis in the object frame (default +z, the table
+                    normal of a face-up stone: light seen face up is mostly the o-ray)
+``fluorescence``    optional: a luminescent centre of :mod:`.fluorescence` whose absorption is
+                    the variety's own bands (its emission and yield are added)
 
 A scene overrides a variety's concentrations with ``material = { base = "ruby", chromophores =
 { Cr = 0.4 } }`` (so ``object.0.material.chromophores.Cr`` is a sweep axis).
+
+Most host band sets carry the peak alpha (1/mm) of a main band as their unit, because no
+absorption coefficient with a stated concentration could be read for them (see each host module).
+Such a variety's concentration is not an analysis of real stones: it is chosen to give the
+variety's trade colour, and its ``source`` says so (for corundum, beryl, chrysoberyl, spinel, the
+garnets and diamond: the trade hue of a 6.5 mm round brilliant face up under the D65 grading dome,
+checked in tests/test_varieties.py).
 """
 
 from __future__ import annotations
 
 __all__ = ["VARIETIES"]
 
-VARIETIES: dict[str, dict] = {}
+# corundum, beryl, chrysoberyl, spinel, the garnets and diamond
+_CHOSEN_FACE_UP = "chosen for the trade hue of a 6.5 mm round brilliant face up under D65 (no analysis used)"
 
-# chromophore-B hosts (quartz, olivine, zoisite, cordierite, tourmaline, topaz, zircon).  Where the
+VARIETIES: dict[str, dict] = {
+    # ---- corundum (table perpendicular to c: face up is the o-ray, as cutters orient ruby and
+    # sapphire for their best colour)
+    "ruby": dict(
+        host="corundum",
+        concentrations={"Cr3+": 0.4},
+        source=_CHOSEN_FACE_UP,
+        orientation="table ⊥ c; o-ray purplish red, e-ray orangy red",
+    ),
+    "blue_sapphire": dict(
+        host="corundum",
+        concentrations={"Fe2+-Ti4+": 0.25, "Fe3+": 0.05},
+        source=_CHOSEN_FACE_UP,
+        orientation="table ⊥ c; o-ray violetish blue, e-ray greenish blue",
+    ),
+    "yellow_sapphire": dict(
+        host="corundum",
+        concentrations={"Fe3+": 0.3, "h-centre": 0.2},
+        source=_CHOSEN_FACE_UP,
+        orientation="table ⊥ c",
+    ),
+    "padparadscha": dict(
+        host="corundum",
+        concentrations={"Cr3+": 0.15, "h-centre": 0.2},
+        source=_CHOSEN_FACE_UP,
+        orientation="table ⊥ c; pinkish orange (Cr3+ pink with the trapped-hole yellow)",
+    ),
+    # ---- beryl
+    "emerald": dict(
+        host="beryl",
+        concentrations={"Cr3+": 0.4},
+        source=_CHOSEN_FACE_UP,
+        orientation="table ⊥ c; o-ray slightly bluish green, e-ray yellowish green",
+    ),
+    "aquamarine": dict(
+        host="beryl",
+        concentrations={"Fe2+": 3.0, "Fe2+-Fe3+": 0.05},
+        optic_axis=(1.0, 0.0, 0.0),
+        source=_CHOSEN_FACE_UP,
+        orientation=(
+            "table ∥ c (optic axis along x) to show the e-ray blue (Gems & Gemology 2014 Gem News: "
+            "the deep blue of aquamarine is the e-ray, the o-ray pale bluish green)"
+        ),
+    ),
+    "morganite": dict(
+        host="beryl",
+        concentrations={"Mn3+": 0.08},
+        optic_axis=(1.0, 0.0, 0.0),
+        source=_CHOSEN_FACE_UP,
+        orientation="table ∥ c to show the e-ray pink (o-ray pale pink to colourless)",
+    ),
+    # ---- chrysoberyl (the Walling et al. alexandrite-laser indices the library always used)
+    "alexandrite": dict(
+        host="chrysoberyl",
+        concentrations={"Cr3+": 0.4},
+        index=(
+            "biaxial_pages",
+            "main/BeAl2O4/Walling-γ",
+            "main/BeAl2O4/Walling-α",
+            "main/BeAl2O4/Walling-β",
+        ),
+        source=_CHOSEN_FACE_UP,
+        orientation=(
+            "principal axes X, Y, Z along the object's x, y, z (face up: D along X and Y); Liu et al. "
+            "1995 (Mineral. Mag. 59, 111): the largest colour change for light along a"
+        ),
+    ),
+    # ---- spinel
+    "red_spinel": dict(
+        host="spinel",
+        concentrations={"Cr3+": 0.3},
+        source=_CHOSEN_FACE_UP,
+        orientation="isotropic",
+        fluorescence="Cr3+ spinel",
+    ),
+    # ---- garnets
+    "almandine": dict(
+        host="almandine", concentrations={"Fe2+": 1.0}, source=_CHOSEN_FACE_UP, orientation="isotropic"
+    ),
+    "rhodolite": dict(
+        host="almandine", concentrations={"Fe2+": 0.3}, source=_CHOSEN_FACE_UP, orientation="isotropic"
+    ),
+    "spessartine": dict(
+        host="spessartine", concentrations={"Mn2+": 3.0}, source=_CHOSEN_FACE_UP, orientation="isotropic"
+    ),
+    "tsavorite": dict(
+        host="grossular", concentrations={"V3+": 0.2}, source=_CHOSEN_FACE_UP, orientation="isotropic"
+    ),
+    "demantoid": dict(
+        host="andradite",
+        concentrations={"Fe3+": 1.0, "Cr3+": 0.05},
+        source=_CHOSEN_FACE_UP,
+        orientation="isotropic",
+    ),
+    # ---- diamond
+    "cape_diamond": dict(
+        host="diamond", concentrations={"N3": 0.4, "N2": 0.2}, source=_CHOSEN_FACE_UP, orientation="isotropic"
+    ),
+    "pink_diamond": dict(
+        host="diamond", concentrations={"550 nm band": 0.1}, source=_CHOSEN_FACE_UP, orientation="isotropic"
+    ),
+    "blue_diamond": dict(
+        host="diamond", concentrations={"boron": 0.3}, source=_CHOSEN_FACE_UP, orientation="isotropic"
+    ),
+}
+
+# quartz, olivine, zoisite, cordierite, tourmaline, topaz, zircon).  Where the
 # band set's unit is a peak alpha (no measured absorption coefficient was available, see each host
 # module), the value is chosen so that a 5 mm plate shows the variety's trade colour under D65.
 _CHOSEN = "strength chosen to give the trade colour (no measured absorption coefficient available)"
