@@ -18,8 +18,10 @@ Formula pages whose range stops short of the colour range 360–830 nm are *extr
 (their Sellmeier poles are far in the UV/IR); the ``source`` string says so.  Colour: the six gems
 of Guy & Soler §6.1 (garnet, tourmaline, peridot, diamond, sapphire, andalusite) carry the eq. 9
 inversion of that table's absorbances as K^o(λ), K^e(λ), and the table's triplets themselves as
-``rgb3_alpha``; ruby and emerald carry Cr³⁺ bands (positions from the literature, amplitudes
-illustrative); the others are colourless (k = 0).
+``rgb3_alpha``; the named varieties (ruby, blue_sapphire, emerald, aquamarine, alexandrite,
+almandine, amethyst, tanzanite, ...: :mod:`.datasets.varieties`) are a host crystal's index with
+the absorption of its chromophores (:mod:`.chromophores`, :func:`chromophore_material`), and
+replace older entries of the same name; the others are colourless (k = 0).
 
 References (gemological constants)
 ----------------------------------
@@ -30,9 +32,7 @@ References (gemological constants)
 - S. Guy, C. Soler, ACM TOG 23(3) 2004, §6.1 table (garnet, tourmaline, peridot, andalusite).
 - Handbook of Mineralogy (Mineral Data Publishing 2001): forsterite, andalusite, topaz (indices,
   2V, optic sign; see :mod:`.datasets.gems`).
-- D. S. McClure, J. Chem. Phys. 36, 2757 (1962): Cr³⁺ in corundum, E⊥c bands 556/407 nm,
-  E∥c 570/400 nm.  D. L. Wood, K. Nassau, Am. Mineral. 53, 777 (1968): Cr³⁺ in beryl, E⊥c
-  430/600 nm, E∥c 420/640 nm.
+- The chromophore band sets cite their own sources (:mod:`.datasets.chromophores`).
 """
 
 from __future__ import annotations

@@ -19,9 +19,9 @@ Provenance
   from Fo85 to Fo100 with 2V_z 90° to 82° (as quoted by the MINTS database, mints.uwc.ac.za).
 - S. Guy, C. Soler, ACM TOG 23(3) 2004, §6.1 table (garnet, tourmaline, peridot, andalusite,
   and the absorbances of diamond and sapphire).
-- D. S. McClure, J. Chem. Phys. 36, 2757 (1962): Cr³⁺ in corundum, E⊥c bands 556/407 nm,
-  E∥c 570/400 nm.  D. L. Wood, K. Nassau, Am. Mineral. 53, 777 (1968): Cr³⁺ in beryl, E⊥c
-  430/600 nm, E∥c 420/640 nm.  Band positions from these; amplitudes and widths illustrative.
+
+Ruby, emerald and alexandrite are chromophore varieties (:mod:`.varieties`, band sets in
+:mod:`.chromophores`); alexandrite takes its index from its entry here.
 """
 
 from __future__ import annotations
@@ -77,15 +77,6 @@ GEMS: dict[str, dict] = {
         source="refractiveindex.info main/Al2O3/Malitson-o/-e",
         absorption="guy_soler_2004",
     ),
-    "ruby": dict(
-        index=("pages", "main/Al2O3/Malitson-o", "main/Al2O3/Malitson-e"),
-        source="refractiveindex.info main/Al2O3/Malitson-o/-e",
-        absorption=dict(
-            o=((556.0, 30.0, 0.25), (407.0, 25.0, 0.30)),
-            e=((570.0, 30.0, 0.20), (400.0, 25.0, 0.22)),
-            source="Cr3+ bands after McClure 1962 (illustrative strength)",
-        ),
-    ),
     "calcite": dict(
         index=("pages", "main/CaCO3/Ghosh-o", "main/CaCO3/Ghosh-e"),
         source="refractiveindex.info main/CaCO3/Ghosh-o/-e",
@@ -99,15 +90,6 @@ GEMS: dict[str, dict] = {
         source="high zircon, GIA: n_o 1.925, n_e 1.984 (nD), dispersion 0.039; Cauchy fit",
     ),
     "tourmaline": dict(index=("guy_soler_2004",), absorption="guy_soler_2004"),
-    "emerald": dict(
-        index=("constants", 1.583, 1.577, 0.014),
-        source="emerald (beryl), GIA: n_o 1.583, n_e 1.577 (nD), dispersion 0.014; Cauchy fit",
-        absorption=dict(
-            o=((600.0, 35.0, 0.15), (430.0, 25.0, 0.20)),
-            e=((640.0, 35.0, 0.12), (420.0, 25.0, 0.15)),
-            source="Cr3+ bands after Wood & Nassau 1968 (illustrative strength)",
-        ),
-    ),
     # peridot, andalusite and topaz are biaxial (below); the *_uniaxial entries keep Guy & Soler's
     # uniaxial model (the paper's §6.1 indices and absorbances, n_o / n_e = two of the three
     # principal indices)
@@ -191,12 +173,8 @@ GEMS: dict[str, dict] = {
         # gap is in the data, not the axis assignment; the pages are kept for their measured
         # dispersion, chrysoberyl above carries the gem constants
         two_v=None,
-        absorption=dict(
-            x=((575.0, 60.0, 0.35), (420.0, 40.0, 0.40)),
-            y=((560.0, 60.0, 0.45), (415.0, 40.0, 0.45)),
-            z=((590.0, 60.0, 0.30), (425.0, 40.0, 0.30)),
-            source="Cr3+ 4T2/4T1 bands near 580/420 nm (positions: literature; strengths illustrative)",
-        ),
+        # the colour of alexandrite is the chromophore variety's (datasets/varieties.py: Cr3+ in
+        # chrysoberyl, datasets/chromophores/chrysoberyl.py), built on this entry's index
     ),
     "peridot": dict(
         index=("biaxial", 1.635, 1.651, 1.670, 0.020),

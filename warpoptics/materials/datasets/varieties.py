@@ -26,6 +26,8 @@ checked in tests/test_varieties.py).
 
 from __future__ import annotations
 
+from .gems import GEMS
+
 __all__ = ["VARIETIES"]
 
 # corundum, beryl, chrysoberyl, spinel, the garnets and diamond
@@ -82,16 +84,11 @@ VARIETIES: dict[str, dict] = {
         source=_CHOSEN_FACE_UP,
         orientation="table ∥ c to show the e-ray pink (o-ray pale pink to colourless)",
     ),
-    # ---- chrysoberyl (the Walling et al. alexandrite-laser indices the library always used)
+    # ---- chrysoberyl (the index of the library's alexandrite entry: Walling et al.'s laser crystal)
     "alexandrite": dict(
         host="chrysoberyl",
         concentrations={"Cr3+": 0.4},
-        index=(
-            "biaxial_pages",
-            "main/BeAl2O4/Walling-γ",
-            "main/BeAl2O4/Walling-α",
-            "main/BeAl2O4/Walling-β",
-        ),
+        index=GEMS["alexandrite"]["index"],
         source=_CHOSEN_FACE_UP,
         orientation=(
             "principal axes X, Y, Z along the object's x, y, z (face up: D along X and Y); Liu et al. "
