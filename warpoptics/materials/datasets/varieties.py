@@ -134,16 +134,17 @@ VARIETIES: dict[str, dict] = {
     ),
 }
 
-# quartz, olivine, zoisite, cordierite, tourmaline, topaz, zircon).  Where the
+# chromophore-B hosts (quartz, olivine, zoisite, cordierite, tourmaline, topaz, zircon).  Where the
 # band set's unit is a peak alpha (no measured absorption coefficient was available, see each host
-# module), the value is chosen so that a 5 mm plate shows the variety's trade colour under D65.
-_CHOSEN = "strength chosen to give the trade colour (no measured absorption coefficient available)"
+# module), the value is chosen so that a 6.5 mm round brilliant face up under the D65 grading dome
+# shows the variety's trade hue (tests/test_chromophores_b.py checks tanzanite, peridot, amethyst).
+_CHOSEN_B = "strength chosen for the trade hue face up (no measured absorption coefficient available)"
 
 VARIETIES.update(
     amethyst=dict(
         host="quartz",
         concentrations={"amethyst centre": 0.2},
-        source=f"amethyst centre {_CHOSEN}",
+        source=f"amethyst centre {_CHOSEN_B}",
         orientation=(
             "usually cut with the table near perpendicular to c (face up mostly o-ray); dichroic "
             "bluish purple (o) / reddish purple (e)"
@@ -152,7 +153,7 @@ VARIETIES.update(
     citrine=dict(
         host="quartz",
         concentrations={"Fe3+": 1.0},
-        source=f"Fe3+ edge {_CHOSEN}",
+        source=f"Fe3+ edge {_CHOSEN_B}",
         orientation="weakly dichroic; no preferred orientation",
     ),
     peridot=dict(
@@ -160,14 +161,14 @@ VARIETIES.update(
         concentrations={"Fe2+": 9.16, "Fe3+": 0.4},
         source=(
             "Fe2+: 9.16 wt% FeO, the microprobe analysis of the Fo89 olivine GDS70 (USGS spectral "
-            f"library, Clark et al. 2003); Fe3+ edge {_CHOSEN}"
+            f"library, Clark et al. 2003); Fe3+ edge {_CHOSEN_B}"
         ),
         orientation="weakly trichroic yellowish green; usually cut for weight, no preferred axis",
     ),
     tanzanite=dict(
         host="zoisite",
-        concentrations={"V3+": 0.4},
-        source=f"heated tanzanite (no 455 nm band); V3+ {_CHOSEN}",
+        concentrations={"V3+": 0.25},
+        source=f"heated tanzanite (no 455 nm band); V3+ {_CHOSEN_B}",
         orientation=(
             "heated: X red-violet, Y blue, Z violet; usually cut with the table perpendicular to Z "
             "or Y for a blue-violet face up"
@@ -184,14 +185,14 @@ VARIETIES.update(
     ),
     rubellite=dict(
         host="tourmaline",
-        concentrations={"Mn3+": 0.8},
-        source=f"Mn3+ {_CHOSEN}",
+        concentrations={"Mn3+": 0.6, "Fe2+-Ti4+": 0.15},
+        source=f"Mn3+ and a little Fe2+-Ti4+ (redder) {_CHOSEN_B}",
         orientation="o (E⊥c) deeper than e; the table usually parallel to c",
     ),
     green_tourmaline=dict(
         host="tourmaline",
         concentrations={"Fe2+": 1.0, "Fe2+-Fe3+": 0.5, "Fe2+-Ti4+": 0.15},
-        source=f"iron-bearing elbaite; FeO values and Fe2+-Ti4+ {_CHOSEN}",
+        source=f"iron-bearing elbaite; FeO values and Fe2+-Ti4+ {_CHOSEN_B}",
         orientation="o (E⊥c) far darker (closed c axis); the table parallel to c",
     ),
     paraiba_tourmaline=dict(
@@ -206,13 +207,13 @@ VARIETIES.update(
     imperial_topaz=dict(
         host="topaz",
         concentrations={"Cr": 0.3, "colour centre": 0.5},
-        source=f"Cr bands and colour-centre edge {_CHOSEN}",
+        source=f"Cr bands and colour-centre edge {_CHOSEN_B}",
         orientation="pleochroic orange / light orange; usually long cuts along c",
     ),
     blue_zircon=dict(
         host="zircon",
         concentrations={"blue centre": 0.8},
-        source=f"heat-treated blue zircon; blue centre {_CHOSEN}",
+        source=f"heat-treated blue zircon; blue centre {_CHOSEN_B}",
         orientation="o-ray blue, e-ray near colourless; cut with the table perpendicular to c",
     ),
 )
