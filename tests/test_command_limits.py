@@ -381,3 +381,46 @@ def test_microscope_flags_refused_before_any_work(tmp_path, capsys, flags, needl
     scene = ROOT / "scenes" / "microscope" / "quartz_thin_section.toml"
     _refused(["microscope", scene, "-o", tmp_path / "m.png", *flags], capsys, *needles)
     assert list(tmp_path.iterdir()) == []
+
+
+# ---- GemCAD designs: facets that do not close, repeated facets -------------------------------------
+
+_OCTAHEDRON_CROWN = "GemCad 4.41\ng 96 48.0\ny 4 n\nI 1.54\nH open design\na 54.74 0.68041 0 72 48 24\n"
+
+
+def test_gemcad_facets_that_do_not_close_say_so_and_name_the_tiers(tmp_path, capsys):
+    """A crown and a girdle without a pavilion: a prism open downward, once reported as an
+    "object size 5.2e16 mm ... below 0.1 um" (the unbounded solid Qhull closed far away)."""
+    design = tmp_path / "open.asc"
+    design.write_text(_OCTAHEDRON_CROWN + "a 90 1 0 72 48 24\n")
+    last = _refused(["cut", design, "-o", tmp_path / "o.ply"], capsys, "open.asc", "do not close")
+    assert "open toward -z (down)" in last
+    assert "tier 1 at 54.74 deg (crown" in last and "tier 2 at 90 deg (girdle" in last
+    assert "object size" not in last
+
+
+def test_open_direction_of_planes():
+    import numpy as np
+
+    from warpoptics.geometry.cuts import open_direction
+
+    cube = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype=float)
+    assert open_direction(cube) is None
+    v = open_direction(cube[[0, 1, 2, 3, 4]])  # no bottom
+    np.testing.assert_allclose(v, [0.0, 0.0, -1.0])
+    v = open_direction(cube[[1, 2, 3, 4, 5]])  # no +x face
+    assert v is not None and v[0] > 0.99
+
+
+def test_gemcad_repeated_facets_warn_once_each_on_one_line(tmp_path, capsys):
+    design = tmp_path / "dup.asc"
+    design.write_text(_OCTAHEDRON_CROWN + "a -54.74 0.68041 0 24 48 72\na -54.74 0.68041 0 24\n")
+    rc = cli.main(["grade", "aset", str(design), "-o", str(tmp_path / "a.png"), "--size", "8"])
+    err = capsys.readouterr().err
+    assert rc == 0, err
+    lines = err.strip().splitlines()
+    # two repeated facets (@0 and @24); the design is read twice, each warning is shown once
+    assert len(lines) == 2 and len(set(lines)) == 2, err
+    for ln in lines:
+        assert ln.startswith("warpoptics grade: warning: ") and "repeats the plane of line 7" in ln
+    assert "UserWarning" not in err

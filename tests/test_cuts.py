@@ -264,7 +264,7 @@ def test_bad_parameters(kw):
 
 
 def test_convex_from_planes_errors():
-    with pytest.raises(InputError, match="bounded"):
+    with pytest.raises(InputError, match="do not close"):
         # an open pyramid: no base
         cuts.convex_from_planes([[1, 0, 1], [-1, 0, 1], [0, 1, 1], [0, -1, 1]], [1, 1, 1, 1])
     with pytest.raises(InputError):

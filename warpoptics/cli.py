@@ -8,9 +8,11 @@ Subcommands live next to the code they drive; each such module defines
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import os
 import sys
+import warnings
 
 from . import interrupt
 from .errors import InputError
@@ -51,6 +53,25 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+@contextlib.contextmanager
+def _warnings_as_lines(command: str):
+    """Warnings raised while a command runs (a GemCAD design's repeated facets, ...) come out as
+    one line each, ``warpoptics COMMAND: warning: ...``, and a message already shown (the same
+    design read twice) is not repeated."""
+    seen: set[str] = set()
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        text = " ".join(str(message).split("\n"))
+        if text not in seen:
+            seen.add(text)
+            print(f"warpoptics {command}: warning: {text}", file=sys.stderr)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", UserWarning)
+        warnings.showwarning = show
+        yield
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -66,7 +87,7 @@ def main(argv: list[str] | None = None) -> int:
         parser.print_help()
         return 2
     try:
-        with interrupt.handling():
+        with interrupt.handling(), _warnings_as_lines(args.command):
             result = args.func(args)
         return int(result or 0)
     except (InputError, FileNotFoundError, ValueError) as exc:

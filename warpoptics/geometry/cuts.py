@@ -45,6 +45,8 @@ from ..errors import InputError
 __all__ = [
     "Proportions",
     "convex_from_planes",
+    "open_direction",
+    "direction_words",
     "rhomb",
     "rhomb_axis_angle",
     "measure_proportions",
@@ -124,6 +126,45 @@ def _plane_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     u /= np.linalg.norm(u)
     v = np.cross(n, u)  # (u, v, n) right-handed: polygons built in (u, v) are CCW about n
     return u, v
+
+
+def open_direction(normals) -> np.ndarray | None:
+    """A unit direction in which ``{x : n_i . x <= d_i}`` runs off to infinity (its recession
+    cone ``{v : n_i . v <= 0}`` holds more than 0), or None when the planes close around a
+    bounded solid, whatever the offsets.  Six small linear programmes: the largest +-v_k over
+    the cone cut to the unit cube."""
+    from scipy.optimize import linprog
+
+    n = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
+    n = n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    for axis in ((0.0, 0.0, -1.0), (0.0, 0.0, 1.0)):  # the usual case, named plainly: down or up
+        if np.all(n @ np.array(axis) <= 0.0):
+            return np.array(axis)
+    for k, sign in ((2, -1.0), (2, 1.0), (0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0)):  # down first
+        c = np.zeros(3)
+        c[k] = -sign
+        res = linprog(c, A_ub=n, b_ub=np.zeros(len(n)), bounds=[(-1.0, 1.0)] * 3, method="highs")
+        if res.status == 0 and res.x is not None and -res.fun > 1e-9:
+            v = np.asarray(res.x, dtype=np.float64)
+            return v / np.linalg.norm(v)
+    return None
+
+
+def direction_words(v) -> str:
+    """A direction as words for a message: ``"-z (down)"`` for an axis, else the rounded vector."""
+    v = np.asarray(v, dtype=np.float64)
+    names = {
+        (0, 1): "+x",
+        (0, -1): "-x",
+        (1, 1): "+y",
+        (1, -1): "-y",
+        (2, 1): "+z (up)",
+        (2, -1): "-z (down)",
+    }
+    k = int(np.argmax(np.abs(v)))
+    if abs(v[k]) > 0.999:
+        return names[(k, 1 if v[k] > 0 else -1)]
+    return "(" + ", ".join(f"{c:.3f}" for c in v) + ")"
 
 
 def _interior_point(n: np.ndarray, d: np.ndarray, source) -> tuple[np.ndarray, float]:
@@ -206,6 +247,13 @@ def convex_from_planes(
     scale = float(np.max(np.abs(d)))
     if scale <= 0:
         raise InputError("all facet planes pass through the origin: the solid is empty", file=source)
+    way = open_direction(n)
+    if way is not None:
+        raise InputError(
+            f"the facet planes do not close: the solid is open toward {direction_words(way)}, where no "
+            "facet faces (is a crown, pavilion or girdle missing?)",
+            file=source,
+        )
     tol = merge_tol * scale
     active = np.ones(len(n), dtype=bool)
     for _ in range(8):  # dropping a sliver can expose another only rarely; 8 rounds is ample

@@ -40,7 +40,7 @@ import numpy as np
 import trimesh
 
 from ..errors import InputError
-from .cuts import convex_from_planes, measure_proportions
+from .cuts import convex_from_planes, direction_words, measure_proportions, open_direction
 
 __all__ = [
     "Tier",
@@ -483,11 +483,31 @@ def recut_tiers(design: Design, angles: dict) -> Design:
     return out
 
 
+def _part(tier: Tier) -> str:
+    """The part of the stone a tier cuts: table, culet, girdle, crown or pavilion."""
+    if tier.angle == 0:
+        return "table" if tier.distance >= 0 else "culet"
+    if abs(tier.angle) == 90:
+        return "girdle"
+    return "pavilion" if tier.angle < 0 else "crown"
+
+
 def design_to_mesh(design: Design, diameter: float = 1.0, *, source: str | None = None) -> trimesh.Trimesh:
     """The stone of a design, girdle width scaled to ``diameter`` mm (see module doc)."""
     if not (math.isfinite(diameter) and diameter > 0):
         raise InputError("must be a positive length in mm", field="diameter", value=diameter)
     normals, dist, names = design.planes()
+    way = open_direction(normals) if len(normals) else None
+    if way is not None:
+        tiers = "; ".join(
+            f"tier {k + 1} at {t.angle:g} deg ({_part(t)}, {len(t.indices)} facets)"
+            for k, t in enumerate(design.tiers)
+        )
+        raise InputError(
+            f"the facets do not close: the stone is open toward {direction_words(way)}, where no tier "
+            f"faces (a crown, pavilion or girdle missing?); its tiers: {tiers}",
+            file=source,
+        )
     mesh = convex_from_planes(normals, dist, names, source=source)
     ext = mesh.extents
     s = diameter / float(min(ext[0], ext[1]))
