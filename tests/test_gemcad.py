@@ -154,7 +154,10 @@ def test_parser_details(tmp_path):
     [
         ("hello\r\n", "not a GemCAD"),
         ("GemCad 5.0\r\ng 96 0\r\n", "no facet tiers"),
-        ("GemCad 5.0\r\ng 96 0\r\na 45 1.0 96 24 48 72\r\na 0 0.5 96\r\n", "do not close: the stone is open toward -z"),
+        (
+            "GemCad 5.0\r\ng 96 0\r\na 45 1.0 96 24 48 72\r\na 0 0.5 96\r\n",
+            "do not close: the stone is open toward -z",
+        ),
         ("GemCad 5.0\r\ng 96 0\r\na 45 x 96\r\n", "distance"),
         ("GemCad 5.0\r\ng 0 0\r\n", "gear"),
         ("GemCad 5.0\r\na 120 1 3\r\n", "angle"),
