@@ -909,7 +909,12 @@ FIELDS: dict[str, dict[str, FieldDoc]] = {
         "center_nm": _F("number", _NM, "centre wavelength of the band"),
         "width_nm": _F("number", _NM, "width of the band"),
         "peak_alpha_per_mm": _F("number", "1/mm", "absorption coefficient at the band's centre (base e)"),
-        "shape": _F("choice", NO_UNIT, 'band shape, "gaussian" or "lorentzian"; default gaussian'),
+        "shape": _F(
+            "choice",
+            NO_UNIT,
+            'band shape: "gaussian", "lorentzian" or "gaussian_wavenumber" (a Gaussian in wavenumber,'
+            " width = sigma in nm at the centre); default gaussian",
+        ),
     },
     "object.material.fluorescence": {
         "centre": _F(
