@@ -198,8 +198,10 @@ class SweepRunner:
             raise InputError("unknown executor", field="executor", value=executor, allowed="process, thread")
         if scheduler and dask_local:
             raise InputError("give either --scheduler or --dask-local", field="--scheduler")
-        if dask_local is not None and dask_local < 1:
-            raise InputError("must be >= 1", field="--dask-local", value=dask_local)
+        if dask_local is not None and not 1 <= dask_local <= MAX_WORKERS:  # a process each, too
+            raise InputError(
+                "out of range", field="--dask-local", value=dask_local, allowed=f"1 to {MAX_WORKERS}"
+            )
         self.sweep = sweep
         self.out_dir = Path(out_dir)
         self.workers = int(workers)
