@@ -30,6 +30,9 @@ TRADE_HUES = {
     "emerald": (135.0, 190.0),
     "almandine": (350.0, 45.0),
     "aquamarine": (185.0, 245.0),
+    "tanzanite": (270.0, 310.0),
+    "peridot": (95.0, 130.0),
+    "amethyst": (285.0, 330.0),
 }
 #: colour names of the other varieties as hue ranges (D65): yellow, pinkish orange, pink, red,
 #: purplish red, orange, green, yellowish green, blue
@@ -45,6 +48,15 @@ OTHER_HUES = {
     "cape_diamond": (80.0, 115.0),
     "pink_diamond": (300.0, 360.0),
     "blue_diamond": (220.0, 280.0),
+    # quartz, cordierite, tourmaline, topaz, zircon: yellow, violet-blue, red to pinkish red, green,
+    # turquoise to blue-green, orange, blue
+    "citrine": (60.0, 110.0),
+    "iolite": (260.0, 310.0),
+    "rubellite": (335.0, 20.0),
+    "green_tourmaline": (120.0, 170.0),
+    "paraiba_tourmaline": (170.0, 215.0),
+    "imperial_topaz": (20.0, 60.0),
+    "blue_zircon": (200.0, 250.0),
 }
 
 
