@@ -191,3 +191,15 @@ def test_cli_fit_spectrum_and_errors(tmp_path):
     assert f"{bad}: row 2" in r.stderr
     r = _cli("tourmaline", "--lab", "70,-30")
     assert r.returncode == 2 and "--lab" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_a_variety_name_fits_its_host():
+    """``"tanzanite"`` fits the zoisite band sets; an unknown name is an error naming the field."""
+    lam = np.arange(400.0, 701.0, 2.0)
+    a = chromophore_alpha("zoisite", {"V3+": 0.3}, lam, "y")
+    r = fit_chromophores("tanzanite", spectrum=(lam, a), polarization="y")
+    assert r.host == "zoisite"
+    assert r.concentrations["V3+"] == pytest.approx(0.3, rel=0.02)
+    assert r.concentrations["V 455 nm"] == 0.0 and "not determined: V 455 nm" in r.summary()
+    with pytest.raises(InputError, match="host = 'tanzanit': unknown chromophore host"):
+        fit_chromophores("tanzanit", spectrum=(lam, a))

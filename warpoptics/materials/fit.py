@@ -185,6 +185,21 @@ def read_absorption_csv(path, *, quantity: str = "absorbance", path_mm: float | 
 # ----------------------------------------------------------------------------------------------
 
 
+def _host_and_index(host, index):
+    """A host crystal, or a chromophore variety's host (and its index unless ``index`` is given):
+    ``"tanzanite"`` fits the zoisite band sets with tanzanite's indices."""
+    from .chromophores import hosts
+    from .library import variety_chromophores
+
+    if isinstance(host, str) and host.strip().lower() in hosts():
+        return host.strip().lower(), index
+    variety = variety_chromophores(host) if isinstance(host, str) else None
+    if variety is None:
+        host_info(host)  # the unknown-host error, with the closest names
+    name, _concentrations, variety_index = variety  # type: ignore[misc]
+    return name, index if index is not None else variety_index
+
+
 def _names(host: str, which) -> list[str]:
     if which is None:
         return chromophores(host)
@@ -247,13 +262,21 @@ def _fit_spectrum(host, names, lam, alpha, polarization, baseline, window) -> Fi
     if baseline:
         a = np.concatenate([a, np.ones((len(lam), 1))], axis=1)
     norms = np.linalg.norm(a, axis=0)
-    if np.any(norms == 0):
-        dead = [n for n, v in zip([*names, "baseline"], norms, strict=False) if v == 0]
+    live = norms > 0
+    if not live[: len(names)].any():
         raise InputError(
-            f"no absorption in {lo:g}-{hi:g} nm for this polarization", field="chromophores", value=dead
+            f"no chromophore absorbs in {lo:g}-{hi:g} nm for this polarization",
+            field="chromophores",
+            value=names,
         )
-    x, _ = nnls(a / norms, alpha)
-    x = x / norms
+    x = np.zeros(a.shape[1])
+    x[live], _ = nnls(a[:, live] / norms[live], alpha)
+    x[live] /= norms[live]
+    notes = [
+        f"not determined: {n} has no absorption in {lo:g}-{hi:g} nm ({polarization})"
+        for n, ok in zip(names, live, strict=False)
+        if not ok
+    ]
     fitted = a @ x
     rms = float(np.sqrt(np.mean((fitted - alpha) ** 2)))
     scale = float(np.sqrt(np.mean(alpha**2)))
@@ -269,6 +292,7 @@ def _fit_spectrum(host, names, lam, alpha, polarization, baseline, window) -> Fi
         alpha_fitted=fitted,
         baseline_per_mm=float(x[-1]) if baseline else 0.0,
         polarization=polarization,
+        notes=notes,
     )
 
 
@@ -358,7 +382,9 @@ def fit_chromophores(
     index: tuple | None = None,
 ) -> FitResult:
     """Non-negative concentrations of ``host``'s chromophores (all, or those named in
-    ``chromophores``) that reproduce a measured spectrum or a target colour.
+    ``chromophores``) that reproduce a measured spectrum or a target colour.  ``host`` is a host
+    crystal (``chromophores.hosts()``) or a chromophore variety (``"tanzanite"``: its host's band
+    sets, its index).
 
     Spectrum: ``spectrum`` is a CSV path (:func:`read_absorption_csv`) or a pair (wavelength_nm,
     values), the values in ``quantity`` ("absorbance" needs ``path_mm``); the fit covers
@@ -370,6 +396,7 @@ def fit_chromophores(
     length); ``index`` optionally replaces the host's colourless index (GEMS format).
 
     Returns a :class:`FitResult` (its ``residual`` says how well the fit did)."""
+    host, index = _host_and_index(host, index)
     if (spectrum is None) == (target_lab is None):
         raise InputError(
             "give either a spectrum or a target colour (target_lab)", field="spectrum/target_lab"
