@@ -684,11 +684,11 @@ def test_shadow_through_a_zoned_plate(device, nested):
 
 
 def test_zone_absorption_from_a_variety_or_chromophores(tmp_path):
-    """A zone's absorption is a material spec like ``material``: a library variety and the same
-    host and chromophore concentration inline absorb alike; a zone table without a start takes
-    the object's (here its Cauchy index, whose bands are then the zone's absorption)."""
+    """A zone's absorption is a material spec like ``material``: a library variety, a host with
+    its chromophores inline, ``"none"``; each zone material absorbs as that spec's material."""
     from warpoptics.pipelines.objects import build_objects
 
+    inline = {"host": "tourmaline", "chromophores": {"Mn3+": 0.8}}
     p = tmp_path / "z.toml"
     p.write_text(
         _scene_text(
@@ -701,7 +701,8 @@ def test_zone_absorption_from_a_variety_or_chromophores(tmp_path):
     (mat,) = build_objects(sc.objects, file=str(p)).materials
     wl = np.linspace(400.0, 700.0, 7)
     a_var, a_inline, a_none = (z.alpha(wl) for z in mat.zoning.absorption)
-    np.testing.assert_allclose(a_inline, a_var, rtol=1e-6)
-    assert np.all(a_none == 0.0) and a_var.max() > 0.1
+    np.testing.assert_allclose(a_var, material_from_spec("rubellite").alpha(wl), rtol=1e-6)
+    np.testing.assert_allclose(a_inline, material_from_spec(inline).alpha(wl), rtol=1e-6)
+    assert np.all(a_none == 0.0) and a_inline.max() > 0.1
     # the zones are placed with the object (identity here) and keep their bounds
     assert mat.zoning.bounds == (-0.2, 0.2) and np.allclose(mat.zoning.frame(), np.eye(4))
