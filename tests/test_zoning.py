@@ -706,3 +706,21 @@ def test_zone_absorption_from_a_variety_or_chromophores(tmp_path):
     assert np.all(a_none == 0.0) and a_inline.max() > 0.1
     # the zones are placed with the object (identity here) and keep their bounds
     assert mat.zoning.bounds == (-0.2, 0.2) and np.allclose(mat.zoning.frame(), np.eye(4))
+
+
+def test_mitsuba_export_refuses_a_zoned_absorbing_stone():
+    """Mitsuba's dielectric is clear: a clear host with an absorbing zone is refused too."""
+    from warpoptics.pipelines.mitsuba_export import _stone_index
+    from warpoptics.pipelines.objects import build_objects
+
+    zoning = {"type": "halves", "normal": [0, 0, 1], "absorption": ["none", "garnet"]}
+    sc = wo.Scene.from_dict(
+        {"object": [{"shape": "sphere", "material": {"cauchy": [1.5]}, "zoning": zoning}]}
+    )
+    (mat,) = build_objects(sc.objects).materials
+    with pytest.raises(InputError, match="absorbing stone"):
+        _stone_index(mat, 589.3, "object.0", "s.toml")
+    clear = dict(zoning, absorption=["none", "none"])
+    sc = wo.Scene.from_dict({"object": [{"shape": "sphere", "material": {"cauchy": [1.5]}, "zoning": clear}]})
+    (mat,) = build_objects(sc.objects).materials
+    assert _stone_index(mat, 589.3, "object.0", "s.toml") == pytest.approx(1.5)

@@ -212,6 +212,9 @@ def _stone_index(mat, wavelength: float, where: str, file) -> float:
         )
     n = float(np.asarray(mat.n(np.array([wavelength]))).ravel()[0])
     a = float(np.asarray(mat.alpha(np.array([wavelength]))).ravel()[0])
+    zoning = getattr(mat, "zoning", None)
+    for z in zoning.absorption if zoning is not None else ():  # a colour-zoned stone's zones
+        a = max(a, float(np.asarray(z.alpha(np.array([wavelength]))).max()))
     if a > 0.0:
         raise InputError(
             "Mitsuba's dielectric is clear: an absorbing stone cannot be exported",
