@@ -424,3 +424,55 @@ def test_gemcad_repeated_facets_warn_once_each_on_one_line(tmp_path, capsys):
     for ln in lines:
         assert ln.startswith("warpoptics grade: warning: ") and "repeats the plane of line 7" in ln
     assert "UserWarning" not in err
+
+
+# ---- outputs that cannot be written: said before the work, and said right ---------------------------
+
+
+def _read_only(monkeypatch):
+    """Make every temporary file fail as on a read-only file system that reports no free space
+    (as a full read-only mount does)."""
+    import errno
+    import os
+    import shutil
+    import tempfile
+
+    def refuse(*a, **k):
+        raise OSError(errno.EROFS, os.strerror(errno.EROFS))
+
+    monkeypatch.setattr(tempfile, "mkstemp", refuse)
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: shutil._ntuple_diskusage(1 << 20, 1 << 20, 0))
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["grade", "aset", "round_brilliant", "--size", "8", "-o", "{tmp}/a.png"],
+        ["grade", "tilt", "round_brilliant", "--size", "8", "-o", "{tmp}/tilt"],
+        ["chart", "michel-levy", "-o", "{tmp}/chart.png"],
+        ["microscope", "{scene}", "--size", "16", "-o", "{tmp}/m.png"],
+    ],
+    ids=["grade aset", "grade tilt", "chart", "microscope"],
+)
+def test_read_only_output_is_said_before_any_work(tmp_path, capsys, monkeypatch, argv):
+    from _helpers import ROOT
+
+    import warpoptics.pipelines.render as render_pipeline
+
+    scene = ROOT / "scenes" / "microscope" / "quartz_thin_section.toml"
+    _read_only(monkeypatch)
+    monkeypatch.setattr(render_pipeline, "render", lambda *a, **k: pytest.fail("rendered before the check"))
+    args = [a.format(tmp=tmp_path, scene=scene) for a in argv]
+    last = _refused(args, capsys, "Read-only file system", "(-o)")
+    assert "disk is full" not in last
+
+
+def test_library_stderr_is_captured_not_printed(capfd):
+    import os
+
+    from warpoptics.film.image import _captured_stderr
+
+    with _captured_stderr() as said:
+        os.write(2, b"libpng error: Write Error\n")
+    assert "libpng error: Write Error" in said()
+    assert "libpng" not in capfd.readouterr().err

@@ -24,7 +24,7 @@ from pathlib import Path
 from . import interrupt
 from .errors import OutputError
 
-__all__ = ["atomic_path", "fsync_folder"]
+__all__ = ["atomic_path", "check_writable", "fsync_folder"]
 
 # free space below which a failed write is reported as a full disk
 _FULL_BYTES = 1 << 20
@@ -58,11 +58,39 @@ def _reason(exc: BaseException, tmp: str | None, dest: Path) -> str:
     if tmp:
         text = text.replace(tmp, str(dest)).replace(os.path.basename(tmp), dest.name)
     text = " ".join(text.split())
+    code = getattr(exc, "errno", None) or getattr(exc.__cause__, "errno", None)
+    if code in _NOT_SPACE:
+        return text  # a read-only file system or a permission: not a full disk, whatever df says
     with contextlib.suppress(OSError):
         free = shutil.disk_usage(dest.parent).free
         if free < _FULL_BYTES and "No space left" not in text:
             text += f" (the disk is full: {free // 1024} KiB free)"
     return text
+
+
+#: errors that say why a write failed on their own: never "the disk is full" beside them (a
+#: read-only file system often reports no free space)
+_NOT_SPACE = (errno.EROFS, errno.EACCES, errno.EPERM, errno.EISDIR, errno.ENOTDIR, errno.ENOENT)
+
+
+def check_writable(path: str | os.PathLike, *, field: str | None = "-o", folder: bool = False) -> None:
+    """Fail before the work, not after it, when ``path`` (a file, or with ``folder`` a folder to
+    write files in) cannot be written: the folder is created if missing and a temporary file is
+    made and removed there (the one test that also catches a read-only file system for root); an
+    :class:`OutputError` names ``path``, ``field`` and the reason (``Read-only file system``,
+    ``Permission denied``, ...)."""
+    dest = Path(path)
+    where = dest if folder else dest.parent
+    if dest.is_dir() and not folder:
+        raise OutputError(dest, "is a folder, not a file", field=field)
+    try:
+        where.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(prefix=".warpoptics.", suffix=".probe", dir=where)
+    except OSError as exc:
+        raise OutputError(dest, _reason(exc, None, dest), field=field) from exc
+    os.close(fd)
+    with contextlib.suppress(OSError):
+        os.unlink(probe)
 
 
 @contextlib.contextmanager

@@ -130,7 +130,11 @@ def _material(name: str):
 
 
 def run(args) -> int:
+    from ..atomic import check_writable
     from ..pipelines import microscope
+
+    if args.output is not None and args.chart != "colour":
+        check_writable(args.output)  # before the work
 
     if args.chart == "michel-levy":
         if args.output is None:

@@ -204,6 +204,11 @@ def run(args) -> int:
         return _retarget(args)
     if sub in ("aset", "idealscope", "hearts", "map") and Path(args.output).suffix.lower() != ".png":
         raise InputError("the output must be a .png", field="-o", value=args.output)
+    from ..atomic import check_writable
+
+    # before any render: an image beside its .json, or the files of a run's folder
+    is_file = sub in ("aset", "idealscope", "hearts", "map")
+    check_writable(args.output, folder=not is_file)
     stone, frame = stone_from_args(args)
     kw = {"frame_mm": frame} if frame is not None else {}
     if sub in ("aset", "idealscope", "hearts") and args.wavelengths is not None:

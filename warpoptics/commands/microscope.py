@@ -32,6 +32,9 @@ def run(args) -> int:
 
     if args.output is None:
         raise InputError("an output image is required", field="-o")
+    from ..atomic import check_writable
+
+    check_writable(args.output)  # before the work
     scene = MicroscopeScene.load(args.scene)
     mic = scene.microscope
     if args.size is not None:

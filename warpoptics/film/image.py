@@ -8,6 +8,7 @@ and an existing file is either the old or the new image.
 
 from __future__ import annotations
 
+import contextlib
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -99,15 +100,47 @@ def write_image(
             raise OSError(f"the file reads back as {back.shape}, not {(h, w, nch)}")
 
     with atomic_path(path, field=field, verify=verify) as tmp:
-        opened = out.open(tmp, spec)
-        ok = opened and out.write_image(np.ascontiguousarray(a))
-        # OpenImageIO reports a failed final flush (a full disk) only in close()'s result
-        closed = out.close() if opened else True
+        with _captured_stderr() as said:  # libpng prints "libpng error: ..." itself: not on the terminal
+            opened = out.open(tmp, spec)
+            ok = opened and out.write_image(np.ascontiguousarray(a))
+            # OpenImageIO reports a failed final flush (a full disk) only in close()'s result
+            closed = out.close() if opened else True
         if not (ok and closed):
             raise OSError(
-                0, out.geterror() or oiio.geterror() or "the image library could not write the file"
+                0,
+                out.geterror()
+                or oiio.geterror()
+                or said().strip()
+                or "the image library could not write the file",
             )
     return path
+
+
+@contextlib.contextmanager
+def _captured_stderr():
+    """Route what C libraries print on file descriptor 2 (libpng's own ``libpng error: Write
+    Error``) into a temporary file while the block runs; yields a callable that returns that
+    text, for the error message instead of a stray line on the terminal."""
+    import sys
+    import tempfile
+
+    with contextlib.suppress(AttributeError, ValueError, OSError):
+        sys.stderr.flush()
+    try:
+        saved = os.dup(2)
+    except OSError:  # no descriptor 2 (a detached process): nothing to capture
+        yield lambda: ""
+        return
+    text = ""
+    with tempfile.TemporaryFile(mode="w+b") as sink:
+        os.dup2(sink.fileno(), 2)
+        try:
+            yield lambda: text
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            sink.seek(0)
+            text = sink.read(4096).decode("utf-8", errors="replace")
 
 
 def write_exr(
