@@ -45,8 +45,8 @@ BAND_SETS = {
         reference_concentration=2.0,
         bands=dict(
             x=(),
-            y=((555.6, 80.0, 0.35, _GW),),
-            z=((555.6, 80.0, 1.0, _GW),),
+            y=((555.6, 80.0, 0.14, _GW),),
+            z=((555.6, 80.0, 0.4, _GW),),
         ),
         source=(
             "Geiger, Rager & Czank 2000 (abstract: the blue colour from a broad band around "
@@ -61,9 +61,9 @@ BAND_SETS = {
         unit="wt% FeO",
         reference_concentration=2.0,
         bands=dict(
-            x=((1000.0, 120.0, 0.2, _GW), (1300.0, 200.0, 0.2, _GW)),
-            y=((1000.0, 120.0, 0.2, _GW), (1300.0, 200.0, 0.2, _GW)),
-            z=((1000.0, 120.0, 0.2, _GW), (1300.0, 200.0, 0.2, _GW)),
+            x=((1000.0, 120.0, 0.08, _GW), (1300.0, 200.0, 0.08, _GW)),
+            y=((1000.0, 120.0, 0.08, _GW), (1300.0, 200.0, 0.08, _GW)),
+            z=((1000.0, 120.0, 0.08, _GW), (1300.0, 200.0, 0.08, _GW)),
         ),
         source="Caltech cordierite page (octahedral Fe2+ bands near 1000 and 1300 nm)",
         note=(
