@@ -476,3 +476,47 @@ def test_library_stderr_is_captured_not_printed(capfd):
         os.write(2, b"libpng error: Write Error\n")
     assert "libpng error: Write Error" in said()
     assert "libpng" not in capfd.readouterr().err
+
+
+# ---- glTF optics and colour-change spectra: the file, the field, the value -------------------------
+
+
+@pytest.mark.parametrize(
+    ("ior", "needle"), [('"NaN"', "must be a number"), ("NaN", "finite"), ("0.5", "out of range")]
+)
+def test_gltf_bad_ior_is_refused_naming_it(tmp_path, ior, needle):
+    import json
+
+    import warpoptics as wo
+    from warpoptics.errors import InputError
+    from warpoptics.geometry import gltf
+    from warpoptics.materials import Cauchy
+
+    path = gltf.export_gltf(tmp_path / "g.gltf", wo.cuts.round_brilliant(diameter=3.0), Cauchy(1.8))
+    tree = json.loads(path.read_text())
+    tree["materials"][0]["extensions"]["KHR_materials_ior"]["ior"] = "__IOR__"
+    path.write_text(json.dumps(tree).replace('"__IOR__"', ior))
+    with pytest.raises(InputError) as exc:
+        gltf.import_gltf(path)
+    text = str(exc.value)
+    assert "g.gltf" in text and "KHR_materials_ior.ior" in text and needle in text, text
+
+
+@pytest.mark.parametrize(
+    ("csv", "needles"),
+    [
+        ("400,0.5\n", ["rows = 1", "two rows"]),
+        ("400,0.5\n500,nan\n", ["value (column 2) = nan", "row 2"]),
+        ("400,0.5\n500,-0.1\n", ["value (column 2) = -0.1", "row 2"]),
+        ("500,0.5\n400,0.3\n", ["wavelength (column 1) = 400.0", "must increase"]),
+        ("400\n500\n", ["columns = 1"]),
+        ("a,b\n", ["not a CSV of numbers"]),
+        ("", ["holds no rows"]),
+    ],
+    ids=["one row", "nan", "negative", "decreasing", "one column", "text", "empty"],
+)
+def test_colorchange_csv_errors_name_the_file_and_row(tmp_path, capsys, csv, needles):
+    f = tmp_path / "spec.csv"
+    f.write_text(csv)
+    last = _refused(["colorchange", f], capsys, "spec.csv", *needles)
+    assert "shape" not in last and "(2,)" not in last

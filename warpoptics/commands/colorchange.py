@@ -23,16 +23,63 @@ def _spectrum(source: str, thickness: float) -> tuple[np.ndarray, np.ndarray, st
     if Path(source).suffix.lower() == ".csv":
         p = Path(source)
         if not p.is_file():
-            raise InputError("spectrum file not found", field="SPECTRUM", value=source)
-        try:
-            data = np.loadtxt(p, delimiter=",", comments="#", ndmin=2)
-        except ValueError as exc:
-            raise InputError(f"unreadable spectrum file ({exc})", field="SPECTRUM", value=source) from None
-        if data.shape[1] < 2:
-            raise InputError("needs two columns: wavelength (nm), value", field="SPECTRUM", value=source)
-        return data[:, 0], data[:, 1], f"{p.name}"
+            raise InputError("spectrum file not found", file=source, field="SPECTRUM")
+        wl, values = _read_spectrum_csv(p)
+        return wl, values, f"{p.name}"
     g = grid()
     return g, plate_transmittance(source, thickness, g), f"{source}, {thickness:g} mm plate"
+
+
+def _read_spectrum_csv(p: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Wavelengths (nm) and values of a two-column CSV, every error naming the file, the column
+    and the row: at least two rows, wavelengths finite and increasing inside 200-2000 nm, values
+    finite and >= 0."""
+    import warnings
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # numpy's "empty input file": said below
+            data = np.loadtxt(p, delimiter=",", comments="#", ndmin=2)
+    except (ValueError, UnicodeDecodeError) as exc:
+        why = " ".join(str(exc).split())[:120]
+        raise InputError(f"not a CSV of numbers ({why})", file=str(p)) from None
+    if data.ndim != 2 or data.shape[0] == 0:
+        raise InputError("holds no rows: expected wavelength (nm), value per line", file=str(p))
+    if data.shape[1] < 2:
+        raise InputError(
+            "needs two columns: wavelength (nm), value",
+            file=str(p),
+            field="columns",
+            value=int(data.shape[1]),
+        )
+    if data.shape[0] < 2:
+        raise InputError(
+            "needs at least two rows (wavelengths)", file=str(p), field="rows", value=int(data.shape[0])
+        )
+    wl, v = data[:, 0], data[:, 1]
+    for name, col, ok, allowed in (
+        ("wavelength (column 1)", wl, np.isfinite(wl) & (wl >= 200.0) & (wl <= 2000.0), "200 to 2000 nm"),
+        ("value (column 2)", v, np.isfinite(v) & (v >= 0.0), "finite numbers >= 0"),
+    ):
+        if not np.all(ok):
+            row = int(np.argmin(ok))
+            raise InputError(
+                f"row {row + 1}: out of range",
+                file=str(p),
+                field=name,
+                value=float(col[row]),
+                allowed=allowed,
+            )
+    steps = np.diff(wl)
+    if np.any(steps <= 0):
+        row = int(np.argmax(steps <= 0)) + 1
+        raise InputError(
+            f"row {row + 1}: wavelengths must increase (row {row} has {wl[row - 1]:g})",
+            file=str(p),
+            field="wavelength (column 1)",
+            value=float(wl[row]),
+        )
+    return wl, v
 
 
 def _plot(path, wl, values, result, title) -> None:

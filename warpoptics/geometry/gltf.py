@@ -260,26 +260,53 @@ def _read_json(p: Path) -> dict:
     return json.loads(raw)
 
 
-def _optics_of(m: dict, name: str) -> GltfOptics:
+def _optics_of(m: dict, name: str, file: str | None = None) -> GltfOptics:
+    """The optics of glTF material ``m``, every number checked (finite, in range) with an
+    InputError naming the file, the material and the extension's key."""
+    from .. import validate as val
+
+    where = f"materials[{name!r}].extensions."
+
+    def num(table: dict, ext: str, key: str, default: float, **rng) -> float:
+        if not isinstance(table, dict):
+            raise InputError("must be an object", file=file, field=where + ext, value=type(table).__name__)
+        return float(val.number(table.get(key, default), file=file, field=f"{where}{ext}.{key}", **rng))
+
     ext = m.get("extensions", {})
-    ior = float(ext.get("KHR_materials_ior", {}).get("ior", 1.5))  # the spec's default
-    disp = float(ext.get("KHR_materials_dispersion", {}).get("dispersion", 0.0))
+    if not isinstance(ext, dict):
+        raise InputError("must be an object", file=file, field=where[:-1], value=type(ext).__name__)
+    ior = num(
+        ext.get("KHR_materials_ior", {}), "KHR_materials_ior", "ior", 1.5, lo=1.0, hi=10.0
+    )  # spec default
+    disp = num(ext.get("KHR_materials_dispersion", {}), "KHR_materials_dispersion", "dispersion", 0.0, lo=0.0)
     vol = ext.get("KHR_materials_volume", {})
-    thickness_mm = float(vol.get("thicknessFactor", 0.0)) * _MM_PER_M
+    thickness_mm = num(vol, "KHR_materials_volume", "thicknessFactor", 0.0, lo=0.0) * _MM_PER_M
     absorption = (0.0, 0.0, 0.0)
     if "attenuationDistance" in vol:
-        d_mm = float(vol["attenuationDistance"]) * _MM_PER_M
-        colour = vol.get("attenuationColor", [1.0, 1.0, 1.0])
+        d_mm = num(vol, "KHR_materials_volume", "attenuationDistance", 1.0, lo=0.0, lo_open=True) * _MM_PER_M
+        colour = val.rgb(
+            vol.get("attenuationColor", [1.0, 1.0, 1.0]),
+            file=file,
+            field=f"{where}KHR_materials_volume.attenuationColor",
+            hi=1.0,
+        )
         absorption = tuple(max(0.0, -math.log(max(float(c), 1e-30)) / d_mm) for c in colour)
     film = ext.get("KHR_materials_iridescence")
+    film_kw: dict = {"film_ior": None, "film_thickness_nm": None}
+    if film:
+        film_kw = {
+            "film_ior": num(film, "KHR_materials_iridescence", "iridescenceIor", 1.3, lo=1.0, hi=10.0),
+            "film_thickness_nm": num(
+                film, "KHR_materials_iridescence", "iridescenceThicknessMaximum", 400.0, lo=0.0, hi=1.0e5
+            ),
+        }
     return GltfOptics(
         ior=ior,
         abbe=20.0 / disp if disp > 0 else math.inf,
         absorption_rgb=absorption,
         thickness_mm=thickness_mm or 1.0,
-        film_ior=float(film.get("iridescenceIor", 1.3)) if film else None,
-        film_thickness_nm=float(film.get("iridescenceThicknessMaximum", 400.0)) if film else None,
         name=name.removeprefix("warpoptics:"),
+        **film_kw,
     )
 
 
@@ -305,5 +332,6 @@ def import_gltf(path) -> list[GltfGem]:
         mesh.apply_transform(xf)
         mesh.apply_scale(_MM_PER_M)
         mesh.merge_vertices()
-        gems.append(GltfGem(mesh=mesh, optics=_optics_of(by_name.get(mname, {}), mname or geom_name)))
+        optics = _optics_of(by_name.get(mname, {}), mname or geom_name, file=str(p))
+        gems.append(GltfGem(mesh=mesh, optics=optics))
     return gems
