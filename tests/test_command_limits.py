@@ -520,3 +520,27 @@ def test_colorchange_csv_errors_name_the_file_and_row(tmp_path, capsys, csv, nee
     f.write_text(csv)
     last = _refused(["colorchange", f], capsys, "spec.csv", *needles)
     assert "shape" not in last and "(2,)" not in last
+
+
+# ---- sweeps: a scene that is the sweep itself, a tilt object past the scene's objects ----------------
+
+
+def test_sweep_whose_scene_is_itself_names_the_file(tmp_path, capsys):
+    sweep = tmp_path / "self.toml"
+    sweep.write_text('scene = "self.toml"\n[[axis]]\nname = "spp"\npath = "render.spp"\nvalues = [1]\n')
+    last = _refused(["sweep", sweep, "-o", tmp_path / "out"], capsys, "self.toml", "scene = 'self.toml'")
+    assert "this sweep file itself" in last
+
+
+def test_sweep_tilt_object_past_the_objects_is_refused_before_rendering(tmp_path, capsys):
+    from _helpers import ROOT
+
+    sweep = tmp_path / "tilt.toml"
+    scene = (ROOT / "scenes" / "diamond.toml").as_posix()
+    sweep.write_text(
+        f'scene = "{scene}"\n[[axis]]\nname = "spp"\npath = "render.spp"\nvalues = [1]\n'
+        '[[view]]\nname = "v"\nmetrics = ["scintillation"]\ntilt_object = 5\n'
+    )
+    last = _refused(["sweep", sweep, "-o", tmp_path / "out"], capsys, "tilt.toml", "view.v.tilt_object = 5")
+    assert "has 1 object" in last
+    assert not (tmp_path / "out" / "results.csv").exists()

@@ -494,6 +494,17 @@ class Sweep:
             raise InputError(
                 "base scene file not found", file=self.source, field="scene", value=str(self.scene)
             )
+        if (
+            self.source is not None
+            and Path(self.source).is_file()
+            and p.resolve() == Path(self.source).resolve()
+        ):
+            raise InputError(
+                "the base scene is this sweep file itself: name a scene TOML ([camera], [[object]], ...)",
+                file=self.source,
+                field="scene",
+                value=str(self.scene),
+            )
         try:
             text = p.read_text(encoding="utf-8")
         except UnicodeDecodeError as exc:
@@ -504,6 +515,13 @@ class Sweep:
             data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:
             raise InputError(f"not valid TOML ({exc})", file=str(p)) from None
+        if "scene" in data and "axis" in data:
+            raise InputError(
+                "is a sweep file, not a scene: a sweep's base scene is a scene TOML",
+                file=self.source,
+                field="scene",
+                value=str(self.scene),
+            )
         return data, str(p), hashlib.sha1(text.encode()).hexdigest()
 
     def _groups(self) -> list[list[Axis]]:
@@ -668,9 +686,21 @@ class Sweep:
         """Build every job's scene (not its materials or geometry): bad paths or values fail here,
         before any rendering."""
         data, path, _ = self.scene_source()
+        by_name = {v.name: v for v in self.views}
         for job in jobs if jobs is not None else self.jobs():
-            for _name, vo in job.views:
-                scene_for(data, path, {**job.overrides, **vo}, self.base_dir)
+            for name, vo in job.views:
+                scene = scene_for(data, path, {**job.overrides, **vo}, self.base_dir)
+                view = by_name.get(name)
+                if view is not None and "scintillation" in view.metrics:
+                    count = len(scene.objects)
+                    if not view.tilt_object < count:
+                        raise InputError(
+                            f"no such object: the scene {path or ''} has {count} object{'' if count == 1 else 's'}",
+                            file=self.source,
+                            field=f"view.{name}.tilt_object",
+                            value=view.tilt_object,
+                            allowed=f"0 to {count - 1}" if count else "a scene with an [[object]]",
+                        )
 
 
 _DIGESTS: dict[tuple[str, int, int], str] = {}
