@@ -694,8 +694,9 @@ class Sweep:
                 if view is not None and "scintillation" in view.metrics:
                     count = len(scene.objects)
                     if not view.tilt_object < count:
+                        objects = f"{count} object" + ("" if count == 1 else "s")
                         raise InputError(
-                            f"no such object: the scene {path or ''} has {count} object{'' if count == 1 else 's'}",
+                            f"no such object: the scene {path or ''} has {objects}",
                             file=self.source,
                             field=f"view.{name}.tilt_object",
                             value=view.tilt_object,
