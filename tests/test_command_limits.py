@@ -544,3 +544,16 @@ def test_sweep_tilt_object_past_the_objects_is_refused_before_rendering(tmp_path
     last = _refused(["sweep", sweep, "-o", tmp_path / "out"], capsys, "tilt.toml", "view.v.tilt_object = 5")
     assert "has 1 object" in last
     assert not (tmp_path / "out" / "results.csv").exists()
+
+
+@pytest.mark.parametrize(
+    ("argv", "needles"),
+    [
+        (["chart", "colour", "--material", "nonsense", "--thickness", "1"], ["--material = 'nonsense'"]),
+        (["chart", "michel-levy", "--illuminant", "X9", "-o", "{tmp}/c.png"], ["--illuminant = 'X9'"]),
+    ],
+    ids=["material", "illuminant"],
+)
+def test_chart_names_its_flags(tmp_path, capsys, argv, needles):
+    _refused([a.format(tmp=tmp_path) for a in argv], capsys, *needles)
+    assert list(tmp_path.iterdir()) == []

@@ -125,14 +125,21 @@ def _material(name: str):
 
     try:
         return materials.get(name)
-    except KeyError as exc:
-        raise InputError("unknown material", field="--material", value=name) from exc
+    except (KeyError, InputError) as exc:
+        why = exc.message if isinstance(exc, InputError) else "unknown material"
+        allowed = exc.allowed if isinstance(exc, InputError) else None
+        raise InputError(why, field="--material", value=name, allowed=allowed) from None
 
 
 def run(args) -> int:
     from ..atomic import check_writable
     from ..pipelines import microscope
+    from ..spectra import ILLUMINANTS
 
+    if args.illuminant not in ILLUMINANTS:
+        raise InputError(
+            "unknown illuminant", field="--illuminant", value=args.illuminant, allowed=", ".join(ILLUMINANTS)
+        )
     if args.output is not None and args.chart != "colour":
         check_writable(args.output)  # before the work
 
