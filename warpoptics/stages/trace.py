@@ -107,7 +107,7 @@ _LEFT = wp.constant(-2)
 class TraceParams:
     """Per-render settings of the trace stage (values, not compile-time constants)."""
 
-    max_depth: int  # interfaces per path (Mitsuba's max_depth - 1)
+    max_depth: int  # interfaces per path (Mitsuba's max_depth - 1); an index-matched one is free
     split_threshold: float  # split deterministically while a branch carries >= this energy
     max_splits: int  # at most this many extra branches from deterministic splits per primary ray
     rr_threshold: float  # below this energy a branch survives Russian roulette with p = e / rr
