@@ -557,3 +557,49 @@ def test_sweep_tilt_object_past_the_objects_is_refused_before_rendering(tmp_path
 def test_chart_names_its_flags(tmp_path, capsys, argv, needles):
     _refused([a.format(tmp=tmp_path) for a in argv], capsys, *needles)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_white_light_conoscope_of_a_thick_plate_does_not_alias():
+    """A 1 mm calcite plate cut across its axis, NA 0.5, white light: on the default 10 nm grid
+    the figure's colours match a 0.1 nm grid (fringes resolved) within 1.5 CIEDE2000 for 95 % of
+    the pupil and 3 at most (point samples: 17.8 and 23.5, the outer isochromes aliased)."""
+    colour = pytest.importorskip("colour")
+    import numpy as np
+
+    from warpoptics import materials
+    from warpoptics.color import xyz_to_lab
+    from warpoptics.pipelines import microscope as ms
+
+    calcite = materials.get("calcite")
+    coarse = ms.conoscopic_figure(calcite, 1.0, size=48, wavelength_nm=None, exposure=1.0)
+    fine = ms.conoscopic_figure(calcite, 1.0, size=48, wavelength_nm=None, exposure=1.0, step_nm=0.1)
+    p = coarse.pupil
+    de = colour.delta_E(xyz_to_lab(coarse.xyz[p]), xyz_to_lab(fine.xyz[p]), method="CIE 2000")
+    assert np.percentile(de, 95) < 1.5 and de.max() < 3.0, (np.percentile(de, 95), de.max())
+
+
+@pytest.mark.parametrize(("name", "axis"), [("calcite", (1.0, 0.0, 1.0)), ("calcite", (0.0, 0.0, 1.0))])
+def test_retardation_of_tilted_waves_is_the_stages_fringe_rate(name, axis):
+    """The band average's phase slope for a tilted wave (index surfaces, Snell's transverse
+    vector) counts the fringes the polariscope stage itself shows between 500 and 540 nm."""
+    import numpy as np
+    from scipy.signal import hilbert
+
+    from warpoptics import materials
+    from warpoptics.pipelines import microscope as ms
+
+    mat = materials.get(name)
+    k = np.array([[0.3, 0.1, np.sqrt(0.9)]])
+    lam = np.linspace(500.0, 540.0, 200_001)
+    coh, inc = ms.plate_between_polarizers(
+        k, 3.0, lam, ms.plate_optics(mat, lam, optic_axis=axis)[0],
+        crystal_frame=ms.plate_optics(mat, 550.0, optic_axis=axis)[2],
+    )  # fmt: skip
+    fringe = coh[0] - inc[0]
+    phase = np.unwrap(np.angle(hilbert(fringe - fringe.mean())))
+    inner = slice(2000, -2000)  # away from the transform's edge effects
+    measured = abs(phase[inner][-1] - phase[inner][0]) / (2 * np.pi)
+    frame = ms.plate_optics(mat, 550.0, optic_axis=axis)[2]
+    ret = ms._retardation_directions(mat, 3.0, k, lam[inner][[0, -1]], frame, 1.0)[0]
+    predicted = ret[0] / lam[inner][0] - ret[1] / lam[inner][-1]
+    assert measured == pytest.approx(predicted, rel=0.05), (measured, predicted)

@@ -215,6 +215,51 @@ def _retardation_frames(material: Material, thickness_mm: float, lam: np.ndarray
     return float(thickness_mm) * 1e6 * dn
 
 
+def _retardation_directions(material: Material, thickness_mm: float, k, lam, frame, n_ambient: float):
+    """Retardation (nm) of a plate's two waves for plane waves of unit directions ``k`` (N, 3) in
+    the ambient medium (the conoscope's cone), at wavelengths ``lam`` (W,): (N, W).  Both waves
+    keep the incident wave's transverse vector s = n_ambient k_xy (Snell), so their phase
+    difference is 2 pi d (q_1 - q_2) / lambda with q the normal component of each wave's
+    refractive-index vector: sqrt(n_o^2 - s^2) for the ordinary wave, the forward root of the
+    extraordinary wave's index surface |N x c|^2 / n_e^2 + (N . c)^2 / n_o^2 = 1 (c the optic
+    axis, N = (s, q)), or the two waves of ``optics.biaxial.biaxial_waves``."""
+    k = np.asarray(k, dtype=np.float64).reshape(-1, 3)
+    lam = np.atleast_1d(np.asarray(lam, dtype=np.float64))
+    n3 = plate_optics(material, lam, crystal_axes=np.eye(3), optic_axis=(0.0, 0.0, 1.0))[0]
+    nd, w = k.shape[0], lam.size
+    if isinstance(material, Biaxial):
+        wn, _, idx = biaxial_waves(
+            np.repeat(k, w, axis=0),
+            np.tile([0.0, 0.0, -1.0], (nd * w, 1)),
+            np.broadcast_to(np.asarray(frame, dtype=np.float64), (nd * w, 3, 3)),
+            np.full(nd * w, float(n_ambient)),
+            np.tile(n3[:, 0], nd),
+            np.tile(n3[:, 1], nd),
+            np.tile(n3[:, 2], nd),
+        )
+        q = (
+            np.asarray(idx, dtype=np.float64).reshape(nd, w, 2)
+            * np.asarray(wn, dtype=np.float64).reshape(nd, w, 2, 3)[..., 2]
+        )
+        dq = np.abs(q[..., 1] - q[..., 0])
+    elif isinstance(material, Uniaxial):
+        c = np.asarray(frame, dtype=np.float64)[2]
+        c = c / np.linalg.norm(c)
+        sxy = float(n_ambient) * k[:, :2]  # (N, 2)
+        s2 = np.sum(sxy**2, axis=1)[:, None]
+        a = (sxy @ c[:2])[:, None]
+        no2, ne2 = n3[None, :, 0] ** 2, n3[None, :, 2] ** 2
+        qa = (1.0 - c[2] ** 2) / ne2 + c[2] ** 2 / no2
+        qb = 2.0 * a * c[2] * (1.0 / no2 - 1.0 / ne2)
+        qc = (s2 - a**2) / ne2 + a**2 / no2 - 1.0
+        q_e = (-qb + np.sqrt(np.maximum(qb**2 - 4.0 * qa * qc, 0.0))) / (2.0 * qa)
+        q_o = np.sqrt(np.maximum(no2 - s2, 0.0))
+        dq = np.abs(q_e - q_o)
+    else:
+        dq = np.zeros((nd, w))
+    return float(thickness_mm) * 1e6 * dq
+
+
 #: the finest wavelength grid a colour integral refines to (``_band_grid``): 470 nm in 20000 steps
 MAX_COLOUR_SAMPLES = 20001
 
@@ -569,7 +614,7 @@ def conoscopic_figure(
     pupil = xx**2 + yy**2 <= 1.0
     k = _cone_directions(np.stack([xx[pupil], yy[pupil]], axis=-1), numerical_aperture, n_ambient)
     lam = np.array([float(wavelength_nm)]) if wavelength_nm is not None else _colour_grid(step_nm)
-    coh, _ = _through_plate(
+    coh, inc = _through_plate(
         material,
         k,
         thickness_mm,
@@ -592,6 +637,12 @@ def conoscopic_figure(
         return ConoscopicFigure(
             img, None, np.repeat(grey[..., None], 3, axis=-1), pupil, numerical_aperture, float(wavelength_nm)
         )
+    if resolve_activity(material, optical_activity) is None:
+        # white light: each direction's fringes averaged over the wavelength bands (_band_average),
+        # so that the high orders toward the rim are white, not aliased colours
+        frame = plate_optics(material, 550.0, **_orientation(material, optic_axis, crystal_axes))[2]
+        ret = _retardation_directions(material, thickness_mm, k, lam, frame, n_ambient)
+        coh = _band_average(coh, inc, lam, ret)
     xyz = np.zeros((size, size, 3))
     xyz[pupil] = _xyz(lam, coh, illuminant)
     if exposure is None:
