@@ -603,3 +603,23 @@ def test_retardation_of_tilted_waves_is_the_stages_fringe_rate(name, axis):
     ret = ms._retardation_directions(mat, 3.0, k, lam[inner][[0, -1]], frame, 1.0)[0]
     predicted = ret[0] / lam[inner][0] - ret[1] / lam[inner][-1]
     assert measured == pytest.approx(predicted, rel=0.05), (measured, predicted)
+
+
+def test_protocol_views_are_bounded_distinct_and_uniquely_named(tmp_path, capsys):
+    """A report's protocol of 801 tilts x 719 azimuths was refused only by its 575,201 view names
+    colliding (a00 for 0 and 0.5), in a 19-million-character message."""
+    from warpoptics.errors import InputError
+    from warpoptics.grading.performance import Protocol
+
+    last = _refused(
+        ["grade", "report", "round_brilliant", "--protocol-tilts", "0:80:0.1", "--protocol-azimuths",
+         "0:359:0.5", "-o", tmp_path / "r"],
+        capsys,
+        "575,201 views",
+    )  # fmt: skip
+    assert len(last) < 200
+    with pytest.raises(InputError, match="lists a value twice"):
+        Protocol(tilts=(0.0, 5.0, 5.0))
+    names = [n for n, *_ in Protocol(tilts=(0.0, 5.0), azimuths=(0.0, 0.5)).view_rotations()]
+    assert names == ["t0_a0", "t5_a0", "t5_a0p5"]
+    assert [n for n, *_ in Protocol().view_rotations()][:3] == ["t00_a00", "t05_a00", "t05_a22"]

@@ -29,6 +29,7 @@ References: see :mod:`warpoptics.grading.presets` and :mod:`warpoptics.grading.s
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -50,6 +51,10 @@ __all__ = [
     "BRIGHTNESS_MAP_COLORS",
     "average_views",
 ]
+
+
+#: the most (tilt, azimuth) views a protocol may have (each is rendered once per lighting)
+MAX_PROTOCOL_VIEWS = 500
 
 
 @dataclass(frozen=True)
@@ -78,15 +83,28 @@ class Protocol:
             raise InputError(
                 "size >= 4 and wavelengths >= 1", field="size", value=(self.size, self.wavelengths)
             )
+        for name in ("tilts", "azimuths"):
+            vals = [float(v) for v in getattr(self, name)]
+            if not all(math.isfinite(v) for v in vals):
+                raise InputError("must be finite", field=name, value=getattr(self, name))
+            if len(set(vals)) != len(vals):
+                raise InputError("lists a value twice", field=name, value=getattr(self, name))
+        n = len(self.views())
+        if n > MAX_PROTOCOL_VIEWS:
+            raise InputError(
+                f"gives {n:,} views ({len(self.tilts)} tilts x {len(self.azimuths)} azimuths), more than "
+                f"{MAX_PROTOCOL_VIEWS}: take fewer tilts or azimuths",
+                field="tilts",
+            )
 
     def view_rotations(self) -> list[tuple[str, float, float, list[float]]]:
         """(name, tilt, azimuth, ``object.rotation``) of each view of :meth:`views`; names like
         ``t05_a22`` (tilt 5, azimuth 22.5), usable as sweep view names."""
-        out = []
-        for t, a in self.views():
-            name = f"t{t:02.0f}_a{a:02.0f}".replace("-", "m")
-            out.append((name, t, a, tilt_rotation(t, a)))
-        return out
+        views = self.views()
+        names = [f"t{t:02.0f}_a{a:02.0f}".replace("-", "m") for t, a in views]
+        if len(set(names)) != len(names):  # fractional values the short names round together
+            names = [f"t{t:g}_a{a:g}".replace("-", "m").replace(".", "p") for t, a in views]
+        return [(name, t, a, tilt_rotation(t, a)) for name, (t, a) in zip(names, views, strict=True)]
 
     def views(self) -> list[tuple[float, float]]:
         """Distinct (tilt, azimuth) pairs: face-up once, every other tilt at every azimuth."""
