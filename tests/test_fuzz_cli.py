@@ -802,6 +802,9 @@ def test_fuzzed_command_line_is_a_clear_answer(fuzz_dir, command, data):
 REGRESSIONS = [
     # a local Dask cluster of 2^31 workers: a MemoryError traceback while Dask listed them
     ["sweep", "{sweep}", "-o", "{out}/sweep", "--quiet", "--dask-local", "2147483647"],
+    # `--size=--`: Python 3.11's argparse stored an empty list, unchecked (a TypeError later)
+    ["microscope", "{microscope}", "--size=--", "--stage=-2.5126865409501846", "--output", "{out}/o.pdf"],
+    ["render", "{camera}", "-o", "{out}/img.exr", "--width=--"],
 ]
 
 

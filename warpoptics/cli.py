@@ -80,6 +80,12 @@ def main(argv: list[str] | None = None) -> int:
     if debug and argv.index("--debug") > 0:
         argv.remove("--debug")
         argv.insert(0, "--debug")
+    for word in argv:
+        # Python 3.11's argparse turns `--flag=--` into an empty list that skips the flag's type
+        # check (a TypeError deep in the command): refuse it as argparse refuses `--flag` alone
+        flag, eq, value = word.partition("=")
+        if flag.startswith("-") and eq and value == "--":
+            parser.error(f"argument {flag}: expected one argument, not '--'")
     args = parser.parse_args(argv)
     if args.device:
         os.environ["WARPOPTICS_DEVICE"] = args.device
