@@ -358,19 +358,21 @@ def _kind(action: argparse.Action) -> str:
 
 
 # in-range probes: the values of these an option accepts are its edges and plausible values, so
-# that a case gets past argparse and reaches the work (large accepted values must be refused with
-# an estimate or finish within the timeout)
-PROBES = [
+# that a case gets past argparse and reaches the work.  Large accepted floats (a retardation, a
+# thickness) must be refused with an estimate or finish within the timeout; counts stay small
+# (an optimizer budget of 10^5 renders is long by request, and prints its progress)
+FLOAT_PROBES = [
     "0", "1e-9", "0.001", "0.5", "1", "2", "3", "8", "16", "45", "89.9", "90", "179.9", "180",
     "360", "1000", "4096", "10000", "1e5", "1e6", "1e9",
 ]  # fmt: skip
+INT_PROBES = ["0", "1", "2", "3", "4", "8", "16", "32", "64"]
 _ACCEPTED: dict[int, list[str]] = {}
 
 
 def _accepted(action: argparse.Action) -> list[str]:
     if id(action) not in _ACCEPTED:
         ok = []
-        for x in PROBES:
+        for x in INT_PROBES if _kind(action) == "int" else FLOAT_PROBES:
             try:
                 action.type(x)  # type: ignore[misc]
                 ok.append(x)
