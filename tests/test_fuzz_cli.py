@@ -26,6 +26,7 @@ CI runs a small, derandomized budget: ``WARPOPTICS_FUZZ_EXAMPLES`` cases per sub
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import re
@@ -558,11 +559,13 @@ def _child(argv: list[str], work: Path) -> None:
         for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGALRM):
             signal.signal(sig, signal.SIG_DFL)
         signal.alarm(int(CASE_TIMEOUT_S) + 60)  # ends the case even if the test process died
-        resource.setrlimit(resource.RLIMIT_AS, (MEMORY_LIMIT, MEMORY_LIMIT))
-        nproc = _user_processes() + MAX_PROCESSES
-        hard = resource.getrlimit(resource.RLIMIT_NPROC)[1]
-        if hard == resource.RLIM_INFINITY or nproc < hard:
-            resource.setrlimit(resource.RLIMIT_NPROC, (nproc, hard))
+        with contextlib.suppress(ValueError, OSError):  # not every system limits address space
+            resource.setrlimit(resource.RLIMIT_AS, (MEMORY_LIMIT, MEMORY_LIMIT))
+        if Path("/proc").is_dir():  # Linux: count the user's processes, allow a few more
+            nproc = _user_processes() + MAX_PROCESSES
+            hard = resource.getrlimit(resource.RLIMIT_NPROC)[1]
+            if hard == resource.RLIM_INFINITY or nproc < hard:
+                resource.setrlimit(resource.RLIMIT_NPROC, (nproc, hard))
         import webbrowser
 
         webbrowser.open = lambda *a, **k: True  # --open: no browser from a test
