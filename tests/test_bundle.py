@@ -31,6 +31,7 @@ STONE = {
         "max_depth": 16,
         "spp": 8,
         "split_threshold": 0.05,
+        "estimator": "point",  # the bundles of point samples (auto would trace this stone in beams)
     },
     "light": [{"type": "environment", "map": "studio"}],
     # the library diamond: dispersive and (Guy & Soler's 0.001/mm) absorbing, so the bundle's lanes
@@ -94,6 +95,7 @@ def test_white_furnace_bundle(device, polarization, split):
             "wavelengths": 8,
             "max_depth": 256,
             "polarization": polarization,
+            "estimator": "point",  # the bundles' own balance (beams: tests/test_pixel_beam.py)
             # split 0: every node with two children splits (the deterministic tree; stochastic
             # only where the stack is full), so energy is exact up to roulette-free truncation
             **({} if split is None else {"split_threshold": split}),

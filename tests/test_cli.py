@@ -56,10 +56,11 @@ def test_readme_and_ci_run_the_same_test_command():
 
 
 def test_quick_look_at_an_adaptive_scene(tmp_path):
-    """``--spp 1`` on the adaptive main job samples every pixel once (no pilot fits below spp)
-    and says so; asking for adaptive sampling with too few samples explicitly stays an error."""
+    """``--spp 1`` on an adaptive scene (the main job's clear twin) samples every pixel once (no
+    pilot fits below spp) and says so; asking for adaptive sampling with too few samples
+    explicitly stays an error."""
     out = tmp_path / "d.png"
-    small = ("render", "scenes/diamond.toml", "-o", str(out), "--width", "24", "--height", "24")
+    small = ("render", "scenes/diamond_clear.toml", "-o", str(out), "--width", "24", "--height", "24")
     r = run_cli(*small, "--spp", "1", cwd=ROOT)
     assert r.returncode == 0, r.stderr
     assert "render.adaptive off: spp = 1" in r.stdout and "adaptive:" not in r.stdout.splitlines()[-1]

@@ -24,6 +24,8 @@ FURNACE = {
         "max_depth": 256,
         "split_threshold": 0.002,
         "rr_threshold": 1e-4,
+        # the point tracer's energy balance (the beams' white furnace: tests/test_pixel_beam.py)
+        "estimator": "point",
     },
     "light": [{"type": "constant", "intensity": 1.0}],
     # absorption_scale = 0: a clear stone (the library diamond has Guy & Soler's 0.001/mm)

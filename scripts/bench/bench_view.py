@@ -29,6 +29,7 @@ import argparse
 import json
 import os
 import platform
+import re
 import signal
 import subprocess
 import sys
@@ -54,12 +55,31 @@ def _get(url: str) -> tuple[dict, bytes]:
         return dict(r.headers), r.read()
 
 
+def _token(base: str) -> str:
+    """The launch's write token, from the served page's ``warpoptics-token`` meta tag (what the
+    page's own script sends: the server takes writes only from its page)."""
+    _, page = _get(base)
+    m = re.search(rb'<meta name="warpoptics-token" content="([^"]+)">', page)
+    if m is None:
+        raise RuntimeError("the preview page carries no write token")
+    return m.group(1).decode("ascii")
+
+
 def _post(url: str, values: dict) -> dict:
-    req = urllib.request.Request(
-        url, data=json.dumps(values).encode(), method="POST", headers={"Content-Type": "application/json"}
-    )
+    base = url.rsplit("/", 1)[0] + "/"
+    if base not in _TOKENS:
+        _TOKENS[base] = _token(base)
+    headers = {
+        "Content-Type": "application/json",
+        "Origin": base.rstrip("/"),
+        "X-Warpoptics-Token": _TOKENS[base],
+    }
+    req = urllib.request.Request(url, data=json.dumps(values).encode(), method="POST", headers=headers)
     with urllib.request.urlopen(req, timeout=120) as r:
         return json.loads(r.read())
+
+
+_TOKENS: dict[str, str] = {}
 
 
 def _frames(url: str, n: int, pid: int, before=None) -> dict:

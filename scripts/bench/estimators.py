@@ -36,6 +36,7 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 import warpoptics as wo  # noqa: E402
+from warpoptics.atomic import atomic_path  # noqa: E402
 from warpoptics.errors import InputError  # noqa: E402
 from warpoptics.pipelines.render import Renderer  # noqa: E402
 
@@ -153,8 +154,9 @@ def main(argv=None) -> int:
     for p in paths:
         print(f"{p.relative_to(ROOT)}:", flush=True)
         rows.append(measure(p, a))
-        if a.json:
-            a.json.write_text(json.dumps({"rows": rows, "argv": sys.argv[1:]}, indent=1))
+        if a.json:  # after every scene, atomically: a long run keeps what it finished
+            with atomic_path(a.json) as tmp, open(tmp, "w") as f:
+                json.dump({"rows": rows, "argv": sys.argv[1:]}, f, indent=1)
     print(f"\n{'scene':34s} {'auto':6s} {'point s to 2 %':>16s} {'beam s to 2 %':>15s} {'ratio':>7s}")
     for r in rows:
         pt = r["point"]["to_2pct"]

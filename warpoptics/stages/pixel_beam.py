@@ -193,11 +193,15 @@ def _t_exit(geom: SceneGeometry, s: int, g: int, x: wp.vec3f, d: wp.vec3f):
 @wp.func
 def _t_entry(geom: SceneGeometry, s: int, g: int, x: wp.vec3f, d: wp.vec3f):
     """Ray parameter at which the object-space ray x + t d enters through plane g (-_BIG: the
-    plane does not face the ray)."""
+    plane does not face the ray and x is inside it, so it sets no bound; _BIG: it does not face
+    the ray and x is outside it, so the ray never enters: a ray parallel to a side facet and
+    beside the stone misses it)."""
     pl = geom.planes[s + g]
     n = wp.vec3f(pl[0], pl[1], pl[2])
     sd = wp.dot(n, d)
     if sd >= 0.0:
+        if wp.dot(n, x) > pl[3]:
+            return _BIG
         return -_BIG
     return (pl[3] - wp.dot(n, x)) / sd
 
