@@ -286,3 +286,34 @@ def test_the_command_line_says_which_estimator_ran(tmp_path, capsys):
         == 0
     )
     assert "estimator: pixel beams (render.estimator = 'auto')" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("camera", ["orthographic", "perspective"])
+def test_rays_beside_a_side_facet_miss_the_stone(device, camera):
+    """A plate beside the view, its side facets parallel to the orthographic rays: every ray
+    misses it, so the beams see the empty dome (Y = 1) as point samples do.  A plane that does
+    not face a ray used to set no bound on its entry even with the ray outside it (0.918)."""
+    cam = {"type": camera, "position": [0.0, 0.0, -20.0], "look_at": [0.0, 0.0, 0.0], "up": [0.0, 1.0, 0.0]}
+    cam.update({"view_height": 7.0} if camera == "orthographic" else {"fov": 15.0})
+    data = {
+        "camera": {**cam, "width": 8, "height": 8},
+        "render": {"spectral": "stratified", "wavelengths": 8, "max_depth": 10},
+        "light": [{"type": "environment", "map": "dome"}],
+        "object": [
+            {
+                "shape": "plate",
+                "width": 5.0,
+                "length": 5.0,
+                "thickness": 1.0,
+                "material": "bk7",
+                "position": [100.0, 0.0, 0.0],
+            }
+        ],
+    }
+    imgs = {}
+    for est in ("point", "beam"):
+        sc = wo.Scene.from_dict({**data, "render": {**data["render"], "estimator": est}})
+        img = Renderer(sc, device=device).run()
+        assert img.stats["estimator"] == est and img.alpha.max() == 0.0
+        imgs[est] = img.xyz
+    np.testing.assert_allclose(imgs["beam"], imgs["point"], rtol=1e-5)
