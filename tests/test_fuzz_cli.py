@@ -810,7 +810,17 @@ REGRESSIONS = [
     # `--size=--`: Python 3.11's argparse stored an empty list, unchecked (a TypeError later)
     ["microscope", "{microscope}", "--size=--", "--stage=-2.5126865409501846", "--output", "{out}/o.pdf"],
     ["render", "{camera}", "-o", "{out}/img.exr", "--width=--"],
-]
+    # a GIF frame of 10^9 s: an OverflowError traceback after every render
+    [
+        "grade", "tilt", "round_brilliant", "-o", "{out}/tilt", "--size", "8", "--wavelengths", "2",
+        "--quiet", "--tilts", "0", "--azimuths", "0", "--fps", "1e-9",
+    ],
+    # an unknown device found after a local Dask cluster started: its shutdown printed a traceback
+    [
+        "--device", "2:inf", "grade", "report", "round_brilliant", "-o", "{out}/report", "--size", "8",
+        "--quiet", "--no-fire", "--protocol-tilts", "0", "--protocol-azimuths", "0", "--dask-local", "2",
+    ],
+]  # fmt: skip
 
 
 @pytest.mark.parametrize("argv", REGRESSIONS, ids=lambda a: " ".join(a))

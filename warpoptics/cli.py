@@ -94,6 +94,10 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     try:
         with interrupt.handling(), _warnings_as_lines(args.command):
+            if args.device:  # an unknown device is refused before any work (a Dask cluster, a render)
+                from .device import get_device
+
+                get_device(args.device)
             result = args.func(args)
         return int(result or 0)
     except (InputError, FileNotFoundError, ValueError) as exc:

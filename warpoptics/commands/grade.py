@@ -517,9 +517,10 @@ def register(sub) -> None:
             q.add_argument("--azimuths", default="0,22.5", help="degrees (default 0,22.5)")
             q.add_argument(
                 "--fps",
-                type=val.flag(float, lo=0.0, lo_open=True, hi=100.0),
+                # a GIF frame's delay is 16 bits of 10 ms: 655 s at most (1e-9 overflowed it)
+                type=val.flag(float, lo=0.01, hi=100.0),
                 default=6.0,
-                help="animation frames per second (default 6; at most 100)",
+                help="animation frames per second (default 6; 0.01 to 100)",
             )
         if name == "optimize":
             q.add_argument(
