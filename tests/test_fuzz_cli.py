@@ -820,6 +820,8 @@ REGRESSIONS = [
         "--device", "2:inf", "grade", "report", "round_brilliant", "-o", "{out}/report", "--size", "8",
         "--quiet", "--no-fire", "--protocol-tilts", "0", "--protocol-azimuths", "0", "--dask-local", "2",
     ],
+    # a NUL in --device: a ValueError traceback from os.environ
+    ["--device", "\x01\x00-", "info"],
 ]  # fmt: skip
 
 

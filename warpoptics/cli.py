@@ -87,8 +87,6 @@ def main(argv: list[str] | None = None) -> int:
         if flag.startswith("-") and eq and value == "--":
             parser.error(f"argument {flag}: expected one argument, not '--'")
     args = parser.parse_args(argv)
-    if args.device:
-        os.environ["WARPOPTICS_DEVICE"] = args.device
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
@@ -98,6 +96,7 @@ def main(argv: list[str] | None = None) -> int:
                 from .device import get_device
 
                 get_device(args.device)
+                os.environ["WARPOPTICS_DEVICE"] = args.device
             result = args.func(args)
         return int(result or 0)
     except (InputError, FileNotFoundError, ValueError) as exc:
