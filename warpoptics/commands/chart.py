@@ -210,9 +210,11 @@ def register(sub) -> None:
     p.add_argument("-o", "--output", default=None, help="output figure (.png, .pdf, .svg)")
     p.add_argument(
         "--max-retardation",
-        type=val.flag(float, lo=0.0, lo_open=True, hi=MAX_CHART_RETARDATION_NM, unit="nm"),
+        # at least 1 nm: a narrower axis is black throughout, and at 1e-9 nm matplotlib's tick
+        # labels overflowed its glyph rasterizer (a traceback)
+        type=val.flag(float, lo=1.0, hi=MAX_CHART_RETARDATION_NM, unit="nm"),
         default=2000.0,
-        help=f"michel-levy: largest retardation (nm; default 2000, at most {MAX_CHART_RETARDATION_NM:g})",
+        help=f"michel-levy: largest retardation (nm; default 2000, 1 to {MAX_CHART_RETARDATION_NM:g})",
     )
     p.add_argument(
         "--max-thickness",
