@@ -60,6 +60,7 @@ wp.set_module_options({"enable_backward": False})  # no adjoint code (see device
 
 __all__ = [
     "band_profile",
+    "bands_alpha",
     "BAND_SHAPES",
     "pleochroic_alpha",
     "Band",
@@ -91,6 +92,21 @@ def band_profile(shape: int, wavelength_nm: float, center_nm: float, width_nm: f
     return width_nm * width_nm / (x * x + width_nm * width_nm)
 
 
+@wp.func
+def bands_alpha(
+    wavelength_nm: float,
+    shape: wp.array(dtype=wp.int32),
+    center: wp.array(dtype=wp.float32),
+    width: wp.array(dtype=wp.float32),
+    peak: wp.array(dtype=wp.float32),
+):
+    """The sum of bands ``peak · band_profile`` at one wavelength (1/mm)."""
+    s = float(0.0)  # noqa: UP018 (a dynamic Warp variable, mutated in the loop)
+    for b in range(center.shape[0]):
+        s += peak[b] * band_profile(shape[b], wavelength_nm, center[b], width[b])
+    return s
+
+
 @wp.kernel
 def _bands_kernel(
     offset: int,
@@ -102,11 +118,7 @@ def _bands_kernel(
     out: wp.array(dtype=wp.float32),
 ):
     i = wp.tid() + offset
-    lam = wavelength_nm[i]
-    s = float(0.0)  # noqa: UP018 (a dynamic Warp variable, mutated in the loop)
-    for b in range(center.shape[0]):
-        s += peak[b] * band_profile(shape[b], lam, center[b], width[b])
-    out[i] = s
+    out[i] = bands_alpha(wavelength_nm[i], shape, center, width, peak)
 
 
 @wp.kernel

@@ -15,7 +15,7 @@ The band sets are data, one module per host under :mod:`warpoptics.materials.dat
 each citing the measured spectrum (paper, figure or table, concentration, path length) it comes
 from; ``tests/data/chromophores/`` keeps the digitized points the tests compare with.
 
-The device-side law is :func:`urbach_tail` (and ``absorption.band_profile``); the kernel here sums
+The device-side law is :func:`urbach_tail` (and ``absorption.bands_alpha``); the kernel here sums
 them over a flat table of bands and tails; :func:`chromophore_alpha` is its NumPy wrapper and
 :func:`host_alpha` tabulates a host's spectra for ``with_absorption``.
 
@@ -43,7 +43,7 @@ import warp as wp
 from .. import device as _device
 from ..device import device_function
 from ..errors import InputError
-from .absorption import BAND_SHAPES, AbsorptionSpectrum, Band, band_profile
+from .absorption import BAND_SHAPES, AbsorptionSpectrum, Band, bands_alpha
 from .datasets.chromophores import HOSTS
 from .units import finite_array, nonnegative_array, wavelength_array
 
@@ -99,9 +99,7 @@ def _chromophore_kernel(
 ):
     i = wp.tid() + offset
     lam = wavelength_nm[i]
-    s = float(0.0)  # noqa: UP018 (a dynamic Warp variable, mutated in the loop)
-    for b in range(center.shape[0]):
-        s += peak[b] * band_profile(shape[b], lam, center[b], width[b])
+    s = bands_alpha(lam, shape, center, width, peak)
     for t in range(tail_ref.shape[0]):
         s += urbach_tail(lam, tail_ref[t], tail_alpha[t], tail_width[t])
     out[i] = s

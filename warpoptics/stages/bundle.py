@@ -18,9 +18,10 @@ group, so each lane's estimate is that of a separate per-wavelength tree.  Branc
 mean energy and applied to all of them with the weight 1/probability: unbiased for every lane.
 
 Scope. Isotropic, uncoated, non-fluorescent solids in an environment light (no surfaces, lamps,
-films or caustics, no solid inside another; not rgb3): :func:`bundle_applies` is the Renderer's
-test; everything else is traced per wavelength by ``stages.trace.trace_radiance``. A split puts a
-node's reflected children at its own stack position and the refracted ones at the next, so
+films or caustics, no solid inside another; not rgb3): :func:`bundle_obstacle` is the Renderer's
+test and names what stands in the way; everything else is traced per wavelength by
+``stages.trace.trace_radiance``. A split puts a node's reflected children at its own stack
+position and the refracted ones at the next, so
 positions grow only with splits; when the :data:`BUNDLE_ROWS` positions or the :data:`NODE_ROWS`
 pending groups are used up, a group continues stochastically instead of splitting (as
 ``max_splits`` does).
