@@ -1,11 +1,11 @@
 """Band sets of quartz, olivine, zoisite, cordierite, tourmaline, topaz and zircon against what their
 sources state.  (The face-up hues of their varieties are checked in tests/test_varieties.py.)
 
-No absorption coefficients with a stated concentration were available for these hosts (see each
-host module), so the checks against the sources are of band positions (within 5 nm of the maxima
-stated in the sources' text, ``tests/data/chromophores/b_band_centres.csv``) and of the stated
-polarization orderings (``b_polarization_order.csv``); the peak-alpha and RMS checks of the
-chromophore data need measured spectra these hosts do not have.
+Band sets fitted to a measured spectrum are compared with it in tests/test_chromophore_spectra.py;
+for the others no absorption coefficients with a stated concentration were available (see each
+host module), so the checks against the sources are of band positions (within 5 nm of the maxima stated in the sources' text,
+``tests/data/chromophores/b_band_centres.csv``) and of the stated polarization orderings
+(``b_polarization_order.csv``).
 """
 
 from __future__ import annotations
@@ -63,12 +63,16 @@ def test_polarization_order_stated_by_the_source(row, device):
 
 
 def test_every_band_set_says_what_it_is():
-    """Each of these band sets cites its source and, having no measured absorption coefficient,
-    says in its note what was chosen."""
+    """Each of these band sets cites its source; one fitted to a measured spectrum names the file
+    (tests/test_chromophore_spectra.py compares them) and says what is still chosen; the others,
+    having no measured absorption coefficient, say in their note what was chosen."""
+    spectra = {p.name for p in (DATA / "spectra").glob("*.csv")}
     for host in ("quartz", "olivine", "zoisite", "cordierite", "tourmaline", "topaz", "zircon"):
         for name in C.chromophores(host):
             bs = C.band_set(host, name)
             assert bs.source and "chosen" in bs.note, (host, name)
+            if "measured:" in bs.note:
+                assert any(f in bs.source for f in spectra), (host, name)
     # every stated centre belongs to a band set that exists
     assert {(r["host"], r["chromophore"]) for r in CENTRES} <= {
         (h, n) for h in C.hosts() for n in C.chromophores(h)

@@ -16,12 +16,14 @@ Each entry of :data:`VARIETIES` is a library material (``warpoptics.materials.ge
 A scene overrides a variety's concentrations with ``material = { base = "ruby", chromophores =
 { Cr = 0.4 } }`` (so ``object.0.material.chromophores.Cr`` is a sweep axis).
 
-Most host band sets carry the peak alpha (1/mm) of a main band as their unit, because no
-absorption coefficient with a stated concentration could be read for them (see each host module).
-Such a variety's concentration is not an analysis of real stones: it is chosen to give the
-variety's trade colour, and its ``source`` says so (for corundum, beryl, chrysoberyl, spinel, the
-garnets and diamond: the trade hue of a 6.5 mm round brilliant face up under the D65 grading dome,
-checked in tests/test_varieties.py).
+Band sets fitted to a measured spectrum with a stated concentration carry the source's unit (Cr3+
+in corundum: wt% Cr2O3); the others carry the alpha (1/mm) of a main band, because no absorption
+coefficient with a concentration could be read for them (see each host module).  Either way a
+variety's concentration is not an analysis of real stones: it is chosen to give the variety's
+trade colour, and its ``source`` says so (for corundum, beryl, chrysoberyl, spinel, the garnets
+and diamond: the trade hue of a 6.5 mm round brilliant face up under the D65 grading dome,
+checked in tests/test_varieties.py).  When a band set is refitted, the concentration is the free
+parameter that keeps the hue, and the variety's source says when it was changed so.
 """
 
 from __future__ import annotations
@@ -39,13 +41,16 @@ VARIETIES: dict[str, dict] = {
     "ruby": dict(
         host="corundum",
         concentrations={"Cr3+": 0.4},
-        source=_CHOSEN_FACE_UP,
+        source="0.4 wt% Cr2O3 (the measured Cr3+ band set's unit), " + _CHOSEN_FACE_UP,
         orientation="table ⊥ c; o-ray purplish red, e-ray orangy red",
     ),
     "blue_sapphire": dict(
         host="corundum",
         concentrations={"Fe2+-Ti4+": 0.25, "Fe3+": 0.05},
-        source=_CHOSEN_FACE_UP,
+        source=(
+            "Fe2+-Ti4+ 0.25/mm at 580 nm E⊥c (about 11 ppma of pairs by the measured cross section); "
+            + _CHOSEN_FACE_UP
+        ),
         orientation="table ⊥ c; o-ray violetish blue, e-ray greenish blue",
     ),
     "yellow_sapphire": dict(
@@ -56,15 +61,18 @@ VARIETIES: dict[str, dict] = {
     ),
     "padparadscha": dict(
         host="corundum",
-        concentrations={"Cr3+": 0.15, "h-centre": 0.2},
-        source=_CHOSEN_FACE_UP,
+        concentrations={"Cr3+": 0.02, "h-centre": 0.2},
+        source=(
+            "0.02 wt% Cr2O3: lowered from the former 0.15 (a peak-alpha unit) when the Cr3+ band set "
+            "was fitted to measured cross sections, to keep the pinkish orange; " + _CHOSEN_FACE_UP
+        ),
         orientation="table ⊥ c; pinkish orange (Cr3+ pink with the trapped-hole yellow)",
     ),
     # ---- beryl
     "emerald": dict(
         host="beryl",
         concentrations={"Cr3+": 0.4},
-        source=_CHOSEN_FACE_UP,
+        source="Cr3+ 0.4/mm at 605 nm E⊥c (the measured band set's unit); " + _CHOSEN_FACE_UP,
         orientation="table ⊥ c; o-ray slightly bluish green, e-ray yellowish green",
     ),
     "aquamarine": dict(

@@ -6,9 +6,15 @@ Polarizations ``o`` (E⊥c) and ``e`` (E∥c).  Bands are Gaussians in wavenumbe
 
 What the sources give, and what they do not
 -------------------------------------------
-- Cr3+: D. L. Wood, K. Nassau, Am. Mineral. 53, 777 (1968): E⊥c bands at 430 and 600 nm, E∥c at
-  420 and 640 nm (the positions the library has always used); J.-M. Derochette's emerald page
-  (jm-derochette.be): the two-band structure at 430 and 600 nm of a 2 mm Brazilian crystal.
+- Cr3+ (measured): G. R. Rossman, Caltech Mineral Spectroscopy Server, polarized spectra of emerald
+  GRR 3570 (Afghanistan, 0.859 mm; files Emerald_3570_a.asc, E⊥c, and Emerald_3570_c.asc, E∥c;
+  ``tests/data/chromophores/spectra/beryl_cr3_caltech_grr3570.csv``): maxima E⊥c 435 and 605 nm,
+  E∥c 420 and 645 nm with the R lines near 683 nm.  Centres, widths, strengths and the o/e ratio
+  are fitted to 400-700 nm (``scripts/fit_chromophore_bands.py``).  No analysis of the sample was
+  published, so the unit is the alpha (1/mm) at the 605 nm maximum E⊥c (the sample has 1.286/mm);
+  the sample's violet edge (below 420 nm E⊥c, not separated from Cr3+: probably Fe3+) is part of
+  the band set as an Urbach tail.  D. L. Wood, K. Nassau, Am. Mineral. 53, 777 (1968): E⊥c 430 and
+  600 nm, E∥c 420 and 640 nm, within 5 nm of the measured maxima.
 - Fe2+ and Fe2+-Fe3+: K. M. Goldman, G. R. Rossman, K. M. Parkin, "Channel constituents in beryl",
   Phys. Chem. Minerals 3, 225 (1978), abstract: Fe2+ in the octahedral site absorbs at about
   820 nm and 970 nm for E∥c; Fe2+ in the channel at 820 nm for E⊥c (and 2100 nm for E∥c);
@@ -23,12 +29,12 @@ What the sources give, and what they do not
   bands between 450 to 600 nm"; pleochroism pale pink (o) and a deeper bluish pink (e), "the
   stronger colour in the extraordinary ray" (gemfame.com morganite page).  The band is placed
   at 525 nm, the middle of that range: a choice.
-- V3+ beryl: no source with band positions was found; not modelled.
+- V3+ beryl: no source with band positions or a spectrum was readable here; not modelled.
 
-No absorption coefficient with a stated concentration was readable for any of these, so each
-band set's unit is the peak alpha (1/mm, base e) of its main band: the "concentration" is that
-band's strength, widths and o/e ratios are chosen, and the values of the beryl varieties in
-:mod:`..varieties` are chosen to give each variety its trade colour.
+For Fe2+, Fe3+, Fe2+-Fe3+ and Mn no measured spectrum with a stated concentration was readable:
+their unit is the peak alpha (1/mm, base e) of the main band, and widths, o/e ratios and strengths
+are chosen.  The values of the beryl varieties in :mod:`..varieties` are chosen to give each variety
+its trade colour.
 """
 
 from __future__ import annotations
@@ -46,17 +52,32 @@ _CHOSEN = "band positions from the sources; widths, o/e ratio and absolute stren
 
 BAND_SETS = {
     "Cr3+": dict(
-        unit="1/mm (peak alpha of the 600 nm band, E⊥c)",
+        unit="1/mm (alpha at the 605 nm maximum, E⊥c)",
         reference_concentration=1.0,
         bands=dict(
-            o=((600.0, 38.0, 1.0, "gaussian_wavenumber"), (430.0, 24.0, 1.3, "gaussian_wavenumber")),
-            e=((640.0, 40.0, 0.8, "gaussian_wavenumber"), (420.0, 24.0, 1.1, "gaussian_wavenumber")),
+            o=(
+                (605.1, 35.95, 0.9899, "gaussian"),
+                (435.8, 27.55, 1.068, "gaussian"),
+                (674.7, 19.66, 0.1395, "gaussian"),
+            ),
+            e=(
+                (629.6, 44.44, 1.21, "gaussian"),
+                (420.3, 26.35, 0.8642, "gaussian"),
+                (685.9, 2.66, 0.4881, "gaussian"),
+                (651.3, 14.87, 0.3392, "gaussian"),
+            ),
         ),
+        tails=dict(o=(380.0, 0.1967, 0.405)),
         source=(
-            "Wood & Nassau 1968, Am. Mineral. 53, 777 (E⊥c 430/600 nm, E∥c 420/640 nm); Derochette, "
-            "emerald spectra (430/600 nm)"
+            "Rossman, Caltech Mineral Spectroscopy Server, emerald GRR 3570 (Afghanistan), 0.859 mm, "
+            "E⊥c and E∥c (Emerald_3570_a/_c.asc); tests/data/chromophores/spectra/"
+            "beryl_cr3_caltech_grr3570.csv; Wood & Nassau 1968, Am. Mineral. 53, 777 (assignment)"
         ),
-        note=_CHOSEN,
+        note=(
+            "measured: centres, widths, strengths and o/e ratio fitted to the sample's spectra at "
+            "400-700 nm; no analysis of the sample, so the unit is its alpha at 605 nm E⊥c; the "
+            "number of bands (4T2, 4T1, lines and the sample's violet edge) is the model's choice"
+        ),
     ),
     "Fe2+": dict(
         unit="1/mm (peak alpha of the 820 nm band, E∥c)",
