@@ -151,8 +151,12 @@ _CHOSEN_B = "strength chosen for the trade hue face up (no measured absorption c
 VARIETIES.update(
     amethyst=dict(
         host="quartz",
-        concentrations={"amethyst centre": 0.2},
-        source=f"amethyst centre {_CHOSEN_B}",
+        concentrations={"amethyst centre": 0.4},
+        source=(
+            "amethyst centre 0.4/mm at 545 nm E⊥c (the unit of the band set fitted to Rossman's Caltech "
+            "amethyst spectrum; raised from 0.2 when it was fitted, to keep the purple face up); "
+            f"{_CHOSEN_B}"
+        ),
         orientation=(
             "usually cut with the table near perpendicular to c (face up mostly o-ray); dichroic "
             "bluish purple (o) / reddish purple (e)"

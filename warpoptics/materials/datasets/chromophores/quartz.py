@@ -6,12 +6,17 @@ Polarizations ``o`` (E⊥c) and ``e`` (E∥c).  Bands are Gaussians in wavenumbe
 
 What the sources give, and what they do not
 -------------------------------------------
-- Amethyst: G. Lehmann, W. J. Moore, "Color center in amethyst quartz", Science 152, 1061 (1966),
-  abstract: the colour-centre absorption "near 545 mµ", proportional to the Fe3+-hole EPR signal.
-  S. Pancharatnam, Proc. Indian Acad. Sci. A 40, 196 (1954), abstract: amethyst is trichroic with
-  absorption maxima near 500, 525 and 575 nm for its three vibration directions (a monoclinic
-  frame, not o/e).  No absorption coefficient with a stated concentration was found: the band is
-  placed at 545 nm for both o and e, and its width, its e/o ratio and its strength are chosen.
+- Amethyst (E⊥c measured): G. R. Rossman, Caltech Mineral Spectroscopy Server, amethyst from the
+  Anahi mine, Bolivia, unheated, file ameth.bo: a 6.17 mm slab cut perpendicular to c (o-ray only;
+  ``tests/data/chromophores/spectra/quartz_amethyst_caltech_ameth_bo.csv``): the colour-centre band
+  with its maximum at 542-545 nm (G. Lehmann, W. J. Moore, Science 152, 1061 (1966), abstract:
+  "near 545 mµ") and the long-wavelength side of a UV band rising below 450 nm (an Urbach tail
+  here).  The band's centre, width and strength and the tail are fitted to 400-700 nm
+  (``scripts/fit_chromophore_bands.py``).  No analysis with the file: the unit is the alpha
+  (1/mm) at 545 nm E⊥c (the sample has 0.0817/mm).  No E∥c spectrum was available: the e-ray is
+  the band alone (no UV tail) at 0.7 times the o-ray's, chosen.  S. Pancharatnam, Proc. Indian Acad. Sci. A 40, 196
+  (1954), abstract: amethyst is trichroic with maxima near 500, 525 and 575 nm in a monoclinic
+  frame (not used).
 - Smoky quartz: K. Nassau, B. E. Prescott, "Smoky, blue, greenish yellow, and other
   irradiation-related colors in quartz", Mineral. Mag. 41, 301 (1977), abstract: the smoky colour
   is the A3 band at 2.90 eV (427.5 nm); the blue A1 and A2 bands lie at 1.85 eV (670.2 nm) and
@@ -23,9 +28,9 @@ What the sources give, and what they do not
   the long-wavelength tail of the UV O2- -> Fe3+ charge-transfer absorption (an Urbach edge); the
   edge's alpha at 400 nm and its slope are chosen.
 
-Hence every band set here has the unit "peak alpha (1/mm)" of its main band: the "concentration"
-is the band's strength itself, and the values in :mod:`..varieties` are chosen to give each
-variety its trade colour (not measured).
+Hence every band set here has the unit "alpha (1/mm)" of its main band at its maximum: the
+"concentration" is the band's strength itself, and the values in :mod:`..varieties` are chosen to
+give each variety its trade colour (not measured).
 """
 
 from __future__ import annotations
@@ -46,18 +51,23 @@ _POSITIONS_ONLY = (
 
 BAND_SETS = {
     "amethyst centre": dict(
-        unit="1/mm (peak alpha of the 545 nm band, E⊥c)",
+        unit="1/mm (alpha at 545 nm, E⊥c)",
         reference_concentration=1.0,
         bands=dict(
-            o=((545.0, 45.0, 1.0, "gaussian_wavenumber"),),
-            e=((545.0, 45.0, 0.7, "gaussian_wavenumber"),),
+            o=((546.5, 50.08, 0.8604, "gaussian_wavenumber"),),
+            e=((546.5, 50.08, 0.6023, "gaussian_wavenumber"),),
         ),
+        tails=dict(o=(380.0, 1.543, 0.412)),
         source=(
-            "Lehmann & Moore 1966, Science 152, 1061 (abstract: the amethyst colour-centre band "
-            "near 545 nm); Pancharatnam 1954, Proc. Indian Acad. Sci. A 40, 196 (trichroic maxima "
-            "500/525/575 nm)"
+            "Rossman, Caltech Mineral Spectroscopy Server, amethyst, Anahi (Bolivia), unheated, "
+            "6.17 mm, E⊥c (ameth.bo); tests/data/chromophores/spectra/"
+            "quartz_amethyst_caltech_ameth_bo.csv; Lehmann & Moore 1966, Science 152, 1061 (the "
+            "colour centre near 545 nm)"
         ),
-        note=_POSITIONS_ONLY,
+        note=(
+            "E⊥c measured: band and UV tail fitted at 400-700 nm (unit: the sample's alpha at 545 nm); "
+            "no E∥c spectrum: the e-ray is the band alone at 0.7 times the o-ray's, chosen"
+        ),
     ),
     "Fe3+": dict(
         unit="1/mm (alpha of the UV charge-transfer edge at 400 nm, E⊥c)",
