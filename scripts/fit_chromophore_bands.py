@@ -69,12 +69,12 @@ TEMPLATES = {
 #: because the library's varieties are expressed in that unit: file -> (polarization, nm).  Their
 #: fitted bands are printed divided by the fit's alpha there (reference concentration 1), and the
 #: sample's concentration in that unit is the measured alpha there (the file's "concentration").
-#: The other files' units are those of the source (wt% oxide, ppma) at the sample's concentration.
+#: The other files' units are those of the source (wt% oxide, ppma) at the sample's concentration,
+#: or the sample itself (concentration 1.0) where the source gives none.
 NORMALIZE = {
     "corundum_feti_gia2020.csv": ("o", 580.0),
     "beryl_cr3_caltech_grr3570.csv": ("o", 605.0),
     "quartz_amethyst_caltech_ameth_bo.csv": ("o", 545.0),
-    "chrysoberyl_cr3_caltech_grr874.csv": ("z", 595.0),
 }
 
 

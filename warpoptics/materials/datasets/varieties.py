@@ -97,7 +97,11 @@ VARIETIES: dict[str, dict] = {
         host="chrysoberyl",
         concentrations={"Cr3+": 0.4},
         index=GEMS["alexandrite"]["index"],
-        source=_CHOSEN_FACE_UP,
+        source=(
+            "0.4 of the Cr3+ of Caltech GRR 874 (the measured band set's unit), "
+            + _CHOSEN_FACE_UP
+            + " and its colour change under A"
+        ),
         orientation=(
             "principal axes X, Y, Z along the object's x, y, z (face up: D along X and Y); Liu et al. "
             "1995 (Mineral. Mag. 59, 111): the largest colour change for light along a"

@@ -1,30 +1,28 @@
 """Chrysoberyl (BeAl2O4, orthorhombic, biaxial +): Cr3+ (alexandrite).
 
 Polarizations ``x``, ``y``, ``z``: light polarized along the principal axes X, Y, Z (n_alpha,
-n_beta, n_gamma).  Bands are Gaussians in wavelength (sigma in nm; the shape is a choice, as for
-Cr3+ in corundum).
+n_beta, n_gamma).  Bands are Gaussians in wavelength (sigma in nm).
 
-What the sources give, and what they do not
--------------------------------------------
-- The alexandrite spectrum: "transmission maxima in the blue-green and red regions and ... a
-  transmission minimum in the yellow region" (E. Gübelin, K. Schmetzer, "Gemstones with
-  alexandrite effect", Gems & Gemology 18(4), 1982, abstract); intense Cr3+ absorption over the
-  yellow, 520-620 nm (bangkokgemsmarket.com alexandrite page), with its maximum near 570-580 nm
-  (grokipedia "Alexandrite effect", summarising the same literature).  J.-M. Derochette
-  (jm-derochette.be, alexandrite spectra of a 0.5 mm Brazilian section): the bimodal Cr3+
-  absorption "quite comparable to ruby", pleochroism green / yellow / pink.
+Measured, and what is still chosen
+----------------------------------
+- Y and Z (measured): G. R. Rossman, Caltech Mineral Spectroscopy Server, polarized spectra of
+  alexandrite GRR 874 (Lake Manyara, Tanzania, 0.717 mm; files ch874.a and ch874.b): the beta ray
+  (E along the 9.40 A axis) and the gamma ray (E along the 5.48 A axis), taken here as D along Y
+  and Z (``tests/data/chromophores/spectra/chrysoberyl_cr3_caltech_grr874.csv``).  Maxima: Y 428
+  and 565 nm, Z 415 and 596 nm with an R line near 681 nm.  Centres, widths and strengths are
+  fitted to 400-700 nm (``scripts/fit_chromophore_bands.py``).  No analysis of the sample was
+  published, so the sample is the unit: 1.0 = the Cr3+ of GRR 874 (alpha 5.62/mm at the 595 nm
+  maximum for D along Z).
+- X (chosen): the server has no alpha-ray spectrum.  The X bands keep the positions chosen before
+  (575 and 420 nm, within the 520-620 nm Cr3+ absorption and its maximum near 570-580 nm: E.
+  Gübelin, K. Schmetzer, Gems & Gemology 18(4), 1982, abstract, and the alexandrite-effect
+  literature) with the widths of the measured Z bands; their strengths, 1.5 and 2.25 times the
+  Z 4T2 maximum, are chosen so that D along X is purple-red and the face-up stone (D along X
+  and Y) changes colour from daylight to incandescent light.
 - Y. Liu, J. E. Shigley, E. Fritsch, S. Hemphill, Mineral. Mag. 59, 111 (1995), abstract: the
-  spectra along the three crystallographic axes are "generally similar"; the colour change is
-  largest for light travelling along a.
-- Not found in a source readable here: the band positions per principal axis, the position of
-  the 4T1 band (placed near 420 nm, as in ruby, after Derochette's comparison), the assignment
-  of the pleochroic colours to X, Y, Z, and any absolute absorption.  The per-axis positions
-  (570-585 nm, within the stated 520-620 nm range), widths and strengths are chosen so that D
-  along X is purple-red, along Y orange-yellow and along Z green (the trichroism gemmology texts
-  describe).
+  colour change is largest for light travelling along a.
 
-The band set's unit is the peak alpha (1/mm, base e) of the 4T2 band for D along X; the value of
-alexandrite in :mod:`..varieties` is chosen.
+The value of alexandrite in :mod:`..varieties` is chosen for its colour change.
 """
 
 from __future__ import annotations
@@ -43,21 +41,30 @@ HOST = dict(
 
 BAND_SETS = {
     "Cr3+": dict(
-        unit="1/mm (peak alpha of the 4T2 band, D along X)",
+        unit="this sample (1.0 = the Cr3+ of Caltech GRR 874; alpha 5.62/mm at 595 nm, D along Z)",
         reference_concentration=1.0,
         bands=dict(
-            x=((575.0, 36.0, 1.0, "gaussian"), (420.0, 32.0, 1.5, "gaussian")),
-            y=((570.0, 36.0, 0.9, "gaussian"), (418.0, 32.0, 1.6, "gaussian")),
-            z=((585.0, 38.0, 1.1, "gaussian"), (425.0, 32.0, 1.2, "gaussian")),
+            x=((575.0, 34.53, 8.445, "gaussian"), (420.0, 28.35, 12.67, "gaussian")),
+            y=(
+                (564.9, 34.26, 1.102, "gaussian"),
+                (430.4, 21.72, 5.871, "gaussian"),
+                (393.0, 18.33, 1.758, "gaussian"),
+            ),
+            z=(
+                (595.8, 34.53, 5.63, "gaussian"),
+                (415.1, 28.35, 3.446, "gaussian"),
+                (681.6, 1.11, 1.991, "gaussian"),
+            ),
         ),
         source=(
-            "Gübelin & Schmetzer 1982, Gems & Gemology 18(4) (transmission minimum in the yellow, "
-            "maxima blue-green and red); Cr3+ absorption 520-620 nm, maximum ~570-580 nm; Liu et al. "
-            "1995, Mineral. Mag. 59, 111 (spectra along a, b, c generally similar)"
+            "Rossman, Caltech Mineral Spectroscopy Server, alexandrite GRR 874 (Lake Manyara), "
+            "0.717 mm, beta and gamma rays (ch874.a/.b); tests/data/chromophores/spectra/"
+            "chrysoberyl_cr3_caltech_grr874.csv; Gübelin & Schmetzer 1982, Gems & Gemology 18(4); "
+            "Liu et al. 1995, Mineral. Mag. 59, 111"
         ),
         note=(
-            "only the band region and maximum are sourced: per-axis positions within 570-585 nm, the "
-            "4T1 band near 420 nm, widths, pleochroic assignment and strengths chosen"
+            "Y and Z measured: centres, widths and strengths fitted at 400-700 nm (unit: the sample); "
+            "X has no measured spectrum: its positions and strengths are chosen (widths as Z)"
         ),
     ),
 }
