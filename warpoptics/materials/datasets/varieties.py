@@ -126,7 +126,10 @@ VARIETIES: dict[str, dict] = {
         host="spessartine", concentrations={"Mn2+": 3.0}, source=_CHOSEN_FACE_UP, orientation="isotropic"
     ),
     "tsavorite": dict(
-        host="grossular", concentrations={"V3+": 0.2}, source=_CHOSEN_FACE_UP, orientation="isotropic"
+        host="grossular",
+        concentrations={"V3+": 0.2, "Cr3+": 0.05},
+        source="V3+ dominant with a little Cr3+, as in most tsavorite (Feneyrol et al. 2014); " + _CHOSEN_FACE_UP,
+        orientation="isotropic",
     ),
     "demantoid": dict(
         host="andradite",
