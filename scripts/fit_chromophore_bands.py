@@ -32,15 +32,19 @@ DATA = ROOT / "tests" / "data" / "chromophores" / "spectra"
 HC_EV_NM = 1239.841984
 
 G, GW = "gaussian", "gaussian_wavenumber"
-FIX = "fix"  # a 5th element: the band's centre is held at the measured maximum given
+V455 = "V 455 nm"
 
-#: file -> polarization -> (bands [(centre, width, peak, shape[, FIX])], tail (reference_nm, alpha,
-#: width_ev) or None): initial guesses, the peaks relative to the maximum of the data in 400-700 nm.
-#: A band marked FIX keeps its centre at the wavelength given, the measured maximum (the middle of a
-#: flat top on a 5 nm grid), so that the band centres are the measured ones.
+#: file -> polarization -> (bands [(centre, width, peak, shape[, band set])], tail (reference_nm,
+#: alpha, width_ev) or None): initial guesses, the peaks relative to the maximum of the data in
+#: 400-700 nm.  A band naming a band set belongs to that set (one of the file's "also" sets), not
+#: to the file's chromophore; a tail naming one (a 4th element) is that set's edge as the library
+#: has it (reference and slope kept, only its strength fitted: the set's concentration).
 TEMPLATES = {
     "corundum_cr3_gia2020_sample1110.csv": {
-        "o": ([(558, 29, 1, G), (410, 24, 1, G), (505, 20, 0.1, G), (475, 4, 0.03, G), (693.5, 1.2, 0.05, G)], None),
+        "o": (
+            [(558, 29, 1, G), (410, 24, 1, G), (505, 20, 0.1, G), (475, 4, 0.03, G), (693.5, 1.2, 0.05, G)],
+            None,
+        ),
         "e": ([(546, 30, 0.2, G), (398, 25, 1, G), (500, 20, 0.03, G)], None),
     },
     "corundum_v3_gia2020.csv": {
@@ -56,7 +60,21 @@ TEMPLATES = {
         "e": ([(638, 40, 1, G), (422, 25, 1, G), (684, 2.5, 0.3, G), (650, 8, 0.2, G)], None),
     },
     "quartz_amethyst_caltech_ameth_bo.csv": {
-        "o": ([(542.5, 50, 1, GW)], (380.0, 0.3, 0.3)),
+        "o": ([(542.5, 50, 1, GW)], (400.0, 0.5, 0.25, "Fe3+")),
+    },
+    "zoisite_v3_caltech_grr1265.csv": {
+        "x": ([(545, 45, 1, GW), (420, 40, 0.2, GW)], None),
+        "y": ([(605, 30, 1, GW), (530, 30, 0.5, GW), (745, 40, 0.8, GW), (410, 15, 1, GW)], None),
+        "z": (
+            [
+                (605, 30, 0.4, GW),
+                (530, 30, 0.2, GW),
+                (725, 20, 0.3, GW),
+                (442, 20, 1, GW, V455),
+                (400, 12, 3, GW, V455),
+            ],
+            None,
+        ),
     },
     "chrysoberyl_cr3_caltech_grr874.csv": {
         "y": ([(565, 35, 0.2, G), (432, 22, 1, G), (405, 20, 0.4, G)], None),
@@ -74,7 +92,7 @@ TEMPLATES = {
 NORMALIZE = {
     "corundum_feti_gia2020.csv": ("o", 580.0),
     "beryl_cr3_caltech_grr3570.csv": ("o", 605.0),
-    "quartz_amethyst_caltech_ameth_bo.csv": ("o", 545.0),
+    "zoisite_v3_caltech_grr1265.csv": ("y", 605.0),
 }
 
 
@@ -93,16 +111,11 @@ def tail(lam, ref, a, w_ev):
 
 
 def _bands(params, bands):
-    """[(centre, width, peak, shape)] from the free parameters (fixed centres from the template)."""
+    """[(centre, width, peak, shape)] from the free parameters."""
     out, k = [], 0
     for b in bands:
-        if len(b) > 4 and b[4] == FIX:
-            c = float(b[0])
-        else:
-            c = params[k]
-            k += 1
-        out.append((c, np.exp(params[k]), np.exp(params[k + 1]), b[3]))
-        k += 2
+        out.append((params[k], np.exp(params[k + 1]), np.exp(params[k + 2]), b[3]))
+        k += 3
     return out, k
 
 
@@ -111,7 +124,9 @@ def model(params, bands, tl, lam):
     fitted, k = _bands(params, bands)
     for c, w, p, shape in fitted:
         out = out + p * profile(shape, lam, c, w)
-    if tl is not None:
+    if tl is not None and len(tl) > 3:  # an "also" set's edge: only its strength is free
+        out = out + tail(lam, tl[0], np.exp(params[k]), tl[2])
+    elif tl is not None:
         la, lw = params[k : k + 2]
         out = out + tail(lam, tl[0], np.exp(la), np.exp(lw))
     return out
@@ -122,14 +137,14 @@ def fit_one(lam, meas, bands, tl, peaks=()):
     p0, lo, hi = [], [], []
     for b in bands:
         c, w, p = b[:3]
-        if not (len(b) > 4 and b[4] == FIX):
-            p0 += [c]
-            lo += [c - 25.0]
-            hi += [c + 25.0]
-        p0 += [np.log(w), np.log(max(p * top, 1e-9))]
-        lo += [np.log(0.3), -40.0]
-        hi += [np.log(400.0), 10.0]
-    if tl is not None:
+        p0 += [c, np.log(w), np.log(max(p * top, 1e-9))]
+        lo += [c - 25.0, np.log(0.3), -40.0]
+        hi += [c + 25.0, np.log(400.0), 10.0]
+    if tl is not None and len(tl) > 3:
+        p0 += [np.log(tl[1] * top)]
+        lo += [-40.0]
+        hi += [10.0]
+    elif tl is not None:
         p0 += [np.log(tl[1] * top), np.log(tl[2])]
         lo += [-40.0, np.log(0.02)]
         hi += [10.0, np.log(3.0)]
@@ -159,13 +174,22 @@ def fit_one(lam, meas, bands, tl, peaks=()):
     return r.x
 
 
-def describe(params, bands, tl, scale: float = 1.0) -> str:
+def describe(params, bands, tl, scale: float = 1.0, band_set=None) -> str:
+    """The bands of ``band_set`` (None: the file's own chromophore) as a data-module tuple."""
     fitted, k = _bands(params, bands)
-    parts = [f'({c:.1f}, {w:.2f}, {p / scale:.4g}, "{shape}")' for c, w, p, shape in fitted]
+    own = [(f, b) for f, b in zip(fitted, bands, strict=True) if (b[4] if len(b) > 4 else None) == band_set]
+    if band_set is not None:  # an "also" set: its unit is its own (first) band's peak alpha
+        scale = own[0][0][2] if own else 1.0
+        tl = None
+    elif tl is not None and len(tl) > 3:  # the edge is another set's
+        tl = None
+    parts = [f'({c:.1f}, {w:.2f}, {p / scale:.4g}, "{shape}")' for (c, w, p, shape), _ in own]
     s = "(" + ", ".join(parts) + ("," if len(parts) == 1 else "") + ")"
     if tl is not None:
         la, lw = params[k : k + 2]
         s += f"  tail=({tl[0]:.1f}, {np.exp(la) / scale:.4g}, {np.exp(lw):.3f})"
+    elif band_set is None and len(bands) * 3 < len(params):  # another set's edge
+        s += f"  (edge of another band set: strength {np.exp(params[k]):.4g})"
     return s
 
 
@@ -173,8 +197,10 @@ def report(result: dict) -> str:
     lines = []
     for pol, r in result.items():
         pk = "; ".join(
-            f"{p['measured_nm']:.0f} nm: model max {p['model_nm']:.2f} (d {p['centre_error_nm']:.2f} nm), "
-            f"alpha {p['model_alpha']:.4g} vs {p['measured_alpha']:.4g} ({100 * (p['peak_ratio'] - 1):+.1f} %)"
+            f"{p['measured_nm']:.0f} nm: model max {p['model_nm']:.2f} "
+            f"(d {p['centre_error_nm']:.2f} nm), "
+            f"alpha {p['model_alpha']:.4g} vs {p['measured_alpha']:.4g} "
+            f"({100 * (p['peak_ratio'] - 1):+.1f} %)"
             for p in r["peaks"]
         )
         lines.append(f"    {pol}: RMS {100 * r['rms']:.1f} % over {r['n_rms']} points; {pk}")
@@ -201,11 +227,34 @@ def main(argv) -> int:
             npol, nlam = NORMALIZE[f.name]
             scale = float(model(*fitted[npol], np.array([nlam]))[0])
             i = int(np.argmin(np.abs(sp.wavelength_nm - nlam)))
-            print(f"  normalized to alpha_{npol}({nlam:g} nm) = 1; the sample's concentration in that unit "
-                  f"(measured alpha there): {sp.alpha[npol][i]:.4g}")
+            print(
+                f"  normalized to alpha_{npol}({nlam:g} nm) = 1; the sample's concentration in that unit "
+                f"(measured alpha there): {sp.alpha[npol][i]:.4g}"
+            )
             for pol, (p, bands, tl) in fitted.items():
                 print(f"  {pol}={describe(p, bands, tl, scale)}")
-        res = compare(sp, lambda lam, pol: model(*fitted[pol], lam))
+        for name in sp.also:
+            amp = [
+                float(np.exp(p[3 * i + 2]))
+                for pol, (p, bands, tl) in fitted.items()
+                for i, b in enumerate(bands)
+                if len(b) > 4 and b[4] == name
+            ]
+            edge = [
+                float(np.exp(p[3 * len(bands)]))
+                for pol, (p, bands, tl) in fitted.items()
+                if tl is not None and len(tl) > 3 and tl[3] == name
+            ]
+            if edge and not amp:
+                print(f"  band set {name!r}: its edge as the library has it, strength {edge[0]:.4g}")
+                continue
+            print(
+                f"  band set {name!r} (unit: the peak alpha of its first band; the sample has "
+                f"{amp[0] if amp else float('nan'):.4g}):"
+            )
+            for pol, (p, bands, tl) in fitted.items():
+                print(f"  {pol}={describe(p, bands, tl, band_set=name)}")
+        res = compare(sp, lambda lam, pol, fitted=fitted: model(*fitted[pol], lam))
         print("  fit:")
         print(report(res))
         try:

@@ -19,7 +19,13 @@ import numpy as np
 import pytest
 
 from warpoptics.materials import chromophores as C
-from warpoptics.materials.chromophore_spectra import CRITERIA, compare, read_measured_spectrum, rms_mask
+from warpoptics.materials.chromophore_spectra import (
+    CRITERIA,
+    compare,
+    concentrations,
+    read_measured_spectrum,
+    rms_mask,
+)
 
 SPECTRA = sorted((Path(__file__).parent / "data" / "chromophores" / "spectra").glob("*.csv"))
 
@@ -27,7 +33,7 @@ SPECTRA = sorted((Path(__file__).parent / "data" / "chromophores" / "spectra").g
 @pytest.fixture(scope="module", params=SPECTRA, ids=lambda p: p.stem)
 def measured(request):
     sp = read_measured_spectrum(request.param)
-    conc = {sp.chromophore: sp.concentration}
+    conc = concentrations(sp)  # the band set, and any other band sets the sample holds
 
     def alpha(lam, pol):
         return C.chromophore_alpha(sp.host, conc, lam, pol)
@@ -45,6 +51,8 @@ def test_the_file_says_where_it_comes_from(measured):
     # the band set cites the file, and its note says what is measured
     bs = C.band_set(sp.host, sp.chromophore)
     assert sp.path.name in bs.source and "measured:" in bs.note
+    for name in sp.also:  # other band sets the sample holds exist in the host
+        assert C.band_set(sp.host, name).source, name
 
 
 def test_band_centres_within_5_nm(measured):

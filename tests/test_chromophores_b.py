@@ -3,9 +3,9 @@ sources state.  (The face-up hues of their varieties are checked in tests/test_v
 
 Band sets fitted to a measured spectrum are compared with it in tests/test_chromophore_spectra.py;
 for the others no absorption coefficients with a stated concentration were available (see each
-host module), so the checks against the sources are of band positions (within 5 nm of the maxima stated in the sources' text,
-``tests/data/chromophores/b_band_centres.csv``) and of the stated polarization orderings
-(``b_polarization_order.csv``).
+host module), so the checks against the sources are of band positions (within 5 nm of the maxima
+stated in the sources' text, ``tests/data/chromophores/b_band_centres.csv``) and of the stated
+polarization orderings (``b_polarization_order.csv``).
 """
 
 from __future__ import annotations

@@ -14,6 +14,8 @@ obtained), followed by ``key: value`` lines the reader uses, then the table:
                             column (``column=value, ...``)
 ``columns``                 ``column=polarization, ...`` (the host's polarization names)
 ``peaks_nm``                the measured maxima checked, ``pol=λ1,λ2; pol=λ3``
+``also``                    (optional) other band sets of the host present in the sample,
+                            ``name=concentration, ...``: the comparison is of their sum
 
 alpha (1/mm, base e) is ``sigma * number_density / 10`` or ``ln(10) (A - baseline) / path_mm``.
 
@@ -36,7 +38,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["MeasuredSpectrum", "read_measured_spectrum", "compare", "rms_mask", "CRITERIA"]
+__all__ = ["MeasuredSpectrum", "read_measured_spectrum", "concentrations", "compare", "rms_mask", "CRITERIA"]
 
 #: acceptance criteria: band centre (nm), peak alpha (relative), RMS relative error, the
 #: wavelength range of the RMS and the fraction of the maximum below which points are left out
@@ -52,6 +54,7 @@ _KEYS = {
     "baseline",
     "columns",
     "peaks_nm",
+    "also",
 }
 
 
@@ -66,6 +69,7 @@ class MeasuredSpectrum:
     wavelength_nm: np.ndarray
     alpha: dict[str, np.ndarray]
     peaks_nm: dict[str, list[float]]
+    also: dict[str, float] = field(default_factory=dict)
     meta: dict[str, str] = field(default_factory=dict)
     comments: list[str] = field(default_factory=list)
 
@@ -113,7 +117,9 @@ def read_measured_spectrum(path) -> MeasuredSpectrum:
             base = float(_pairs(meta.get("baseline", "")).get(col, 0.0))
             alpha[pol] = math.log(10.0) * (v - base) / float(meta["path_mm"])
         else:
-            raise InputError("quantity must be sigma_cm2 or absorbance10", field=str(path), value=meta["quantity"])
+            raise InputError(
+                "quantity must be sigma_cm2 or absorbance10", field=str(path), value=meta["quantity"]
+            )
     peaks = {}
     for item in meta["peaks_nm"].split(";"):
         if item.strip():
@@ -127,6 +133,7 @@ def read_measured_spectrum(path) -> MeasuredSpectrum:
         wavelength_nm=lam,
         alpha=alpha,
         peaks_nm=peaks,
+        also={k: float(v) for k, v in _pairs(meta.get("also", "")).items()},
         meta=meta,
         comments=comments,
     )
@@ -147,18 +154,24 @@ def _local_maxima(lam: np.ndarray, a: np.ndarray) -> np.ndarray:
     return lam[1:-1][inner]
 
 
+def concentrations(spectrum: MeasuredSpectrum) -> dict[str, float]:
+    """The sample's band sets and concentrations: its chromophore and the ``also`` ones."""
+    return {spectrum.chromophore: spectrum.concentration, **spectrum.also}
+
+
 def compare(spectrum: MeasuredSpectrum, alpha_fn=None) -> dict[str, dict]:
-    """The band set ``spectrum.host``/``spectrum.chromophore`` at ``spectrum.concentration`` against
-    the measured alpha, per polarization: ``peaks`` (one entry per stated maximum: measured
-    wavelength and alpha, the nearest model maximum, the model alpha there, |Δλ| and the peak
-    ratio model/measured), ``rms`` (relative, over :func:`rms_mask`) and ``n_rms`` (its points).
+    """The band set ``spectrum.host``/``spectrum.chromophore`` at ``spectrum.concentration`` (plus
+    the ``also`` band sets at theirs) against the measured alpha, per polarization: ``peaks`` (one
+    entry per stated maximum: measured wavelength and alpha, the nearest model maximum, the model
+    alpha there, |Δλ| and the peak ratio model/measured), ``rms`` (relative, over
+    :func:`rms_mask`) and ``n_rms`` (its points).
 
     ``alpha_fn(wavelength_nm, polarization)`` replaces the library's band set (the fit script
     passes its trial parameters)."""
     if alpha_fn is None:
         from .chromophores import chromophore_alpha
 
-        conc = {spectrum.chromophore: spectrum.concentration}
+        conc = concentrations(spectrum)
 
         def alpha_fn(lam, pol):
             return chromophore_alpha(spectrum.host, conc, lam, pol)

@@ -128,7 +128,8 @@ VARIETIES: dict[str, dict] = {
     "tsavorite": dict(
         host="grossular",
         concentrations={"V3+": 0.2, "Cr3+": 0.05},
-        source="V3+ dominant with a little Cr3+, as in most tsavorite (Feneyrol et al. 2014); " + _CHOSEN_FACE_UP,
+        source="V3+ dominant with a little Cr3+, as in most tsavorite (Feneyrol et al. 2014); "
+        + _CHOSEN_FACE_UP,
         orientation="isotropic",
     ),
     "demantoid": dict(
@@ -158,11 +159,10 @@ _CHOSEN_B = "strength chosen for the trade hue face up (no measured absorption c
 VARIETIES.update(
     amethyst=dict(
         host="quartz",
-        concentrations={"amethyst centre": 0.4},
+        concentrations={"amethyst centre": 0.2},
         source=(
-            "amethyst centre 0.4/mm at 545 nm E⊥c (the unit of the band set fitted to Rossman's Caltech "
-            "amethyst spectrum; raised from 0.2 when it was fitted, to keep the purple face up); "
-            f"{_CHOSEN_B}"
+            "amethyst centre 0.2/mm peak E⊥c (the unit of the band set fitted to Rossman's Caltech "
+            f"amethyst spectrum; no Fe3+, which that sample also holds); {_CHOSEN_B}"
         ),
         orientation=(
             "usually cut with the table near perpendicular to c (face up mostly o-ray); dichroic "
@@ -186,8 +186,12 @@ VARIETIES.update(
     ),
     tanzanite=dict(
         host="zoisite",
-        concentrations={"V3+": 0.25},
-        source=f"heated tanzanite (no 455 nm band); V3+ {_CHOSEN_B}",
+        concentrations={"V3+": 0.4},
+        source=(
+            "heated tanzanite (no 455 nm band); V3+ 0.4/mm at 605 nm along Y (the unit of the band set "
+            "fitted to Rossman's Caltech tanzanite GRR 1265; raised from 0.25 with that fit to keep the "
+            f"three pleochroic colours apart); {_CHOSEN_B}"
+        ),
         orientation=(
             "heated: X red-violet, Y blue, Z violet; usually cut with the table perpendicular to Z "
             "or Y for a blue-violet face up"

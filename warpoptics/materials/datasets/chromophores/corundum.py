@@ -45,7 +45,9 @@ HOST = dict(
     description="corundum alpha-Al2O3, trigonal, uniaxial (-); o = E⊥c, e = E∥c",
 )
 
-_CHOSEN = "band positions from the sources; widths, o/e ratio and absolute strength chosen (no measured spectrum)"
+_CHOSEN = (
+    "band positions from the sources; widths, o/e ratio and absolute strength chosen (no measured spectrum)"
+)
 
 BAND_SETS = {
     "Cr3+": dict(

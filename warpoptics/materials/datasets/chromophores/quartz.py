@@ -10,13 +10,14 @@ What the sources give, and what they do not
   Anahi mine, Bolivia, unheated, file ameth.bo: a 6.17 mm slab cut perpendicular to c (o-ray only;
   ``tests/data/chromophores/spectra/quartz_amethyst_caltech_ameth_bo.csv``): the colour-centre band
   with its maximum at 542-545 nm (G. Lehmann, W. J. Moore, Science 152, 1061 (1966), abstract:
-  "near 545 mµ") and the long-wavelength side of a UV band rising below 450 nm (an Urbach tail
-  here).  The band's centre, width and strength and the tail are fitted to 400-700 nm
-  (``scripts/fit_chromophore_bands.py``).  No analysis with the file: the unit is the alpha
-  (1/mm) at 545 nm E⊥c (the sample has 0.0817/mm).  No E∥c spectrum was available: the e-ray is
-  the band alone (no UV tail) at 0.7 times the o-ray's, chosen.  S. Pancharatnam, Proc. Indian Acad. Sci. A 40, 196
-  (1954), abstract: amethyst is trichroic with maxima near 500, 525 and 575 nm in a monoclinic
-  frame (not used).
+  "near 545 mµ") and a rise below 450 nm.  The band's centre, width and strength are fitted to
+  400-700 nm (``scripts/fit_chromophore_bands.py``) together with the strength of the Fe3+ edge
+  below (its shape unchanged), to which the rise is attributed (a choice: the Anahi mine is the
+  ametrine locality).  No analysis with the file: the unit is the band's peak alpha (1/mm) E⊥c
+  (the sample has 0.080/mm, and Fe3+ 0.072).  No E∥c spectrum was available: the e-ray is the
+  same band at 0.7 times the o-ray's, chosen.  S. Pancharatnam, Proc. Indian
+  Acad. Sci. A 40, 196 (1954), abstract: amethyst is trichroic with maxima near 500, 525 and
+  575 nm in a monoclinic frame (not used).
 - Smoky quartz: K. Nassau, B. E. Prescott, "Smoky, blue, greenish yellow, and other
   irradiation-related colors in quartz", Mineral. Mag. 41, 301 (1977), abstract: the smoky colour
   is the A3 band at 2.90 eV (427.5 nm); the blue A1 and A2 bands lie at 1.85 eV (670.2 nm) and
@@ -51,13 +52,12 @@ _POSITIONS_ONLY = (
 
 BAND_SETS = {
     "amethyst centre": dict(
-        unit="1/mm (alpha at 545 nm, E⊥c)",
+        unit="1/mm (peak alpha of the band, E⊥c)",
         reference_concentration=1.0,
         bands=dict(
-            o=((546.5, 50.08, 0.8604, "gaussian_wavenumber"),),
-            e=((546.5, 50.08, 0.6023, "gaussian_wavenumber"),),
+            o=((544.6, 54.84, 1.0, "gaussian_wavenumber"),),
+            e=((544.6, 54.84, 0.7, "gaussian_wavenumber"),),
         ),
-        tails=dict(o=(380.0, 1.543, 0.412)),
         source=(
             "Rossman, Caltech Mineral Spectroscopy Server, amethyst, Anahi (Bolivia), unheated, "
             "6.17 mm, E⊥c (ameth.bo); tests/data/chromophores/spectra/"
@@ -65,8 +65,8 @@ BAND_SETS = {
             "colour centre near 545 nm)"
         ),
         note=(
-            "E⊥c measured: band and UV tail fitted at 400-700 nm (unit: the sample's alpha at 545 nm); "
-            "no E∥c spectrum: the e-ray is the band alone at 0.7 times the o-ray's, chosen"
+            "E⊥c measured: the band fitted at 400-700 nm with the sample's Fe3+ edge (unit: its peak "
+            "alpha); no E∥c spectrum: the e/o ratio 0.7 is chosen"
         ),
     ),
     "Fe3+": dict(
