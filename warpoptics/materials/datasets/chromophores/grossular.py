@@ -62,6 +62,9 @@ BAND_SETS = {
             "abstract, record 2213857); 4T1 at about 430 nm (Crystals 12, 1677 (2022), abstract); the "
             "lines at 697 and 701 nm (Feneyrol et al. 2014, Eur. J. Mineral. 26, 293, abstract)"
         ),
-        note="band positions from the sources; widths, 430/609 ratio, line strengths and absolute strength chosen",
+        note=(
+            "band positions from the sources; widths, 430/609 ratio, line strengths and absolute "
+            "strength chosen"
+        ),
     ),
 }
