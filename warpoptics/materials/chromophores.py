@@ -13,7 +13,9 @@ the violet end).  Absorption is linear in concentration (Beer's law):
 
 The band sets are data, one module per host under :mod:`warpoptics.materials.datasets.chromophores`,
 each citing the measured spectrum (paper, figure or table, concentration, path length) it comes
-from; ``tests/data/chromophores/`` keeps the digitized points the tests compare with.
+from; ``tests/data/chromophores/spectra/`` keeps the numeric points of those spectra, read by
+:mod:`.chromophore_spectra` and compared in tests/test_chromophore_spectra.py (the sets without a
+readable measured spectrum say in their notes what is chosen; docs/design/chromophore_spectra.md).
 
 The device-side law is :func:`urbach_tail` (and ``absorption.bands_alpha``); the kernel here sums
 them over a flat table of bands and tails; :func:`chromophore_alpha` is its NumPy wrapper and
