@@ -5,17 +5,17 @@ A spectrum file is a CSV whose comment lines (``#``) say where the data come fro
 database file, figure, sample, concentration, polarization, thickness, how the values were
 obtained), followed by ``key: value`` lines the reader uses, then the table:
 
-``host``, ``chromophore``   the band set the spectrum is compared with
-``quantity``                ``sigma_cm2`` (absorption cross section, base e) or ``absorbance10``
-                            (decadic absorbance of a slab)
-``concentration``           the sample's concentration in the band set's unit
-``number_density_cm3``      (``sigma_cm2``) the chromophore's number density at ``concentration``
-``path_mm``, ``baseline``   (``absorbance10``) the slab thickness and the absorbance removed per
-                            column (``column=value, ...``)
-``columns``                 ``column=polarization, ...`` (the host's polarization names)
-``peaks_nm``                the measured maxima checked, ``pol=λ1,λ2; pol=λ3``
-``also``                    (optional) other band sets of the host present in the sample,
-                            ``name=concentration, ...``: the comparison is of their sum
+- ``host``, ``chromophore``: the band set the spectrum is compared with;
+- ``quantity``: ``sigma_cm2`` (absorption cross section, base e) or ``absorbance10`` (decadic
+  absorbance of a slab);
+- ``concentration``: the sample's concentration in the band set's unit;
+- ``number_density_cm3`` (``sigma_cm2``): the chromophore's number density at ``concentration``;
+- ``path_mm``, ``baseline`` (``absorbance10``): the slab thickness and the absorbance removed per
+  column (``column=value, ...``);
+- ``columns``: ``column=polarization, ...`` (the host's polarization names);
+- ``peaks_nm``: the measured maxima checked, ``pol=λ1,λ2; pol=λ3``;
+- ``also`` (optional): other band sets of the host present in the sample,
+  ``name=concentration, ...``: the comparison is of their sum.
 
 alpha (1/mm, base e) is ``sigma * number_density / 10`` or ``ln(10) (A - baseline) / path_mm``.
 
@@ -163,8 +163,8 @@ def compare(spectrum: MeasuredSpectrum, alpha_fn=None) -> dict[str, dict]:
     """The band set ``spectrum.host``/``spectrum.chromophore`` at ``spectrum.concentration`` (plus
     the ``also`` band sets at theirs) against the measured alpha, per polarization: ``peaks`` (one
     entry per stated maximum: measured wavelength and alpha, the nearest model maximum, the model
-    alpha there, |Δλ| and the peak ratio model/measured), ``rms`` (relative, over
-    :func:`rms_mask`) and ``n_rms`` (its points).
+    alpha there, the distance between the two maxima and the peak ratio model/measured), ``rms``
+    (relative, over :func:`rms_mask`) and ``n_rms`` (its points).
 
     ``alpha_fn(wavelength_nm, polarization)`` replaces the library's band set (the fit script
     passes its trial parameters)."""
