@@ -9,11 +9,14 @@ optimizer).
 
 Modules: :mod:`.presets` (lightings, the observer, face-up scenes), :mod:`.scopes` (direction-band
 decomposition and the scope views), :mod:`.performance` (the protocol and the metrics),
-:mod:`.design` (design tools).
+:mod:`.design` (design tools), :mod:`.appearance` (the face-up colour of a stone under a named
+light), :mod:`.carat` (carat weight and the size of a stone of a given weight).
 """
 
 from __future__ import annotations
 
+from .appearance import adapted_display, face_up_colour, illuminant_white
+from .carat import carat_weight, density_of, size_for_carats, stone_mesh
 from .design import brilliant_with_misaligned_main, critical_angle, retarget, tier_report
 from .performance import (
     PROTOCOL,
@@ -75,4 +78,11 @@ __all__ = [
     "tier_report",
     "retarget",
     "brilliant_with_misaligned_main",
+    "face_up_colour",
+    "illuminant_white",
+    "adapted_display",
+    "carat_weight",
+    "density_of",
+    "size_for_carats",
+    "stone_mesh",
 ]
