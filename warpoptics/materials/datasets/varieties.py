@@ -177,10 +177,11 @@ VARIETIES.update(
     ),
     peridot=dict(
         host="olivine",
-        concentrations={"Fe2+": 9.16, "Fe3+": 0.4},
+        concentrations={"Fe2+": 1.0, "Fe3+": 0.4},
         source=(
-            "Fe2+: 9.16 wt% FeO, the microprobe analysis of the Fo89 olivine GDS70 (USGS spectral "
-            f"library, Clark et al. 2003); Fe3+ edge {_CHOSEN_B}"
+            "Fe2+: 1.0, the San Carlos forsterite GRR 418 whose three Caltech spectra (Rossman) the band "
+            "set is fitted to (its unit: no composition is published; the concentration is the free "
+            f"parameter, chosen for the trade hue); Fe3+ edge {_CHOSEN_B}"
         ),
         orientation="weakly trichroic yellowish green; usually cut for weight, no preferred axis",
     ),
