@@ -113,7 +113,10 @@ def test_biaxial_gallery_quick(tmp_path, device):
     env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
     r = subprocess.run(
         [sys.executable, str(SCRIPTS / "biaxial_gallery.py"), "--quick", "--out-dir", str(tmp_path)]
-        + ["--device", str(device)],
+        # 12 wavelengths, not --quick's 4: tanzanite's Y and Z windows (blue and violet) lie
+        # ~6 dE00 apart, and 4 stratified wavelengths of one beam pass move a window's colour
+        # by a few units (measured at 24 px: 7.0 with 16 wavelengths, 2.5 with 4)
+        + ["--wavelengths", "12", "--device", str(device)],
         capture_output=True,
         text=True,
         env=env,

@@ -62,6 +62,7 @@ __all__ = [
     "generalized_fresnel",
     "interface_solution",
     "incident_wave",
+    "wave_normal_of_ray",
     "boundary_amplitudes",
     "interface_jones",
     "interface_jones_approx",
@@ -366,6 +367,19 @@ def incident_wave(d: wp.vec3, extraordinary: int, med: UniaxialMedium, normal: w
     """The propagating incident wave of unit wave normal ``d`` in mode o (0) / e (1) of a uniaxial
     or isotropic ``med`` (its flux taken along ``-normal``)."""
     return _incident_wave(d, extraordinary, med, normal)
+
+
+@wp.func
+def wave_normal_of_ray(s: wp.vec3, extraordinary: int, med: UniaxialMedium):
+    """The unit wave normal of the o (0) or e (1) wave whose ray (Poynting direction) is the unit
+    ``s`` in the uniaxial or isotropic ``med``: ``s`` itself for an o-wave; for an e-wave the
+    inverse of the ray map ``s = M k / |M k|`` (M the index metric, so k is along M^-1 s:
+    tan theta_k = (ne/no)^2 tan theta_s from the optic axis; Born & Wolf §15.3).  Pixel beams
+    carry ray directions at their vertices and need each vertex's wave for its interfaces."""
+    if extraordinary != 1 or wp.dot(med.axis, med.axis) == 0.0:
+        return s
+    a = med.axis
+    return wp.normalize(s * (med.ne * med.ne) + a * ((med.no * med.no - med.ne * med.ne) * wp.dot(a, s)))
 
 
 # ----------------------------------------------------------------------------------------------

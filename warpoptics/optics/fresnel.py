@@ -120,11 +120,14 @@ def fresnel_amplitudes(cos_i: float, n1: wp.vec2f, n2: wp.vec2f):
     # tp = 2 N1 cos i / (N2 cos i + N1 cos t) = 2 N1 N2 cos i / (N2^2 cos i + N1 N2 cos t)
     f.tp = c_mul(c_mul(n1, n2) * (2.0 * c), inv_p)
     if n1sq[0] == n2sq[0] and n1sq[1] == n2sq[1]:
-        # identical media: exactly no reflection, whatever the rounding of N2 cos t
+        # identical media: exactly no reflection and cos t = cos i, whatever the rounding of
+        # N2 cos t (at grazing incidence its float32 sqrt is off by ~5e-4 relative, and the
+        # transmitted flux ratio N2 cos t / N1 cos i with it)
         f.rs = wp.vec2f(0.0, 0.0)
         f.rp = wp.vec2f(0.0, 0.0)
         f.ts = wp.vec2f(1.0, 0.0)
         f.tp = wp.vec2f(1.0, 0.0)
+        f.n2_cos_t = a
     return f
 
 

@@ -48,6 +48,7 @@ from .biaxial import (
     event_fresnel,
     event_waves,
     is_biaxial,
+    medium_waves,
     wave_index,
 )
 from .birefringence import (
@@ -56,7 +57,6 @@ from .birefringence import (
     UniaxialMedium,
     extraordinary_wave,
     interface_jones_approx,
-    n_e_theta,
     oe_frame_x,
     ordinary_wave,
 )
@@ -98,6 +98,8 @@ __all__ = [
     "backward_coated",
     "backward_crystal_exact",
     "backward_uniaxial_approx",
+    "event_tangential",
+    "backward_child_rays",
     "backward_crystal",
     "ray_power",
     "forward_event",
@@ -347,6 +349,41 @@ def _scaled(c: wp.vec2f, s: float):
     return wp.vec2f(c[0] * s, c[1] * s)
 
 
+@wp.func
+def event_tangential(w_a: wp.vec3f, mode_a: int, nrm: wp.vec3f, med_a: UniaxialMedium):
+    """The tangential wave vector (/ k0) that every wave of a backward event shares (phase
+    matching): that of the parent leaving into A with unit wave normal ``w_a`` and mode
+    ``mode_a`` (``nrm`` the unit normal on A's side)."""
+    k_out = w_a * wave_index(med_a, mode_a, w_a)
+    return k_out - nrm * wp.dot(k_out, nrm)
+
+
+@wp.func
+def backward_child_rays(kt: wp.vec3f, nrm: wp.vec3f, med_a: UniaxialMedium, med_b: UniaxialMedium):
+    """The directions of the children of an exact backward crystal event
+    (:func:`backward_crystal_exact`) of tangential wave vector ``kt`` (:func:`event_tangential`),
+    without their amplitudes: each child runs backward along the ray of the wave leaving the
+    interface into its side with tangential -kt (the time reverse of the wave it feeds the
+    parent with).  (A mode 0, A mode 1, B mode 0, B mode 1); an isotropic side's one child is
+    its mode 0; a wave that does not propagate gives the zero vector.  Pixel beams move each
+    vertex ray of a part by these (``stages/pixel_beam.py``)."""
+    out = wp.mat44f()
+    for side in range(2):
+        n_into = nrm
+        med_x = med_a
+        if side == 1:
+            n_into = -nrm
+            med_x = med_b
+        w0, w1 = medium_waves(-kt, n_into, med_x, n_into)
+        if w0.propagating != 0:
+            for c in range(3):
+                out[2 * side, c] = w0.ray[c]
+        if w1.propagating != 0:
+            for c in range(3):
+                out[2 * side + 1, c] = w1.ray[c]
+    return out
+
+
 @wp.func(inline=False)  # out of line: compile time (see stages/trace.py trace_radiance)
 def backward_crystal_exact(
     cand: Cand,
@@ -376,13 +413,7 @@ def backward_crystal_exact(
     the coefficient to our outgoing wave, power-normalised by the normal Poynting fluxes, becomes
     the child's Jones column.  Crystal children are single-mode (o and e travel apart);
     an isotropic child carries both polarizations."""
-    n_eff = med_a.no
-    if is_biaxial(med_a):
-        n_eff = wave_index(med_a, mode_a, w_a)
-    elif mode_a == 1:
-        n_eff = n_e_theta(wp.dot(w_a, med_a.axis), med_a.no, med_a.ne)
-    k_out = w_a * n_eff
-    kt = k_out - nrm * wp.dot(k_out, nrm)
+    kt = event_tangential(w_a, mode_a, nrm, med_a)
     y_par = wp.cross(w_a, bx)
     energies = wp.vec4f(0.0, 0.0, 0.0, 0.0)
     count = int(0)

@@ -676,6 +676,7 @@ class Renderer:
         # traces one path tree per bundle of up to render.bundle_lanes wavelengths at one pixel position
         # (stages/bundle.py); `spectral_bundle=False` or `render.bundle = false` traces a tree
         # per wavelength
+        why = None
         if self.shared_spectrum:
             why = "a clear, non-dispersive scene: each point sample carries the whole spectrum"
         elif spectral_bundle is False:
@@ -684,13 +685,12 @@ class Renderer:
             why = "the coherent mode adds o/e amplitudes along point samples"
         elif self.camera_medium >= 0:
             why = "the camera sits inside a solid"
-        else:
-            why = bundle_obstacle(scene, built)
-        self.spectral_bundle = why is None
-        film.bundle = 1 if self.spectral_bundle else 0
+        self.spectral_bundle = why is None and bundle_obstacle(scene, built) is None
         # the camera estimator (render.estimator): pixel beams (stages/pixel_beam.py: a bundle's
-        # lanes trace the pixel's whole footprint) wherever they apply, else point samples;
-        # Image.stats and the command line say which ran and why
+        # lanes trace the pixel's whole footprint, through crystals and coatings too) wherever they apply,
+        # else point samples; Image.stats and the command line say which ran and why
+        if why is None:
+            why = bundle_obstacle(scene, built, beams=True)
         if why is None:
             why = beam_obstacle(scene, self.geometry)
         if r.estimator == "beam" and why is not None:
@@ -708,6 +708,9 @@ class Renderer:
             if r.estimator == "point"
             else f"render.estimator = {r.estimator!r}" + ("" if why is None else ": " + why)
         )
+        # a scene beams trace but point bundles do not (a crystal, a coating): the lanes are the beams'
+        self.spectral_bundle = self.spectral_bundle or self.pixel_beam
+        film.bundle = 1 if self.spectral_bundle else 0
         film.beam = 1 if self.pixel_beam else 0
         film.beam_object = 0
         film.beam_block = beam_block(scene) if self.pixel_beam else 1

@@ -424,11 +424,13 @@ def trace_bundle(
     return acc_x, acc_y, acc_z, hit_any, rays, rng
 
 
-def bundle_obstacle(scene, built) -> str | None:
+def bundle_obstacle(scene, built, *, beams: bool = False) -> str | None:
     """Why a camera scene cannot be traced in spectral bundles, or None where it can: bundles
     need ``render.bundle`` and isotropic, uncoated, non-fluorescent solids in an environment
     light, none inside another (no surfaces, lamps, films, caustics or nesting; not rgb3).  The
-    reason reaches ``Image.stats["estimator_reason"]``."""
+    reason reaches ``Image.stats["estimator_reason"]``.  ``beams``: the tracer asking is pixel
+    beams (``stages/pixel_beam.py``), which follow uniaxial and biaxial stones and coated
+    solids too (point-sampled bundles do not)."""
     r = scene.render
     if not bool(getattr(r, "bundle", True)):
         return "render.bundle = false"
@@ -440,11 +442,14 @@ def bundle_obstacle(scene, built) -> str | None:
         return "the scene has lamps"
     if r.caustics:
         return "render.caustics = true"
-    if any(getattr(ob, "film", None) for ob in scene.objects):
+    films = [ob.film for ob in scene.objects if getattr(ob, "film", None) is not None]
+    if any(f.surface != "solid" for f in films):
+        return "the scene has a thin shell or a film surface"
+    if films and not beams:
         return "a stone is coated (thin-film stack)"
     if len(built.materials) == 0:
         return "the scene has no solid"
-    if not all(isinstance(m, Isotropic) and not m.is_uniaxial for m in built.materials):
+    if not beams and not all(isinstance(m, Isotropic) and not m.is_uniaxial for m in built.materials):
         return "a stone is birefringent (uniaxial or biaxial)"
     if built.nested:
         return "a solid lies inside another"

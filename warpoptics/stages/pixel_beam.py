@@ -26,9 +26,14 @@ by the pixels it covers; the centre ray's Fresnel factors make the bias first or
 block's angle, so the default takes blocks up to 0.12 degrees.  When the entry cut gives more
 pieces than its rows, a block's pixels are traced one by one.
 
-Scope: one convex, isotropic, uncoated solid in an environment light, seen through a pinhole or
-orthographic camera; elsewhere the Renderer traces point samples.  Measurements (lookups,
-lattices, bias, blocks) and the variants dropped: docs/design/pixel_beams.md.
+Crystals and coatings: a part is one wave (o/e, fast/slow) through ``backward_crystal`` at its
+centre, each vertex moved by its own wave (``backward_child_rays``); a coated solid takes the
+stack's amplitudes at the centre (docs/design/pixel_beams.md).
+
+Scope: one convex solid (isotropic, uniaxial, biaxial or coated) in an environment light, seen
+through a pinhole or orthographic camera; elsewhere the Renderer traces point samples.
+Measurements (lookups, lattices, bias, blocks) and the variants dropped:
+docs/design/pixel_beams.md.
 
 References: Heckbert & Hanrahan 1984, "Beam tracing polygonal objects", SIGGRAPH 84; Igehy
 1999, "Tracing ray differentials", SIGGRAPH 99; Guy & Soler 2004, §5 (the pruned facet tree);
@@ -52,15 +57,24 @@ from ..geometry.polygon import (
 from ..geometry.query import SceneGeometry, world_normal
 from ..materials.dispersion import MaterialTable
 from ..optics.absorption import bouguer_lambert
-from ..optics.branches import ROW_B, ROW_D, ROW_IN, ROW_MI, ROW_MR, ROW_W, Cand, roulette
+from ..optics.biaxial import is_biaxial, medium_wave_normal
+from ..optics.birefringence import uniaxial_medium
+from ..optics.branches import ROW_B, ROW_D, ROW_IN, ROW_MI, ROW_MODE, ROW_MR, ROW_W, Cand, roulette
 from ..optics.fresnel import reflect_direction, refract_direction
-from ..optics.interface import backward_isotropic
+from ..optics.interface import (
+    backward_child_rays,
+    backward_coated,
+    backward_crystal,
+    backward_isotropic,
+    event_tangential,
+)
 from ..optics.jones import Jones, coherency_unpolarized, jones_identity, jones_zero
 from ..spectra import SpectralTables
 from .bundle import LaneWavelengths, LaneWeights
 from .camera import CameraParams, camera_ray
+from .coated import KIND_COATED, coating_at
 from .environment import Environment, environment_basis, environment_coefficients
-from .media import isotropic_optics, zoned_isotropic_kappa
+from .media import isotropic_optics, object_medium, segment_kappa, zoned_isotropic_kappa, zoned_kappa
 from .trace import TraceParams
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
@@ -103,7 +117,8 @@ _S_MR = wp.constant(_PIECE_COLS + 3)
 _S_MI = wp.constant(_PIECE_COLS + 7)
 _S_W = wp.constant(_PIECE_COLS + 11)
 _S_DEPTH = wp.constant(_PIECE_COLS + 12)
-_STACK_COLS = _PIECE_COLS + 13
+_S_MODE = wp.constant(_PIECE_COLS + 13)  # the wave's mode in a crystal (-1 isotropic, 0 o, 1 e)
+_STACK_COLS = _PIECE_COLS + 14
 # the sink's columns (a row per pixel): J_X, J_Y, J_Z (re 4, im 4 each), the scalar renderer's
 # X, Y, Z, the fraction of the pixel that met the stone
 _K_X = wp.constant(0)
@@ -117,6 +132,8 @@ _SINK = wp.constant(SINK_COLS)
 PieceBuf = wp.types.matrix(shape=(MAX_PIECES, _PIECE_COLS), dtype=wp.float32)
 BeamStack = wp.types.matrix(shape=(STACK_ROWS, _STACK_COLS), dtype=wp.float32)
 PlaneList = wp.types.vector(length=MAX_PLANES, dtype=wp.int32)
+#: a crystal event's children's directions at each vertex of a part (3 columns per child)
+VertexChildren = wp.types.matrix(shape=(MAX_VERTICES, 12), dtype=wp.float32)
 
 
 @wp.func
@@ -694,6 +711,7 @@ def _trace_entry(
     tol = 1.0e-6 * geom.bounding_sphere[k][3]
     eps = geom.epsilon[k]
     mat = p.object_material[k]
+    coated = p.films.kind[k] == KIND_COATED
     one = jones_identity()
     # each pixel's share of the entry is its cover
     for i in range(n_entry):
@@ -738,7 +756,19 @@ def _trace_entry(
         g = float(first + j * step)
         b3 = environment_basis(env, tables, wl)
         xyz_w = wp.vec3f(weights[j, 0], weights[j, 1], weights[j, 2])
-        n_in, kappa = isotropic_optics(mats, mat, p.object_axis[k], wl, p.object_absorption_scale[k])
+        # a crystal (uniaxial or biaxial): each part is one wave (o or e, fast or slow) with its own
+        # index and absorption; an isotropic stone's index and kappa serve every part of the lane
+        crystal = mats.uniaxial[mat] != 0 or mats.beta_channel[mat] >= 0
+        n_in = float(0.0)
+        kappa = float(0.0)
+        med_s = uniaxial_medium(p.ambient[0], p.ambient[0], wp.vec3f(0.0, 0.0, 0.0))
+        alpha_s = wp.vec2f(0.0, 0.0)
+        amb = med_s
+        if crystal:
+            med_s, no_s, ne_s, alpha_s = object_medium(mats, mat, p.object_axis[k], wl)
+            n_in = no_s[0]
+        else:
+            n_in, kappa = isotropic_optics(mats, mat, p.object_axis[k], wl, p.object_absorption_scale[k])
         n = int(0)
         over = float(0.0)  # the reservoir in the stack's last row: the fractions that met it
         # the pieces of the cut being traced: first the entry's, then those of popped parts
@@ -749,6 +779,7 @@ def _trace_entry(
         b_w = basis_x
         m_j = one
         w_j = float(1.0)
+        mode_j = int(-1)
         while True:
             for i in range(nb):
                 if depth >= p.max_depth:
@@ -766,26 +797,98 @@ def _trace_entry(
                 n_out = world_normal(m_w, wp.vec3f(pl[0], pl[1], pl[2]))
                 n_a = wp.vec2f(p.ambient[0], 0.0)
                 n_b = wp.vec2f(n_in, 0.0)
+                med_a = amb
+                med_b = med_s
                 nrm = n_out
                 in_b = k
                 w_i = w_j
+                # the parent's wave normal is the light's (optics/interface.py): against the ray
+                wn_c = -d_c
                 if inside >= 0:
                     n_a = wp.vec2f(n_in, 0.0)
                     n_b = wp.vec2f(p.ambient[0], 0.0)
+                    med_a = med_s
+                    med_b = amb
                     nrm = -n_out
                     in_b = -1
                     # Bouguer-Lambert along the centre ray's segment (module docstring), through
-                    # the zones of a colour-zoned stone (the segment ends at the centre x_c)
+                    # the zones of a colour-zoned stone (the segment ends at the centre x_c); in a
+                    # crystal the kappa of the centre ray's wave (Guy & Soler 2004 eq. 7)
                     l_c = buf[i, _P_T] * wp.length(_d(q, 0))
-                    kappa_c = zoned_isotropic_kappa(
-                        mats, mat, kappa, n_in, p.object_absorption_scale[k], wl, x_c - d_c * l_c, d_c, l_c
-                    )
+                    x_s = x_c - d_c * l_c
+                    kappa_c = float(0.0)
+                    if crystal:
+                        wn_c = -medium_wave_normal(d_c, mode_j, med_s)
+                        sc = p.object_absorption_scale[k]
+                        kappa_c = segment_kappa(mats, mat, alpha_s, -1, mode_j, wn_c, med_s, sc)
+                        kappa_c = zoned_kappa(
+                            mats, mat, kappa_c, -1, mode_j, wn_c, med_s, sc, wl, x_s, d_c, l_c
+                        )
+                    else:
+                        kappa_c = zoned_isotropic_kappa(
+                            mats, mat, kappa, n_in, p.object_absorption_scale[k], wl, x_s, d_c, l_c
+                        )
                     if kappa_c != 0.0:
                         w_i = w_i * bouguer_lambert(kappa_c, l_c)
                 b_i = wp.normalize(b_w - d_c * wp.dot(b_w, d_c))
-                cand, energies, kc = backward_isotropic(
-                    cand, m_j, w_i, b_i, d_c, n_out, nrm, n_a, n_b, x_c, eps, inside, in_b, depth, polarized
-                )
+                kc = int(0)
+                energies = wp.vec4f(0.0, 0.0, 0.0, 0.0)
+                vch = VertexChildren()
+                # the vertices' rays move as isotropic ones (Snell) unless the crystal is exact
+                snell = not crystal
+                n_av = n_a[0]
+                n_bv = n_b[0]
+                if crystal:
+                    # the crystal event (optics.interface.backward_crystal) for the centre ray
+                    cand, energies, kc = backward_crystal(
+                        cand, m_j, w_i, b_i, d_c, wn_c, mode_j, n_out, nrm, med_a, med_b, n_a, n_b, x_c, eps,
+                        inside, in_b, depth, polarized, p.birefringence,
+                    )  # fmt: skip
+                    if p.birefringence != 0 and not is_biaxial(med_s):
+                        # approx (Guy & Soler 2004 §4.2): one direction per side, by the mean indices
+                        snell = True
+                        n_av = 0.5 * (med_a.no + med_a.ne)
+                        n_bv = 0.5 * (med_b.no + med_b.ne)
+                    else:
+                        # exact: every vertex ray by its own wave (its wave normal from its ray,
+                        # the event's tangential wave vector, each child's wave on its side); a
+                        # vertex whose child's wave does not propagate (total reflection there
+                        # alone) keeps the centre child's direction
+                        for r in range(nq):
+                            d_r = wp.normalize(_d(q, r))
+                            wn_r = -d_r
+                            if inside >= 0:
+                                wn_r = -medium_wave_normal(d_r, mode_j, med_s)
+                            rays = backward_child_rays(
+                                event_tangential(wn_r, mode_j, nrm, med_a), nrm, med_a, med_b
+                            )
+                            for ci in range(kc):
+                                row_v = int(0)
+                                if int(cand[ci, ROW_IN]) == in_b:
+                                    row_v = 2
+                                if int(cand[ci, ROW_MODE]) == 1:
+                                    row_v += 1
+                                for c in range(3):
+                                    vch[r, 3 * ci + c] = rays[row_v, c]
+                                if rays[row_v, 0] == 0.0 and rays[row_v, 1] == 0.0 and rays[row_v, 2] == 0.0:
+                                    for c in range(3):
+                                        vch[r, 3 * ci + c] = cand[ci, ROW_D + c]
+                elif coated:
+                    # a coated solid: the stack's amplitudes at the centre (stages/coated.py);
+                    # a film keeps the tangential wave vector, so the vertices move by Snell
+                    coat, f_scale = coating_at(p.films, k, x_c, m_w)
+                    a_front = int(0)
+                    if inside < 0:
+                        a_front = 1
+                    cand, energies, kc = backward_coated(
+                        cand, m_j, w_i, b_i, d_c, n_out, nrm, n_a, n_b, x_c, eps, inside, in_b, depth,
+                        polarized, p.films.stack, coat, wl, f_scale, a_front,
+                    )  # fmt: skip
+                else:
+                    cand, energies, kc = backward_isotropic(
+                        cand, m_j, w_i, b_i, d_c, n_out, nrm, n_a, n_b, x_c, eps, inside, in_b, depth,
+                        polarized,
+                    )  # fmt: skip
                 for ci in range(kc):
                     d_ch = wp.vec3f(cand[ci, ROW_D], cand[ci, ROW_D + 1], cand[ci, ROW_D + 2])
                     b_ch = wp.vec3f(cand[ci, ROW_B], cand[ci, ROW_B + 1], cand[ci, ROW_B + 2])
@@ -793,12 +896,14 @@ def _trace_entry(
                     # every vertex's ray reflected or refracted by the same laws as the centre's
                     qc = q
                     for r in range(nq):
-                        d_r = wp.normalize(_d(q, r))
-                        d_n = reflect_direction(d_r, n_out)
-                        if not reflected:
-                            d_n = refract_direction(d_r, nrm, n_a[0], n_b[0])
-                            if wp.dot(d_n, d_n) == 0.0:
-                                d_n = d_ch  # total internal reflection at this vertex alone
+                        d_n = wp.vec3f(vch[r, 3 * ci], vch[r, 3 * ci + 1], vch[r, 3 * ci + 2])
+                        if snell:
+                            d_r = wp.normalize(_d(q, r))
+                            d_n = reflect_direction(d_r, n_out)
+                            if not reflected:
+                                d_n = refract_direction(d_r, nrm, n_av, n_bv)
+                                if wp.dot(d_n, d_n) == 0.0:
+                                    d_n = d_ch  # total internal reflection at this vertex alone
                         qc = _set_ray(qc, r, _p(q, r), d_n)
                     w_c = cand[ci, ROW_W]
                     m_c = Jones()
@@ -871,6 +976,7 @@ def _trace_entry(
                         st[row, _S_MI + c] = cand[ci, ROW_MI + c]
                     st[row, _S_W] = w_c
                     st[row, _S_DEPTH] = float(depth + 1)
+                    st[row, _S_MODE] = cand[ci, ROW_MODE]
             if n == 0:
                 break
             # pop a part inside the stone and cut it by the facets its rays leave through
@@ -889,6 +995,7 @@ def _trace_entry(
             m_j.im = wp.mat22(st[n, _S_MI], st[n, _S_MI + 1], st[n, _S_MI + 2], st[n, _S_MI + 3])
             w_j = st[n, _S_W]
             depth = int(st[n, _S_DEPTH])
+            mode_j = int(st[n, _S_MODE])
             inside = k
             f0, nc, cands = _exit_candidates(geom, k, q, nq, tol)
             if nq < 3 or polygon_area(q, nq) <= 0.0:
