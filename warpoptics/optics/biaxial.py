@@ -718,7 +718,8 @@ def medium_wave_normal(ray: wp.vec3, mode: int, med: UniaxialMedium):
     ``ray`` in any medium: itself in an isotropic medium and for an o-wave,
     ``birefringence.wave_normal_of_ray`` for an e-wave; in a biaxial crystal the fixed point
     k = k + ray - ray(k) (``biaxial_incident_wave``), which contracts by the walk-off's
-    derivative (~ the birefringence, < 0.3 for any gem): 6 steps leave < 1e-6 rad."""
+    derivative (~ the birefringence): 6 steps return the wave normal within 1e-5 away from the
+    optic axes (tests/test_wave_normal_of_ray.py), where the ray map is singular."""
     if mode < 0:
         return ray
     if not is_biaxial(med):

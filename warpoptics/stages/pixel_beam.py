@@ -67,6 +67,7 @@ from ..optics.interface import (
     backward_crystal,
     backward_isotropic,
     event_tangential,
+    is_uniaxial,
 )
 from ..optics.jones import Jones, coherency_unpolarized, jones_identity, jones_zero
 from ..spectra import SpectralTables
@@ -758,16 +759,12 @@ def _trace_entry(
         xyz_w = wp.vec3f(weights[j, 0], weights[j, 1], weights[j, 2])
         # a crystal (uniaxial or biaxial): each part is one wave (o or e, fast or slow) with its own
         # index and absorption; an isotropic stone's index and kappa serve every part of the lane
-        crystal = mats.uniaxial[mat] != 0 or mats.beta_channel[mat] >= 0
-        n_in = float(0.0)
+        amb = uniaxial_medium(p.ambient[0], p.ambient[0], wp.vec3f(0.0, 0.0, 0.0))
+        med_s, no_s, _ne_s, alpha_s = object_medium(mats, mat, p.object_axis[k], wl)
+        crystal = is_uniaxial(med_s)
+        n_in = no_s[0]
         kappa = float(0.0)
-        med_s = uniaxial_medium(p.ambient[0], p.ambient[0], wp.vec3f(0.0, 0.0, 0.0))
-        alpha_s = wp.vec2f(0.0, 0.0)
-        amb = med_s
-        if crystal:
-            med_s, no_s, ne_s, alpha_s = object_medium(mats, mat, p.object_axis[k], wl)
-            n_in = no_s[0]
-        else:
+        if not crystal:
             n_in, kappa = isotropic_optics(mats, mat, p.object_axis[k], wl, p.object_absorption_scale[k])
         n = int(0)
         over = float(0.0)  # the reservoir in the stack's last row: the fractions that met it
