@@ -226,9 +226,12 @@ def _edge_centroids(profile, x_edges, thresh):
     return out
 
 
-def test_calcite_double_image_offset(device):
+@pytest.mark.parametrize("estimator", ["point", "beam"])
+def test_calcite_double_image_offset(device, estimator):
     """(a) calcite.toml seen straight down by an orthographic camera: each checker edge is seen
-    twice, separated by the walk-off x thickness (within 2 %)."""
+    twice, separated by the walk-off x thickness (within 2 %), by point samples and by beams
+    (the o and e parts of each pixel continue as point samples to the checker: the edges sit
+    where the point tracer puts them)."""
     data = tomllib.loads((SCENES / "calcite.toml").read_text())
     data = copy.deepcopy(data)
     ob = data["object"][0]
@@ -248,7 +251,7 @@ def test_calcite_double_image_offset(device):
         "width": width,
         "height": height,
     }
-    data["render"].update(spp=2, wavelengths=16, diffuse_depth=1, seed=3)
+    data["render"].update(spp=2, wavelengths=16, diffuse_depth=1, seed=3, estimator=estimator)
     # a sun straight down and no sky: the table's radiance is exact (no Monte-Carlo noise)
     data["light"] = [{"type": "directional", "direction": [0.0, 0.0, -1.0], "irradiance": 1.0}]
     # squares of 2 mm: one ordinary edge (x = 0) and its extraordinary twin in the 3 mm view

@@ -20,7 +20,7 @@ from ..optics.polarizer import sheet_polarizer_coherency
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
-__all__ = ["add_light", "add_leaf"]
+__all__ = ["add_light", "add_leaf", "add_coherency"]
 
 
 @wp.func
@@ -57,4 +57,32 @@ def add_leaf(
         acc_x, acc_y, acc_z = add_light(acc_x, acc_y, acc_z, k_unit, xyz)
     else:
         scalar_xyz = scalar_xyz + xyz * w
+    return acc_x, acc_y, acc_z, scalar_xyz
+
+
+@wp.func
+def add_coherency(
+    acc_x: Jones,
+    acc_y: Jones,
+    acc_z: Jones,
+    scalar_xyz: wp.vec3f,
+    polarized: int,
+    m: Jones,
+    w: float,
+    c_x: Jones,
+    c_y: Jones,
+    c_z: Jones,
+):
+    """A path end whose light is already a coherency (``c_x, c_y, c_z``: the X-, Y- and
+    Z-weighted light a camera trace returns, in the frame of the path's last segment): it
+    enters the sums as ``w M C M^dagger`` (polarized renderer) or as ``w tr C`` (scalar renderer,
+    whose traces return unpolarized coherencies).  Pixel beams continue a part this way by a
+    point sample (``stages/pixel_beam.py``)."""
+    if polarized != 0:
+        acc_x = jones_add(acc_x, coherency_transform(m, jones_scale(c_x, w)))
+        acc_y = jones_add(acc_y, coherency_transform(m, jones_scale(c_y, w)))
+        acc_z = jones_add(acc_z, coherency_transform(m, jones_scale(c_z, w)))
+    else:
+        tr = wp.vec3f(c_x.re[0, 0] + c_x.re[1, 1], c_y.re[0, 0] + c_y.re[1, 1], c_z.re[0, 0] + c_z.re[1, 1])
+        scalar_xyz = scalar_xyz + tr * w
     return acc_x, acc_y, acc_z, scalar_xyz

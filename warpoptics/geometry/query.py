@@ -768,12 +768,19 @@ class GeometryScene:
         g.nested = int(np.any(par >= 0))
         # world bounding spheres: the object-space sphere through each transform
         eps = np.full(1, EPS_OFFSET)
+        #: world bounding spheres (n, 4: centre, radius, mm) and world vertices of the objects
+        #: (pixel beams: stages/pixel_beam.py beam_scene)
+        self.world_spheres = np.zeros((0, 4))
+        self.world_vertices = [
+            np.asarray(m.vertices, np.float64) @ xf[:3, :3].T + xf[:3, 3] for m, xf in objs
+        ]
         if objs:
             xfs = np.array([xf for _, xf in objs], dtype=np.float64)
             sph = np.array(spheres, dtype=np.float64)
             centers = np.einsum("nij,nj->ni", xfs[:, :3, :3], sph[:, :3]) + xfs[:, :3, 3]
             radii = sph[:, 3] * np.linalg.norm(xfs[:, :3, :3], ord=2, axis=(1, 2))
             eps = offset_epsilon(radii, centers)
+            self.world_spheres = np.column_stack([centers, radii])
         g.epsilon = wp.array(eps.astype(np.float32), dtype=wp.float32, device=dev)
         self.geometry = g
         self._by_mode = {MODE_AUTO: g}

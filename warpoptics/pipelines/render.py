@@ -49,7 +49,15 @@ from ..stages.fluorescence import (
     has_fluorescence,
     scene_light_spectra,
 )
-from ..stages.pixel_beam import SINK_COLS, beam_obstacle, sink_sums, trace_beam
+from ..stages.pixel_beam import (
+    SINK_COLS,
+    BeamScene,
+    beam_objects,
+    beam_obstacle,
+    beam_scene,
+    sink_sums,
+    trace_beam,
+)
 from ..stages.surfaces import Surfaces, SurfaceStage
 from ..stages.trace import (
     TraceConfig,
@@ -90,7 +98,6 @@ class FilmParams:
     bundle: int  # 1: dispersive scene traced in spectral bundles (stages/bundle.py)
     groups: int  # bundles per spp (each takes every groups-th stratum of the count)
     beam: int  # 1: each bundle traces the pixel's whole footprint as beams (stages/pixel_beam.py)
-    beam_object: int  # the one convex solid the beams meet
     beam_block: int  # beams: a thread traces blocks of beam_block x beam_block pixels as one beam
 
 
@@ -169,8 +176,10 @@ def _render_beam_block(
     geom: SceneGeometry,
     mats: MaterialTable,
     env: Environment,
+    surf: Surfaces,
     tables: SpectralTables,
     polarized: int,
+    beams: BeamScene,
     spp_end: wp.array(dtype=wp.int32),
     sink: wp.array2d(dtype=wp.float32),
     xyz_out: wp.array(dtype=wp.vec3d),
@@ -223,7 +232,7 @@ def _render_beam_block(
         # the lanes' lookups rotated by the sample's R2 point (independent of the wavelengths)
         rot_b = wp.vec2f(rot_x + float(smp) * 0.7548776662466927, rot_y + float(smp) * 0.5698402909980532)
         nr, rng_trace = trace_beam(
-            tp, geom, mats, env, tables, polarized, film.beam_object, cam, px0, py0, bw, bh, film.width,
+            tp, geom, mats, env, surf, tables, polarized, beams, cam, px0, py0, bw, bh, film.width,
             sink, lanes, lane_w, nl, grp, film.groups, rot_b, rng_trace,
         )  # fmt: skip
         # the block's parts counted evenly over its pixels (the rest at its first)
@@ -280,7 +289,10 @@ def _make_render_pixels(trace, module=None):
     """The pixel kernel over a camera trace (``stages.trace.trace_radiance``, or a variant with
     the fluorescent re-emission pass or the coherent mode, ``stages.trace.trace_variant``).  A
     variant gets a Warp module of its own (``module="unique"``): built on first use, it does not
-    change this module's hash, so the default kernel is not compiled again."""
+    change this module's hash, so the default kernel is not compiled again.  Pixel beams, which
+    continue their parts with ``trace_radiance``, are compiled into the default kernel only
+    (the variants' scenes are point-sampled)."""
+    with_beams = trace is trace_radiance
 
     @wp.kernel(module=module, enable_backward=False)
     def _render_pixels(
@@ -305,17 +317,19 @@ def _make_render_pixels(trace, module=None):
             dtype=wp.vec4d
         ),  # per-channel Stokes (pixel, X|Y|Z) for polarization views
         beam_sink: wp.array2d(dtype=wp.float32),  # pixel beams' per-pixel sums (a row per pixel)
+        beams: BeamScene,  # what pixel beams need of the rest of the scene
     ):
         """Adds to each pixel's sums over its samples ``[spp_begin, spp_end)`` (each spp is ``count``
         traces): the per-spp XYZ, its squares, the Stokes vectors, hits and rays; the Renderer
         divides by the pixel's spp."""
-        if film.beam != 0:
-            # pixel beams: the launch index is a block of pixels
-            _render_beam_block(
-                base + wp.tid() + offset, cam, film, tp, geom, mats, env, tables, polarized, spp_end,
-                beam_sink, xyz_out, sq_out, stokes_out, alpha_out, rays_out, stokes_xyz_out,
-            )  # fmt: skip
-            return
+        if wp.static(with_beams):
+            if film.beam != 0:
+                # pixel beams: the launch index is a block of pixels
+                _render_beam_block(
+                    base + wp.tid() + offset, cam, film, tp, geom, mats, env, surf, tables, polarized, beams,
+                    spp_end, beam_sink, xyz_out, sq_out, stokes_out, alpha_out, rays_out, stokes_xyz_out,
+                )  # fmt: skip
+                return
         pix = base + wp.tid() + offset
         px = pix % film.width
         py = pix / film.width
@@ -692,7 +706,7 @@ class Renderer:
         if why is None:
             why = bundle_obstacle(scene, built, beams=True)
         if why is None:
-            why = beam_obstacle(scene, self.geometry)
+            why = beam_obstacle(scene, self.geometry, built)
         if r.estimator == "beam" and why is not None:
             raise InputError(
                 "pixel beams cannot trace this scene: " + why,
@@ -701,6 +715,11 @@ class Renderer:
                 value="beam",
                 allowed='"auto" or "point" for this scene',
             )
+        if why is None and r.estimator == "auto" and (scene.surfaces or scene.lamps):
+            # beams continue the parts that meet surfaces and lamps as point samples, one per part
+            # and wavelength: unbiased, but slower to a given noise than point samples where the
+            # surfaces' light dominates (docs/design/pixel_beams.md, "Other solids, surfaces, lamps")
+            why = "auto keeps point samples in scenes with surfaces or lamps (beams by name)"
         self.pixel_beam = r.estimator != "point" and why is None
         self.estimator = "beam" if self.pixel_beam else "point"
         self.estimator_reason = (
@@ -712,7 +731,13 @@ class Renderer:
         self.spectral_bundle = self.spectral_bundle or self.pixel_beam
         film.bundle = 1 if self.spectral_bundle else 0
         film.beam = 1 if self.pixel_beam else 0
-        film.beam_object = 0
+        # per object whether beams may enter it, the spheres and planes they test (stages/pixel_beam.py)
+        self.beam_scene = beam_scene(
+            self.geometry,
+            self.surfaces.struct,
+            beam_objects(scene, self.geometry, built) if self.pixel_beam else [False] * len(scene.objects),
+            device=self.device,
+        )
         film.beam_block = beam_block(scene) if self.pixel_beam else 1
         film.groups = -(-film.count // r.bundle_lanes) if self.spectral_bundle else 1
         # the whole spectrum at every leaf, integrated exactly (no spectral noise); a shared
@@ -879,6 +904,7 @@ class Renderer:
             out.rays,
             out.stokes_xyz,
             self._sink(int(camera.width) * int(camera.height)),
+            self.beam_scene,
         ]
 
     def _sink(self, n: int):

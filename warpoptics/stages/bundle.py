@@ -436,14 +436,15 @@ def bundle_obstacle(scene, built, *, beams: bool = False) -> str | None:
         return "render.bundle = false"
     if r.spectral == "rgb3":
         return "rgb3 traces its three wavelengths one by one"
-    if scene.surfaces:
+    # beams meet surfaces, lamps, shells and nested solids by point samples (stages/pixel_beam.py)
+    if scene.surfaces and not beams:
         return "the scene has diffuse or glossy surfaces"
-    if scene.lamps:
+    if scene.lamps and not beams:
         return "the scene has lamps"
     if r.caustics:
         return "render.caustics = true"
     films = [ob.film for ob in scene.objects if getattr(ob, "film", None) is not None]
-    if any(f.surface != "solid" for f in films):
+    if any(f.surface != "solid" for f in films) and not beams:
         return "the scene has a thin shell or a film surface"
     if films and not beams:
         return "a stone is coated (thin-film stack)"
@@ -451,7 +452,7 @@ def bundle_obstacle(scene, built, *, beams: bool = False) -> str | None:
         return "the scene has no solid"
     if not beams and not all(isinstance(m, Isotropic) and not m.is_uniaxial for m in built.materials):
         return "a stone is birefringent (uniaxial or biaxial)"
-    if built.nested:
+    if built.nested and not beams:
         return "a solid lies inside another"
     # fluorescent re-emission switches a path's wavelength (stages/fluorescence.py)
     if has_fluorescence(built.materials):

@@ -23,17 +23,17 @@ unbiased.  Pinhole: rays interpolated after the first refraction are exact to fi
 the pixel's angle, and a part's Fresnel factors and absorption are its centre ray's (second
 order).  Blocks (``render.beam_block``): a block of pixels traced as one beam, each leaf shared
 by the pixels it covers; the centre ray's Fresnel factors make the bias first order in the
-block's angle, so the default takes blocks up to 0.12 degrees.  When the entry cut gives more
-pieces than its rows, a block's pixels are traced one by one.
+block's angle, so the default takes blocks up to 0.12 degrees.
 
 Crystals and coatings: a part is one wave (o/e, fast/slow) through ``backward_crystal`` at its
 centre, each vertex moved by its own wave (``backward_child_rays``); a coated solid takes the
-stack's amplitudes at the centre (docs/design/pixel_beams.md).
+stack's amplitudes at the centre.
 
-Scope: one convex solid (isotropic, uniaxial, biaxial or coated) in an environment light, seen
-through a pinhole or orthographic camera; elsewhere the Renderer traces point samples.
-Measurements (lookups, lattices, bias, blocks) and the variants dropped:
-docs/design/pixel_beams.md.
+Scope: convex solids (isotropic, uniaxial, biaxial or coated) seen through a pinhole or
+orthographic camera.  A block's beam enters the stone :func:`beam_target` finds nothing in front
+of; parts and misses that may meet anything but the environment (another solid, a surface, a
+lamp) go on as point samples (``trace_radiance``), so the estimate stays unbiased.
+Measurements and the variants dropped: docs/design/pixel_beams.md.
 
 References: Heckbert & Hanrahan 1984, "Beam tracing polygonal objects", SIGGRAPH 84; Igehy
 1999, "Tracing ray differentials", SIGGRAPH 99; Guy & Soler 2004, §5 (the pruned facet tree);
@@ -42,9 +42,11 @@ Veach 1997, ch. 4 (Russian roulette, selection weighted by 1/probability).
 
 from __future__ import annotations
 
+import numpy as np
 import warp as wp
 
-from ..film.leaf import add_leaf
+from ..device import get_device
+from ..film.leaf import add_coherency, add_leaf
 from ..geometry.polygon import (
     COLS,
     MAX_VERTICES,
@@ -74,9 +76,10 @@ from ..spectra import SpectralTables
 from .bundle import LaneWavelengths, LaneWeights
 from .camera import CameraParams, camera_ray
 from .coated import KIND_COATED, coating_at
-from .environment import Environment, environment_basis, environment_coefficients
+from .environment import Environment, environment_basis, environment_coefficients, spectral_response
 from .media import isotropic_optics, object_medium, segment_kappa, zoned_isotropic_kappa, zoned_kappa
-from .trace import TraceParams
+from .surfaces import Surfaces
+from .trace import TraceParams, trace_radiance
 
 wp.set_module_options({"enable_backward": False})  # no adjoint code (see device.py)
 
@@ -89,6 +92,9 @@ __all__ = [
     "trace_beam",
     "sink_sums",
     "beam_obstacle",
+    "beam_objects",
+    "BeamScene",
+    "beam_scene",
 ]
 
 #: facet planes of the stone a beam can handle
@@ -135,6 +141,28 @@ BeamStack = wp.types.matrix(shape=(STACK_ROWS, _STACK_COLS), dtype=wp.float32)
 PlaneList = wp.types.vector(length=MAX_PLANES, dtype=wp.int32)
 #: a crystal event's children's directions at each vertex of a part (3 columns per child)
 VertexChildren = wp.types.matrix(shape=(MAX_VERTICES, 12), dtype=wp.float32)
+
+
+@wp.struct
+class BeamScene:
+    """What beams need of the rest of a scene (:func:`beam_scene`): per object whether beams
+    may enter it (``eligible``) and its world bounding sphere; the world planes ``(n, d)`` of the
+    surfaces and area lights (``rect``; n.x = d on the plane), the spheres around those
+    rectangles (``rect_sphere``) and, per object and plane, the least and greatest n.x - d over
+    the object's vertices (``side``); ``others``: 1 when the scene holds
+    anything besides one stone in the environment, so that parts and misses may meet it;
+    ``traced``: 1 when lights the environment lookups do not see (suns, spots) make every leaf
+    and miss a point sample."""
+
+    num_objects: int
+    eligible: wp.array(dtype=wp.int32)
+    sphere: wp.array(dtype=wp.vec4f)
+    num_rects: int
+    rect: wp.array(dtype=wp.vec4f)
+    rect_sphere: wp.array(dtype=wp.vec4f)
+    side: wp.array2d(dtype=wp.vec2f)
+    others: int
+    traced: int
 
 
 @wp.func
@@ -533,6 +561,138 @@ def _exit_split(
 
 
 @wp.func
+def _may_meet_sphere(poly: BeamPolygon, nv: int, c: wp.vec3f, r: float):
+    """Whether any ray of the beam ``poly`` (its vertices' rays and every ray between them) may
+    meet the sphere (c, r): a ray from within ``ro`` of the centre ray's origin meets the sphere
+    only if the centre's origin sees the sphere grown by ``ro`` within the rays' angular spread
+    of the centre direction.  Conservative (True may be a miss), never wrong when False."""
+    x_c, d_c = _centre(poly, nv)
+    ro = float(0.0)
+    cos_min = float(1.0)
+    for i in range(nv):
+        ro = wp.max(ro, wp.length(_p(poly, i) - x_c))
+        cos_min = wp.min(cos_min, wp.dot(wp.normalize(_d(poly, i)), d_c))
+    v = c - x_c
+    dist = wp.length(v)
+    rr = r + ro
+    if dist <= rr:
+        return True
+    spread = wp.acos(wp.clamp(cos_min, -1.0, 1.0)) + wp.asin(wp.min(rr / dist, 1.0))
+    return wp.acos(wp.clamp(wp.dot(v, d_c) / dist, -1.0, 1.0)) <= spread + 1.0e-4
+
+
+@wp.func
+def _may_meet_plane(poly: BeamPolygon, nv: int, pl: wp.vec4f):
+    """Whether any ray of the beam ``poly`` may cross the plane n.x = d (False when every origin
+    lies on one side and every direction points away from the plane or along it)."""
+    n = wp.vec3f(pl[0], pl[1], pl[2])
+    pos = int(0)
+    neg = int(0)
+    for i in range(nv):
+        sd = wp.dot(n, _p(poly, i)) - pl[3]
+        sdir = wp.dot(n, _d(poly, i))
+        if sd > 0.0 and sdir >= 0.0:
+            pos += 1
+        elif sd < 0.0 and sdir <= 0.0:
+            neg += 1
+    return pos != nv and neg != nv
+
+
+@wp.func
+def _may_meet_rect(bs: BeamScene, r: int, poly: BeamPolygon, nv: int):
+    """Whether any ray of the beam may meet surface or lamp rectangle ``r``: it must cross the
+    rectangle's plane and meet the sphere around it."""
+    sp = bs.rect_sphere[r]
+    c = wp.vec3f(sp[0], sp[1], sp[2])
+    return _may_meet_plane(poly, nv, bs.rect[r]) and _may_meet_sphere(poly, nv, c, sp[3])
+
+
+@wp.func
+def _clear(bs: BeamScene, poly: BeamPolygon, nv: int, k: int):
+    """Whether the beam ``poly`` (rays leaving object k, or missing it) surely meets nothing but
+    the environment: then the environment lookups are its light, else point samples."""
+    if bs.traced != 0:
+        return False
+    if bs.others == 0:
+        return True
+    for j in range(bs.num_objects):
+        if j != k:
+            sp = bs.sphere[j]
+            if _may_meet_sphere(poly, nv, wp.vec3f(sp[0], sp[1], sp[2]), sp[3]):
+                return False
+    for r in range(bs.num_rects):
+        if _may_meet_rect(bs, r, poly, nv):
+            return False
+    return True
+
+
+@wp.func
+def beam_target(bs: BeamScene, poly: BeamPolygon, nv: int):
+    """The object a block's beam enters: the one nearest the camera among those its rays may meet
+    (-1: none), when beams may enter it and nothing may stand in front of it for any of the rays:
+    every other object it may meet lies wholly behind it, and every surface or lamp plane has
+    the camera and the whole object on one side.  -2: the block is point-sampled."""
+    x_c, _d_c = _centre(poly, nv)
+    ro = float(0.0)
+    for i in range(nv):
+        ro = wp.max(ro, wp.length(_p(poly, i) - x_c))
+    k = int(-1)
+    near_k = float(_BIG)
+    far_k = float(_BIG)
+    for j in range(bs.num_objects):
+        sp = bs.sphere[j]
+        c = wp.vec3f(sp[0], sp[1], sp[2])
+        if _may_meet_sphere(poly, nv, c, sp[3]):
+            dist = wp.length(c - x_c)
+            if dist - sp[3] - ro < near_k:
+                near_k = dist - sp[3] - ro
+                far_k = dist + sp[3] + ro
+                k = j
+    if k < 0:
+        return k
+    if bs.eligible[k] == 0:
+        return -2
+    for j in range(bs.num_objects):
+        sp = bs.sphere[j]
+        c = wp.vec3f(sp[0], sp[1], sp[2])
+        if j != k and _may_meet_sphere(poly, nv, c, sp[3]):
+            if wp.length(c - x_c) - sp[3] - ro < far_k:
+                return -2
+    tol = 1.0e-3 * bs.sphere[k][3]
+    for r in range(bs.num_rects):
+        pl = bs.rect[r]
+        if _may_meet_rect(bs, r, poly, nv):
+            n = wp.vec3f(pl[0], pl[1], pl[2])
+            pos = int(0)
+            neg = int(0)
+            for i in range(nv):
+                sd = wp.dot(n, _p(poly, i)) - pl[3]
+                if sd > 0.0:
+                    pos += 1
+                elif sd < 0.0:
+                    neg += 1
+            ext = bs.side[k, r]
+            if not ((pos == nv and ext[0] >= -tol) or (neg == nv and ext[1] <= tol)):
+                return -2
+    return k
+
+
+@wp.func
+def _meets_convex(geom: SceneGeometry, k: int, o: wp.vec3f, d: wp.vec3f):
+    """Whether the world ray o + t d (t > 0) meets convex object k (its facet planes)."""
+    m = geom.world_to_object[k]
+    x = wp.transform_point(m, o)
+    v = wp.transform_vector(m, d)
+    s = geom.plane_start[k]
+    t_in = float(-_BIG)
+    t_out = float(_BIG)
+    for g in range(geom.plane_count[k]):
+        t_in = wp.max(t_in, _t_entry(geom, s, g, x, v))
+        t_out = wp.min(t_out, _t_exit(geom, s, g, x, v))
+    return t_in < t_out and t_out > 0.0
+
+
+@wp.func
 def _lookup_count(poly: BeamPolygon, nv: int):
     """How many environment lookups a part's light takes: one per _LOOKUP_ANGLE of the angular
     diameter of its rays' directions, 1 to _LOOKUPS."""
@@ -555,9 +715,7 @@ def _part_light(env: Environment, b3: wp.vec3f, poly: BeamPolygon, nv: int, rot:
     acc = float(0.0)
     n = _lookup_count(poly, nv)
     for i in range(n):
-        gi = g * float(n) + float(i)
-        u = rot + wp.vec2f(gi * 0.7548776662466927, gi * 0.5698402909980532)
-        u = u - wp.vec2f(wp.floor(u[0]), wp.floor(u[1]))
+        u = _r2(rot, g * float(n) + float(i))
         b = random_point(poly, nv, u[0], u[1])
         d = wp.vec3f(0.0, 0.0, 0.0)
         for r in range(nv):
@@ -605,6 +763,32 @@ def sink_sums(sink: wp.array2d(dtype=wp.float32), pix: int, polarized: int):
 
 
 @wp.func
+def _sink_read(sink: wp.array2d(dtype=wp.float32), pix: int):
+    """Pixel ``pix``'s running sums: J_X, J_Y, J_Z and the scalar renderer's XYZ."""
+    sc = wp.vec3f(sink[pix, _K_S], sink[pix, _K_S + 1], sink[pix, _K_S + 2])
+    return _sink_jones(sink, pix, _K_X), _sink_jones(sink, pix, _K_Y), _sink_jones(sink, pix, _K_Z), sc
+
+
+@wp.func
+def _sink_write(
+    sink: wp.array2d(dtype=wp.float32),
+    pix: int,
+    polarized: int,
+    acc_x: Jones,
+    acc_y: Jones,
+    acc_z: Jones,
+    sc: wp.vec3f,
+):
+    if polarized != 0:
+        _sink_set_jones(sink, pix, _K_X, acc_x)
+        _sink_set_jones(sink, pix, _K_Y, acc_y)
+        _sink_set_jones(sink, pix, _K_Z, acc_z)
+    else:
+        for c in range(3):
+            sink[pix, _K_S + c] = sc[c]
+
+
+@wp.func
 def _sink_leaf(
     sink: wp.array2d(dtype=wp.float32),
     pix: int,
@@ -617,20 +801,34 @@ def _sink_leaf(
     xyz: wp.vec3f,
 ):
     """A leaf's light into pixel ``pix``'s sums (``film.leaf.add_leaf``, the one rule)."""
-    zero = jones_zero()
-    if polarized != 0:
-        acc_x, acc_y, acc_z, _s = add_leaf(
-            _sink_jones(sink, pix, _K_X), _sink_jones(sink, pix, _K_Y), _sink_jones(sink, pix, _K_Z),
-            wp.vec3f(0.0, 0.0, 0.0), polarized, m, w, polarizer, k, basis_x, xyz,
-        )  # fmt: skip
-        _sink_set_jones(sink, pix, _K_X, acc_x)
-        _sink_set_jones(sink, pix, _K_Y, acc_y)
-        _sink_set_jones(sink, pix, _K_Z, acc_z)
-    else:
-        sc = wp.vec3f(sink[pix, _K_S], sink[pix, _K_S + 1], sink[pix, _K_S + 2])
-        _ax, _ay, _az, sc = add_leaf(zero, zero, zero, sc, polarized, m, w, polarizer, k, basis_x, xyz)
-        for c in range(3):
-            sink[pix, _K_S + c] = sc[c]
+    acc_x, acc_y, acc_z, sc = _sink_read(sink, pix)
+    acc_x, acc_y, acc_z, sc = add_leaf(acc_x, acc_y, acc_z, sc, polarized, m, w, polarizer, k, basis_x, xyz)
+    _sink_write(sink, pix, polarized, acc_x, acc_y, acc_z, sc)
+
+
+@wp.func
+def _sink_coherency(
+    sink: wp.array2d(dtype=wp.float32),
+    pix: int,
+    polarized: int,
+    m: Jones,
+    w: float,
+    c_x: Jones,
+    c_y: Jones,
+    c_z: Jones,
+):
+    """A point sample's light (coherencies from the camera trace) into pixel ``pix``'s sums
+    through the part's Jones matrix ``m`` and weight ``w`` (``film.leaf.add_coherency``)."""
+    acc_x, acc_y, acc_z, sc = _sink_read(sink, pix)
+    acc_x, acc_y, acc_z, sc = add_coherency(acc_x, acc_y, acc_z, sc, polarized, m, w, c_x, c_y, c_z)
+    _sink_write(sink, pix, polarized, acc_x, acc_y, acc_z, sc)
+
+
+@wp.func
+def _r2(rot: wp.vec2f, g: float):
+    """Point g of the R2 sequence (Roberts 2018) rotated by ``rot`` (Cranley-Patterson)."""
+    u = rot + wp.vec2f(g * 0.7548776662466927, g * 0.5698402909980532)
+    return u - wp.vec2f(wp.floor(u[0]), wp.floor(u[1]))
 
 
 @wp.func
@@ -683,8 +881,10 @@ def _trace_entry(
     geom: SceneGeometry,
     mats: MaterialTable,
     env: Environment,
+    surf: Surfaces,
     tables: SpectralTables,
     polarized: int,
+    bs: BeamScene,
     k: int,
     cam: CameraParams,
     px0: int,
@@ -704,16 +904,19 @@ def _trace_entry(
     rot: wp.vec2f,
     rng: wp.uint32,
 ):
-    """:func:`trace_beam` for the block's beam cut by its entry (``entry``, ``n_entry`` pieces,
-    every one with its own row) and the block centre's basis x."""
+    """:func:`trace_beam` for the block's beam cut by its entry into object ``k`` (``entry``,
+    ``n_entry`` pieces, every one with its own row) and the block centre's basis x; ``k`` = -1:
+    the block meets no object, -2: it is point-sampled (:func:`beam_target`)."""
     a_beam = float(bw * bh)  # the block's pixels (fractions are of the block)
-    m_w = geom.world_to_object[k]
-    s = geom.plane_start[k]
-    tol = 1.0e-6 * geom.bounding_sphere[k][3]
-    eps = geom.epsilon[k]
-    mat = p.object_material[k]
-    coated = p.films.kind[k] == KIND_COATED
+    ko = wp.max(k, 0)
+    m_w = geom.world_to_object[ko]
+    s = geom.plane_start[ko]
+    tol = 1.0e-6 * geom.bounding_sphere[ko][3]
+    eps = geom.epsilon[ko]
+    mat = p.object_material[ko]
+    coated = p.films.kind[ko] == KIND_COATED
     one = jones_identity()
+    parts = int(0)
     # each pixel's share of the entry is its cover
     for i in range(n_entry):
         nq = int(entry[i, _P_NV])
@@ -732,7 +935,9 @@ def _trace_entry(
                     cq, cm = _in_cell(q, nq, ix, iy, ix0, ix1, iy0, iy1)
                     if cm >= 3 and a_q > 0.0:
                         sink[px0 + ix + (py0 + iy) * width, _K_COVER] += share * polygon_area(cq, cm) / a_q
-    # each pixel's part that misses the stone: the directions of the pixel's spread
+    # each pixel's part that misses the stone: the directions of the pixel's spread, or where they
+    # may meet something else, a point sample per wavelength uniform in the pixel (one that meets
+    # the stone is the beams' and adds nothing: unbiased)
     for iy in range(bh):
         for ix in range(bw):
             pix = px0 + ix + (py0 + iy) * width
@@ -741,12 +946,30 @@ def _trace_entry(
             if miss_c > 1.0e-6:
                 cell, bx_c = pixel_beam(cam, px0 + ix, py0 + iy, 1, 1)
                 _x_c, d_cell = _centre(cell, 4)
+                clear = k != -2 and _clear(bs, cell, 4, k)
                 for j in range(count):
-                    b3 = environment_basis(env, tables, wavelengths[j])
                     xyz_w = wp.vec3f(weights[j, 0], weights[j, 1], weights[j, 2])
-                    rad = _part_light(env, b3, cell, 4, rot, float(first + j * step))
-                    _sink_leaf(sink, pix, polarized, one, miss_c, env.polarizer, -d_cell, bx_c, xyz_w * rad)
-    parts = int(0)
+                    g_j = float(first + j * step)
+                    if clear:
+                        b3 = environment_basis(env, tables, wavelengths[j])
+                        rad = _part_light(env, b3, cell, 4, rot, g_j)
+                        _sink_leaf(
+                            sink, pix, polarized, one, miss_c, env.polarizer, -d_cell, bx_c, xyz_w * rad
+                        )
+                    else:
+                        u = _r2(rot, g_j)
+                        o, d, b = camera_ray(cam, float(px0 + ix) + u[0], float(py0 + iy) + u[1], 0.5, 0.5)
+                        if k >= 0:
+                            if _meets_convex(geom, k, o, d):
+                                continue
+                        resp = spectral_response(env, tables, wavelengths[j], xyz_w)
+                        c_x, c_y, c_z, hit, nr, rng = trace_radiance(
+                            p, geom, mats, env, surf, tables, polarized, o, d, b, wavelengths[j], xyz_w, resp,
+                            0, rng,
+                        )  # fmt: skip
+                        _sink_coherency(sink, pix, polarized, one, 1.0, c_x, c_y, c_z)
+                        sink[pix, _K_COVER] += float(hit) / float(count)
+                        parts += nr
     if n_entry == 0:
         return parts, rng
     cand = Cand()
@@ -757,6 +980,9 @@ def _trace_entry(
         g = float(first + j * step)
         b3 = environment_basis(env, tables, wl)
         xyz_w = wp.vec3f(weights[j, 0], weights[j, 1], weights[j, 2])
+        resp = wp.mat33f()
+        if bs.others != 0:
+            resp = spectral_response(env, tables, wl, xyz_w)  # for parts traced on as point samples
         # a crystal (uniaxial or biaxial): each part is one wave (o or e, fast or slow) with its own
         # index and absorption; an isotropic stone's index and kappa serve every part of the lane
         amb = uniaxial_medium(p.ambient[0], p.ambient[0], wp.vec3f(0.0, 0.0, 0.0))
@@ -915,6 +1141,33 @@ def _trace_entry(
                         # shared among the pixels it overlaps by their areas of it
                         share = frac * a_beam
                         ix0, ix1, iy0, iy1 = _cells(qc, nq, bw, bh)
+                        if not _clear(bs, qc, nq, k):
+                            # its rays may meet another object, a surface or a lamp: a point sample
+                            # uniform in the part (by its area in the block's pixel coordinates),
+                            # traced on from the facet; the pixel it falls in takes the part's light
+                            u = _r2(rot, g)
+                            bw_r = random_point(qc, nq, u[0], u[1])
+                            x_r = wp.vec3f(0.0, 0.0, 0.0)
+                            d_r = wp.vec3f(0.0, 0.0, 0.0)
+                            pu = float(0.0)
+                            pv = float(0.0)
+                            for r in range(nq):
+                                x_r = x_r + _p(qc, r) * bw_r[r]
+                                d_r = d_r + _d(qc, r) * bw_r[r]
+                                pu += qc[r, 0] * bw_r[r]
+                                pv += qc[r, 1] * bw_r[r]
+                            d_r = wp.normalize(d_r)
+                            ix = wp.clamp(int(wp.floor(pu)), ix0, ix1)
+                            iy = wp.clamp(int(wp.floor(pv)), iy0, iy1)
+                            b_r = wp.normalize(b_ch - d_r * wp.dot(b_ch, d_r))
+                            c_x, c_y, c_z, _hit, nr, rng = trace_radiance(
+                                p, geom, mats, env, surf, tables, polarized, x_r + n_out * eps, d_r, b_r, wl,
+                                xyz_w, resp, 0, rng,
+                            )  # fmt: skip
+                            parts += nr
+                            pc = px0 + ix + (py0 + iy) * width
+                            _sink_coherency(sink, pc, polarized, m_c, w_c * share, c_x, c_y, c_z)
+                            continue
                         if ix0 == ix1 and iy0 == iy1:
                             rad = _part_light(env, b3, qc, nq, rot, g)
                             _sink_leaf(
@@ -1030,9 +1283,10 @@ def trace_beam(
     geom: SceneGeometry,
     mats: MaterialTable,
     env: Environment,
+    surf: Surfaces,
     tables: SpectralTables,
     polarized: int,
-    k: int,
+    bs: BeamScene,
     cam: CameraParams,
     px0: int,
     py0: int,
@@ -1052,20 +1306,27 @@ def trace_beam(
     (px0, py0) (:func:`pixel_beam`; a film ``width`` pixels wide) at ``count`` wavelengths,
     added to each pixel's row of ``sink`` (:func:`sink_sums` reads it): coherency matrices J_X,
     J_Y, J_Z summed over the lanes, lane j's light weighted by ``weights[j]``, averaged over the
-    pixel, and the fraction of the pixel that meets the stone.  Returns (the beam parts traced,
-    rng).  A leaf's part is cut by the pixels it overlaps (in the block's pixel coordinates,
-    which every part carries), each pixel taking its share of the part's fraction of the block.
-    Lane j is the pixel's wavelength ``first + j step`` in the order of its strata: its
-    environment lookups follow the R2 sequence over that index, rotated by ``rot`` (uniform,
-    independent of the wavelengths), so that neighbouring wavelengths' lookups spread evenly
-    over their parts (module docstring).  Module docstring for the method."""
+    pixel, and the fraction of the pixel that meets the stone.  Returns (the beam parts and point
+    rays traced, rng).  The block's beam enters the object :func:`beam_target` picks; a leaf's
+    part is cut by the pixels it overlaps (in the block's pixel coordinates, which every part
+    carries), each pixel taking its share of the part's fraction of the block.  Lane j is the
+    pixel's wavelength ``first + j step`` in the order of its strata: its environment lookups
+    follow the R2 sequence over that index, rotated by ``rot`` (uniform, independent of the
+    wavelengths), so that neighbouring wavelengths' lookups spread evenly over their parts
+    (module docstring).  Module docstring for the method."""
     poly, basis_x = pixel_beam(cam, px0, py0, bw, bh)
+    k = beam_target(bs, poly, 4)
+    if k < 0:
+        return _trace_entry(
+            p, geom, mats, env, surf, tables, polarized, bs, k, cam, px0, py0, bw, bh, width, sink, basis_x,
+            PieceBuf(), 0, wavelengths, weights, count, first, step, rot, rng,
+        )  # fmt: skip
     # the entry cut is the same for every wavelength
     entry, n_entry, over, rng = _entry_split(geom, k, poly, 4, rng)
     if over == 0.0 or bw * bh == 1:
         return _trace_entry(
-            p, geom, mats, env, tables, polarized, k, cam, px0, py0, bw, bh, width, sink, basis_x, entry,
-            n_entry, wavelengths, weights, count, first, step, rot, rng,
+            p, geom, mats, env, surf, tables, polarized, bs, k, cam, px0, py0, bw, bh, width, sink, basis_x,
+            entry, n_entry, wavelengths, weights, count, first, step, rot, rng,
         )  # fmt: skip
     # more entry pieces than rows: a piece standing in for others would move their light to its
     # own pixels, so each pixel of the block is a beam of its own
@@ -1075,23 +1336,82 @@ def trace_beam(
             cell, bx_c = pixel_beam(cam, px0 + ix, py0 + iy, 1, 1)
             e_c, n_c, _over, rng = _entry_split(geom, k, cell, 4, rng)
             n_p, rng = _trace_entry(
-                p, geom, mats, env, tables, polarized, k, cam, px0 + ix, py0 + iy, 1, 1, width, sink, bx_c,
-                e_c, n_c, wavelengths, weights, count, first, step, rot, rng,
+                p, geom, mats, env, surf, tables, polarized, bs, k, cam, px0 + ix, py0 + iy, 1, 1, width,
+                sink, bx_c, e_c, n_c, wavelengths, weights, count, first, step, rot, rng,
             )  # fmt: skip
             parts += n_p
     return parts, rng
 
 
-def beam_obstacle(scene, geometry) -> str | None:
+def beam_objects(scene, geometry, built) -> list[bool]:
+    """Per object of ``scene``, whether beams may enter it: a closed convex solid of at most
+    :data:`MAX_PLANES` facet planes, not a thin shell or film surface, neither inside another
+    solid nor around one (``geometry``: the scene's GeometryScene; ``built``: its built
+    objects)."""
+    counts = geometry.geometry.plane_count.numpy()
+    parents = geometry.geometry.parent.numpy()
+    flags = []
+    for i, ob in enumerate(scene.objects):
+        film = getattr(ob, "film", None)
+        flags.append(
+            bool(geometry._convex_possible[i])
+            and int(counts[i]) <= MAX_PLANES
+            and (film is None or film.surface == "solid")
+            and int(parents[i]) < 0
+            and not bool(np.any(parents[: len(scene.objects)] == i))
+        )
+    return flags
+
+
+def beam_obstacle(scene, geometry, built=None) -> str | None:
     """Why pixel beams cannot trace ``scene`` (already traced in spectral bundles:
-    ``stages.bundle.bundle_obstacle``), or None where they can: one closed convex solid of at
-    most :data:`MAX_PLANES` facet planes, seen through a pinhole or orthographic camera."""
-    if len(scene.objects) != 1:
-        return f"beams follow one solid (the scene has {len(scene.objects)})"
-    if not geometry._convex_possible[0]:
-        return "beams follow a closed convex solid (this one is not convex)"
-    if int(geometry.geometry.plane_count.numpy()[0]) > MAX_PLANES:
-        return f"beams follow at most {MAX_PLANES} facet planes"
+    ``stages.bundle.bundle_obstacle``), or None where they can: at least one closed convex solid
+    beams may enter (:func:`beam_objects`; the rest of the scene, other solids, surfaces and
+    lamps, is met by point samples that parts and misses continue as), seen through a pinhole
+    or orthographic camera."""
     if scene.camera.type == "thin_lens" and scene.camera.aperture > 0.0:
         return "a thin lens with an aperture is point-sampled"
+    if not any(beam_objects(scene, geometry, built)):
+        if not all(geometry._convex_possible):
+            return "beams enter closed convex solids (this scene has none they can enter)"
+        return f"beams enter convex solids of at most {MAX_PLANES} facet planes, not shells or nested ones"
     return None
+
+
+def beam_scene(geometry, surfaces, eligible, device=None) -> BeamScene:
+    """The :class:`BeamScene` of a scene: its objects' world bounding spheres and vertices
+    (``geometry``: a GeometryScene), the planes of its surfaces and area lights (``surfaces``: the
+    ``Surfaces`` struct of stages/surfaces.py) and the objects beams may enter (``eligible``)."""
+    dev = get_device(device)
+    n = len(eligible)
+    planes, spheres = [], []
+    for count, centre, normal, half in (
+        (surfaces.num_surfaces, surfaces.centre, surfaces.normal, surfaces.half),
+        (surfaces.num_area, surfaces.a_centre, surfaces.a_normal, surfaces.a_half),
+    ):
+        c = centre.numpy()[:count].astype(np.float64)
+        nrm = normal.numpy()[:count].astype(np.float64)
+        hs = half.numpy()[:count].astype(np.float64)
+        for ci, ni, hi in zip(c, nrm, hs, strict=True):
+            planes.append([*ni, float(ni @ ci)])
+            spheres.append([*ci, float(np.linalg.norm(hi))])
+    side = np.zeros((max(n, 1), max(len(planes), 1), 2), dtype=np.float32)
+    for i, v in enumerate(geometry.world_vertices[:n]):
+        for r, pl in enumerate(planes):
+            sd = v @ np.asarray(pl[:3]) - pl[3]
+            side[i, r] = (sd.min(), sd.max())
+    bs = BeamScene()
+    bs.num_objects = n
+    bs.eligible = wp.array(np.array([*map(int, eligible)] or [0], dtype=np.int32), dtype=wp.int32, device=dev)
+    obj_spheres = np.asarray(geometry.world_spheres, dtype=np.float32).reshape(-1, 4)
+    bs.sphere = wp.array(obj_spheres if n else np.zeros((1, 4), np.float32), dtype=wp.vec4f, device=dev)
+    bs.num_rects = len(planes)
+    rect = np.array(planes or [[0.0, 0.0, 1.0, 0.0]], dtype=np.float32)
+    bs.rect = wp.array(rect, dtype=wp.vec4f, device=dev)
+    bs.rect_sphere = wp.array(
+        np.array(spheres or [[0.0, 0.0, 0.0, 0.0]], dtype=np.float32), dtype=wp.vec4f, device=dev
+    )
+    bs.side = wp.array(side, dtype=wp.vec2f, device=dev)
+    bs.traced = int(surfaces.num_sun > 0 or surfaces.num_spot > 0)
+    bs.others = int(n > 1 or len(planes) > 0 or bs.traced != 0)
+    return bs
