@@ -73,7 +73,7 @@ def test_passes_continue_the_pixel_sequence(device):
     same wavelengths and R2 pixel positions in the same order (only the float64 sums differ)."""
     data = {**DIAMOND, "render": {**DIAMOND["render"], "max_depth": 4, "split_threshold": 0.0}}
     sc = _scene(data)
-    p = Preview(sc, wavelengths=2, device=device)
+    p = Preview(sc, wavelengths=2, device=device, estimator="point")
     n = 5
     img = _passes(p, n)
     over = {
@@ -88,10 +88,43 @@ def test_passes_continue_the_pixel_sequence(device):
     assert img.stats["rays"] == ref.stats["rays"]
 
 
+def test_beam_bands_make_the_passes_of_a_beam_render(device):
+    """Where pixel beams apply the passes are beams (4 stratified wavelengths), rendered in bands
+    of blocks: n passes, each cut into many bands, give the image of one n-spp beam render with
+    the same settings (a deterministic tree: split threshold 0, no roulette), and while a pass
+    is in bands its pixels are not yet divided by the next pass count."""
+    data = {**DIAMOND, "render": {**DIAMOND["render"], "max_depth": 4, "split_threshold": 0.0}}
+    sc = _scene(data)
+    p = Preview(sc, device=device, band_seconds=1e-6)  # one block per band
+    assert p.pass_estimator == "beam"
+    n = 2
+    steps = 0
+    while p.passes < n:
+        assert p.step()
+        steps += 1
+    assert steps > 2 * 12  # many bands per pass (blocks of 3x3 pixels of 32x24)
+    img = p.image()
+    assert img.stats["estimator"] == "beam"
+    over = {
+        "render.spp": n,
+        "render.wavelengths": 4,
+        "render.bundle_lanes": 4,
+        "render.spectral": "stratified",
+        "render.estimator": "beam",
+    }
+    ref = Renderer(sc.with_overrides(over), device=device).run()
+    np.testing.assert_allclose(img.xyz, ref.xyz, rtol=1e-6, atol=1e-9)
+    # half way through a pass: the done pixels hold n + 1 samples, the rest n, each its own mean
+    p.step()
+    assert 0 < (p.pixel_passes == n + 1).sum() < p.pixel_passes.size
+    mid = p.image().xyz
+    np.testing.assert_allclose(mid[p.pixel_passes == n], img.xyz[p.pixel_passes == n], rtol=1e-12)
+
+
 def test_next_block_draws_new_samples(device):
     """Pass BLOCK starts a new block of the R2 sequence (its own random rotation), not a repeat
     of pass 0: the sample it adds differs from the first pass's."""
-    p = Preview(_scene(width=8, height=6), device=device)
+    p = Preview(_scene(width=8, height=6), device=device, estimator="point")
     first = _passes(p, 1).xyz.copy()
     _passes(p, BLOCK)
     before = p.film.xyz.numpy().copy()
@@ -101,7 +134,8 @@ def test_next_block_draws_new_samples(device):
     assert np.abs(added - first).max() > 1e-3 * np.abs(first).max()
 
 
-def test_white_furnace_after_orbit_restart(device):
+@pytest.mark.parametrize("estimator", ["point", "auto"])
+def test_white_furnace_after_orbit_restart(device, estimator):
     """Energy conservation: a clear stone in a uniform environment is invisible (Y equals the empty
     furnace's, pixel by pixel, same samples).  Both previews are orbited after some passes first,
     so a film that was not cleared at the restart would show the old view."""
@@ -119,10 +153,14 @@ def test_white_furnace_after_orbit_restart(device):
             {"shape": "round_brilliant", "diameter": 6.5, "material": "diamond", "absorption_scale": 0.0}
         ],
     }
+    # beams: roulette below split_threshold of a pixel's light is the furnace's only noise
+    # (0.002: pixels within 2 %, 0.0002: 0.5 %)
+    split = {} if estimator == "point" else {"render.split_threshold": 0.0002}
     images = []
     for position in ([0.0, 0.0, 0.0], [1e4, 1e4, 1e4]):
-        sc = _scene(furnace, {"object.0.position": position})
-        p = Preview(sc, wavelengths=2, device=device)
+        sc = _scene(furnace, {"object.0.position": position, **split})
+        p = Preview(sc, wavelengths=2, device=device, estimator=estimator)
+        assert p.pass_estimator == ("point" if estimator == "point" else "beam")
         _passes(p, 2)
         gen = p.update({"azimuth": 30.0, "elevation": 50.0})
         assert gen == 1 and p.passes == 0
@@ -171,14 +209,14 @@ def test_draft_is_the_scene_at_lower_resolution(device):
     """The first step after a restart is one pass at half the resolution, shown enlarged: exactly
     the frame of a preview of the half-size image, each pixel repeated 2x2."""
     sc = _scene(width=32, height=24)
-    p = Preview(sc, device=device)
+    p = Preview(sc, device=device, estimator="point")
     p.update({"azimuth": 10.0})
     assert p.step() and p.draft and p.showing_draft and p.passes == 0
     big = p.frame()
     small_scene = sc.with_overrides(
         {"camera.position": list(p.orbit.position(sc.camera.look_at))}, width=16, height=12
     )
-    small = Preview(small_scene, draft_scale=1, device=device)
+    small = Preview(small_scene, draft_scale=1, device=device, estimator="point")
     small.step()
     np.testing.assert_array_equal(big, np.repeat(np.repeat(small.frame(), 2, axis=0), 2, axis=1))
     assert p.step() and p.passes == 1 and not p.showing_draft
@@ -194,7 +232,7 @@ def test_exposure_does_not_restart(device):
 
 
 def test_max_passes_stops_refining(device):
-    p = Preview(_scene(width=8, height=6), max_passes=2, draft_scale=1, device=device)
+    p = Preview(_scene(width=8, height=6), max_passes=2, draft_scale=1, device=device, estimator="point")
     assert p.step() and p.step() and not p.step()
     assert p.passes == 2
 
@@ -244,7 +282,7 @@ def _decode(data):
 
 
 def test_server_frames_refine_and_restart(device):
-    p = Preview(_scene(width=48, height=32), device=device)
+    p = Preview(_scene(width=48, height=32), device=device, estimator="point")
     with ViewServer(p, port=0) as srv:
         assert srv.url.startswith("http://127.0.0.1:")
         status, headers, page = _get(srv.url)
@@ -351,7 +389,7 @@ def test_page_in_headless_chromium(device, tmp_path):
     """The page loads its controls, fetches frames and draws them: a screenshot's image area is the
     server's last frame (the page stops after 3 frames, ?frames=3, so that the browser settles)."""
     w, h = 48, 32
-    p = Preview(_scene(width=w, height=h), device=device)
+    p = Preview(_scene(width=w, height=h), device=device, estimator="point")
     shot = tmp_path / "page.png"
     with ViewServer(p, port=0) as srv:
         cmd = [

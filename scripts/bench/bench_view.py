@@ -10,7 +10,9 @@ then none):
   imports, scene, Renderer, one pass) — needs the kernel cache warm (run once before);
 * ``first_frame_s``: from the server being up (it prints its URL) to the first frame received
   (the draft where there is one), ``first_full_frame_s`` to the first full-resolution one;
-* refining: frames of the unchanged view (each one more full-resolution pass);
+* ``first_whole_pass_s``: to the first frame with a whole full-resolution pass in (pixel
+  beams come in bands of rows, a frame each);
+* refining: frames of the unchanged view (each one more full-resolution pass, or beams' band);
 * orbiting: before every frame the azimuth moves by ``--orbit-step`` degrees (a restart each
   time, so every frame is the draft — or pass 1 — of a new view): the frame rate while dragging;
 * ``cut_change_s``: a pavilion-angle change (the Renderer is rebuilt: new mesh) to its first frame.
@@ -134,6 +136,10 @@ def measure(args, draft_scale: int) -> dict:
         while headers["X-Draft"] == "1":
             headers, _ = _get(url + "frame.jpg")
         t_full = time.perf_counter()
+        # pixel beams come in bands of rows, a frame each: the first whole pass takes many frames
+        while int(headers["X-Passes"]) < 1:
+            headers, _ = _get(url + "frame.jpg")
+        t_pass = time.perf_counter()
         state = json.loads(_get(url + "state")[1])
         values = {c["name"]: c["value"] for c in state["controls"]}
         refining = _frames(url, args.frames, proc.pid)
@@ -144,9 +150,10 @@ def measure(args, draft_scale: int) -> dict:
 
         orbiting = _frames(url, args.frames, proc.pid, orbit)
         gens = [int(h["X-Generation"]) for h in orbiting["headers"]]
-        # every orbit frame is the first image of a new view: its draft, or its pass 1
+        # every orbit frame is the first image of a new view: its draft, its pass 1 or (beams)
+        # the first band of its pass 1
         restarted = gens == list(range(gens[0], gens[0] + len(gens))) and all(
-            (h["X-Draft"], h["X-Passes"]) in (("1", "0"), ("0", "1")) for h in orbiting["headers"]
+            (h["X-Draft"], h["X-Passes"]) in (("1", "0"), ("0", "1"), ("0", "0")) for h in orbiting["headers"]
         )
         cut = None
         if "object.0.pavilion_angle" in values:
@@ -171,6 +178,7 @@ def measure(args, draft_scale: int) -> dict:
         "server_ready_s": t_ready - t_launch,
         "first_frame_s": t_first - t_ready,
         "first_full_frame_s": t_full - t_ready,
+        "first_whole_pass_s": t_pass - t_ready,
         "refining": strip(refining),
         "orbiting": strip(orbiting),
         "orbit_every_frame_restarted": restarted,
@@ -216,6 +224,7 @@ def main() -> int:
         )
         print(f"  server up -> first frame     {r['first_frame_s']:7.3f} s   (target < 0.5 s)")
         print(f"  server up -> first full-resolution frame {r['first_full_frame_s']:7.3f} s")
+        print(f"  server up -> first whole full-resolution pass {r['first_whole_pass_s']:7.3f} s")
         for name in ("refining", "orbiting"):
             m = r[name]
             print(

@@ -351,6 +351,7 @@ def run(args) -> int:
         max_passes=args.max_passes,
         draft_scale=args.draft_scale,
         device=args.device,
+        estimator=args.estimator,
     )
     server = ViewServer(preview, port=args.port, verbose=args.verbose)
     print(f"warpoptics view: {server.url}  ({preview.width}x{preview.height}; Ctrl-C to stop)", flush=True)
@@ -390,6 +391,12 @@ def register(sub) -> None:
         type=int,
         default=4096,
         help="stop refining after this many passes (samples per pixel)",
+    )
+    p.add_argument(
+        "--estimator",
+        choices=("auto", "beam", "point"),
+        default="auto",
+        help="the passes: pixel beams in bands of rows where they apply (auto, default), or point samples",
     )
     p.add_argument(
         "--draft-scale",

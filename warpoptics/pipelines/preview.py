@@ -6,7 +6,9 @@ afterwards: every setting below is a value passed to the same kernel).  :meth:`P
 renders one pass (``Renderer.render_pass``: 1 spp, ``wavelengths`` wavelengths per sample,
 default 1) and :meth:`Preview.frame` shows the mean of the passes so far.  Passes continue each
 pixel's R2 sequence in blocks of :data:`BLOCK` samples (then a fresh random rotation), so the
-preview converges like a render of that many spp.
+preview converges like a render of that many spp.  Where pixel beams apply, the full-resolution
+passes are beams (the whole spectrum in a lattice of :data:`BEAM_WAVELENGTHS`), rendered in bands
+of rows of about :data:`BAND_SECONDS`: a frame per band.
 
 Wavelengths are drawn by importance (XYZ-weighted, ``spectra.sample_wavelength``) unless asked
 otherwise: an unbiased estimator of the same image as the scene's own strategy, and with one
@@ -57,11 +59,24 @@ from ..scene import Scene
 from ..stages.camera import Camera, CameraConfig
 from .render import Renderer
 
-__all__ = ["Preview", "PreviewFilm", "Control", "Orbit", "BLOCK", "ORBIT_KEYS"]
+__all__ = [
+    "Preview",
+    "PreviewFilm",
+    "Control",
+    "Orbit",
+    "BLOCK",
+    "BEAM_WAVELENGTHS",
+    "BAND_SECONDS",
+    "ORBIT_KEYS",
+]
 
 # samples per R2 block: pass p continues sample p % BLOCK of block p // BLOCK (a pixel's skip of
 # its earlier camera draws grows with the sample index; blocks keep it below 3 x BLOCK x wavelengths)
 BLOCK = 64
+#: wavelengths of a pass in pixel beams (one stratified lattice: no colour speckle)
+BEAM_WAVELENGTHS = 4
+#: seconds a band of a pass in pixel beams aims at (a frame each while refining)
+BAND_SECONDS = 0.15
 ORBIT_KEYS = ("azimuth", "elevation", "distance")
 _ELEVATION_LIMIT = 89.0  # degrees: the camera never looks along the up axis (no defined image right)
 _SCENE_OWN = "(scene)"  # the choice that keeps the scene's own inline material
@@ -180,8 +195,12 @@ class Preview:
     per sample of a pass and ``spectral`` how they are drawn (default ``"importance"``; an
     ``rgb3`` scene keeps its 3 wavelengths); ``max_passes``
     stops adding passes once reached (the image is then that many spp); ``threads`` as in
-    :func:`warpoptics.device.launch_tiled`.  ``step()``, ``update()`` and ``frame()`` may be
-    called from different threads: passes and rebuilds are serialized by a lock.
+    :func:`warpoptics.device.launch_tiled`.  ``estimator`` (``"auto"``, ``"beam"``, ``"point"``):
+    where pixel beams apply (as ``render.estimator`` decides) the full-resolution passes are
+    beams of ``beam_wavelengths`` stratified wavelengths, rendered in bands of rows of about
+    ``band_seconds`` each (a frame per band; rows not yet in show the draft); else, and for the
+    draft, point samples as above.  ``step()``, ``update()`` and ``frame()`` may be called from
+    different threads: passes and rebuilds are serialized by a lock.
     """
 
     def __init__(
@@ -196,6 +215,9 @@ class Preview:
         draft_scale: int = 2,
         device=None,
         threads: int | None = None,
+        estimator: str = "auto",
+        beam_wavelengths: int = BEAM_WAVELENGTHS,
+        band_seconds: float = BAND_SECONDS,
     ):
         self.device = get_device(device)
         self.threads = threads
@@ -205,23 +227,37 @@ class Preview:
             spectral = "rgb3" if scene.render.spectral == "rgb3" else "importance"
         spectral = val.choice(spectral, ("importance", "stratified", "uniform", "rgb3"), field="spectral")
         wl = 3 if spectral == "rgb3" else val.integer(wavelengths, field="wavelengths", lo=1, hi=1000)
+        self.estimator = val.choice(estimator, ("auto", "beam", "point"), field="estimator")
+        bw = val.integer(beam_wavelengths, field="beam_wavelengths", lo=1, hi=64)
+        self.band_seconds = float(val.number(band_seconds, field="band_seconds", lo=0.0, hi=60.0))
         over: dict[str, Any] = {
             "render.spp": 1,
             "render.adaptive": False,
             "render.spectral": spectral,
             "render.wavelengths": wl,
-            # progressive passes of one wavelength: point samples (a pass of pixel beams costs
-            # several point passes and only pays off at many wavelengths per pass)
+            # the draft (and every pass where beams do not apply): point samples of one wavelength
             "render.estimator": "point",
         }
         if scene.render.caustics:
             over["render.caustics"] = False  # the light tracer is not progressive; the preview leaves it out
         self.base = scene.with_overrides(over, width=width, height=height)
+        # the passes in pixel beams: a stratified lattice of beam_wavelengths per pass, in bands
+        self.beam_base = None
+        if self.estimator != "point" and spectral != "rgb3":
+            b_over = {
+                **over,
+                "render.spectral": "stratified",
+                "render.wavelengths": bw,
+                "render.bundle_lanes": bw,
+            }
+            b_over["render.estimator"] = self.estimator
+            self.beam_base = scene.with_overrides(b_over, width=width, height=height)
         self._values: dict[str, Any] = {}  # scene overrides in effect (dotted path -> value)
         self._orbit = Orbit.from_camera(self.base.camera)
         self.exposure = float(self.base.render.exposure)
         self.renderer = Renderer(self.base, device=self.device)
         self.renderer.load_kernels()  # the first frame renders, it does not load the module
+        self.beam_renderer = self._beam_renderer(self.beam_base)
         self.scene = self.base
         self.camera = Camera(self.base.camera)
         self.film = PreviewFilm(self.camera.width, self.camera.height, self.device)
@@ -232,6 +268,12 @@ class Preview:
             self.draft_film = PreviewFilm(dw, dh, self.device)
         self.draft = False  # whether the draft of this generation is rendered (and shown until pass 1)
         self.passes = 0
+        # beams: the next band's first block, blocks per band (adapted to band_seconds), and each
+        # pixel's passes (a band's pixels are one ahead until the pass is done)
+        self.band_row = 0
+        self._band_blocks = 1
+        self.pixel_passes = np.zeros((self.camera.height, self.camera.width), dtype=np.int64)
+        self._launch_map = self._launch_indices()
         self.generation = 0
         self.seconds = 0.0  # wall seconds of the last pass (render only)
         self.cpu_seconds = 0.0  # process CPU seconds of the last pass (all threads)
@@ -404,6 +446,9 @@ class Preview:
                 scene = self.base.with_overrides(over)
                 t0 = time.perf_counter()
                 self.renderer = Renderer(scene, device=self.device)  # new mesh / materials / light: data only
+                if self.beam_base is not None:
+                    self.beam_renderer = self._beam_renderer(self.beam_base.with_overrides(over))
+                    self._launch_map = self._launch_indices()
                 self.rebuild_seconds = time.perf_counter() - t0
             self.scene = scene
             self._values = scene_values
@@ -419,8 +464,30 @@ class Preview:
                     self.draft_film.zero()
                 self.draft = False
                 self.passes = 0
+                self.band_row = 0
+                self.pixel_passes[:] = 0
                 self.generation += 1
             return self.generation
+
+    def _beam_renderer(self, scene) -> Renderer | None:
+        """The Renderer of the passes in pixel beams, or None where beams do not apply (then the
+        passes are the point Renderer's)."""
+        if scene is None:
+            return None
+        r = Renderer(scene, device=self.device)
+        if not r.pixel_beam:
+            return None
+        r.load_kernels()
+        return r
+
+    def _launch_indices(self) -> np.ndarray:
+        r = self.beam_renderer or self.renderer
+        return r.launch_indices(self.camera.width, self.camera.height)
+
+    @property
+    def pass_estimator(self) -> str:
+        """``"beam"`` when the passes are pixel beams (in bands of rows), else ``"point"``."""
+        return "point" if self.beam_renderer is None else "beam"
 
     def _camera_kw(self) -> dict:
         c = self.base.camera
@@ -440,9 +507,11 @@ class Preview:
             if self.passes >= self.max_passes:
                 return False
             t0, c0 = time.perf_counter(), time.process_time()
-            if self.draft_film is not None and self.passes == 0 and not self.draft:
+            if self.draft_film is not None and self.passes == 0 and self.band_row == 0 and not self.draft:
                 self.renderer.render_pass(self.draft_film, camera=self._draft_camera(), threads=self.threads)
                 self.draft = True
+            elif self.beam_renderer is not None:
+                self._beam_band()
             else:
                 self.renderer.render_pass(
                     self.film,
@@ -452,28 +521,63 @@ class Preview:
                     threads=self.threads,
                 )
                 self.passes += 1
+                self.pixel_passes += 1
             self.seconds = time.perf_counter() - t0
             self.cpu_seconds = time.process_time() - c0
             return True
 
+    def _beam_band(self) -> None:
+        """The next band of the current pass in pixel beams: the next blocks in launch order, as
+        many as fit in ``band_seconds`` at the last band's rate (at most twice as many as the
+        last, and 1/64 of the image: a stone's blocks cost far more than the background's; a
+        whole pass when ``band_seconds`` is 0); the pass is done when the band reaches the end."""
+        r = self.beam_renderer
+        assert r is not None
+        total = int(self._launch_map.max()) + 1
+        n = total if self.band_seconds <= 0.0 else max(1, self._band_blocks)
+        first = self.band_row
+        t0 = time.perf_counter()
+        r.render_pass(
+            self.film,
+            pass_index=self.passes // BLOCK,
+            spp_begin=self.passes % BLOCK,
+            camera=self.camera.params,
+            threads=self.threads,
+            launch=(first, n),
+        )
+        dt = time.perf_counter() - t0
+        end = min(total, first + n)
+        done = (self._launch_map >= first) & (self._launch_map < end)
+        self.pixel_passes[done] += 1
+        if self.band_seconds > 0.0:
+            grow = min(2.0, self.band_seconds / max(dt, 1e-4))
+            self._band_blocks = int(min(max(1, total // 64), max(1.0, n * grow)))
+        if end >= total:
+            self.band_row = 0
+            self.passes += 1
+        else:
+            self.band_row = end
+
     @property
     def showing_draft(self) -> bool:
-        """Whether :meth:`frame` shows the draft (rendered, and no full pass yet)."""
-        return self.passes == 0 and self.draft
+        """Whether :meth:`frame` shows the draft alone (rendered, and no full-resolution pass or
+        band yet)."""
+        return self.draft and not self.pixel_passes.any()
 
     def image(self) -> Image:
         """The mean of the passes so far as an :class:`Image` (zeros before the first pass)."""
         with self._lock:
-            h, w, n = self.height, self.width, max(self.passes, 1)
-            inv = 1.0 / n
-            xyz = self.film.xyz.numpy().reshape(h, w, 3) * inv
-            stokes = self.film.stokes.numpy().reshape(h, w, 4) * inv
+            h, w = self.height, self.width
+            inv = 1.0 / np.maximum(self.pixel_passes, 1).astype(np.float64)  # a band's pixels are ahead
+            xyz = self.film.xyz.numpy().reshape(h, w, 3) * inv[..., None]
+            stokes = self.film.stokes.numpy().reshape(h, w, 4) * inv[..., None]
             alpha = self.film.alpha.numpy().reshape(h, w) * inv
-            stokes_xyz = self.film.stokes_xyz.numpy().reshape(h, w, 3, 4) * inv
+            stokes_xyz = self.film.stokes_xyz.numpy().reshape(h, w, 3, 4) * inv[..., None, None]
             rays = int(self.film.rays.numpy().sum())
             r = self.scene.render
             stats = {
                 "passes": self.passes,
+                "estimator": self.pass_estimator,
                 "generation": self.generation,
                 "rays": rays,
                 "width": w,
@@ -494,20 +598,35 @@ class Preview:
         """The display image (height, width, 3) uint8 sRGB of the passes so far, or the draft
         enlarged to that size (each draft pixel repeated, nearest pixel) before the first pass."""
         with self._lock:
-            film = self.draft_film if self.showing_draft and self.draft_film is not None else self.film
-            h, w, n = film.height, film.width, max(self.passes, 1)
-            xyz = film.xyz.numpy().reshape(h, w, 3) * (1.0 / n)
-            r = self.scene.render
+            h, w = self.height, self.width
+            if self.showing_draft and self.draft_film is not None:
+                d = self.draft_film
+                xyz = d.xyz.numpy().reshape(d.height, d.width, 3)
+            else:
+                xyz = self.film.xyz.numpy().reshape(h, w, 3) / np.maximum(self.pixel_passes, 1)[..., None]
+            if (
+                self.draft
+                and self.draft_film is not None
+                and not self.showing_draft
+                and not self.pixel_passes.all()
+            ):
+                # the draft (each of its pixels repeated) where no full-resolution pass is in yet
+                d = self.draft_film
+                dx = d.xyz.numpy().reshape(d.height, d.width, 3)
+                rows = np.arange(h) * d.height // h
+                cols = np.arange(w) * d.width // w
+                todo = self.pixel_passes == 0
+                xyz[todo] = dx[rows[:, None], cols[None, :]][todo]
             img = Image(
                 xyz=xyz,
-                stokes=np.zeros((h, w, 4)),
-                alpha=np.zeros((h, w)),
+                stokes=np.zeros((*xyz.shape[:2], 4)),
+                alpha=np.zeros(xyz.shape[:2]),
                 exposure=self.exposure,
-                tone=r.tone,
+                tone=self.scene.render.tone,
             )
         rgb = np.round(np.clip(img.display(), 0.0, 1.0) * 255.0).astype(np.uint8)
-        if film is not self.film:
-            rows = np.arange(self.height) * h // self.height
-            cols = np.arange(self.width) * w // self.width
+        if rgb.shape[:2] != (h, w):  # the draft alone: each of its pixels repeated
+            rows = np.arange(h) * rgb.shape[0] // h
+            cols = np.arange(w) * rgb.shape[1] // w
             rgb = rgb[rows[:, None], cols[None, :]]
         return rgb

@@ -924,6 +924,15 @@ class Renderer:
         nbx = -(-width // b)
         return (row0 // b) * nbx, -(-rows // b) * nbx
 
+    def launch_indices(self, width: int, height: int) -> np.ndarray:
+        """The launch index (pixel, or pixel beams' block) of each pixel of a film of that size,
+        ``(height, width)``: :meth:`render_pass`'s ``launch`` ranges in pixels."""
+        y, x = np.mgrid[0:height, 0:width]
+        if not self.film.beam:
+            return y * width + x
+        b = self.film.beam_block
+        return (y // b) * (-(-width // b)) + x // b
+
     def load_kernels(self) -> None:
         """Load the pipeline kernel now (from the kernel cache, or compile it), so that the first
         :meth:`render_pass` or :meth:`run` does not pay for it."""
@@ -939,10 +948,12 @@ class Renderer:
         camera: CameraParams | None = None,
         threads: int | None = None,
         tile_size: int | None = None,
+        launch: tuple[int, int] | None = None,
     ) -> None:
         """Add one progressive pass to ``film``: the samples ``[spp_begin, spp_begin + spp)`` of
         pass ``pass_index`` in every pixel (uniform: no adaptive rounds, no caustics), seen through
-        ``camera`` (default the scene's).
+        ``camera`` (default the scene's); ``launch = (first, count)``: only those launch indices
+        (pixels, or for pixel beams blocks: :meth:`launch_indices` maps the film's pixels).
 
         ``film`` is any object with ``width``, ``height`` and the arrays ``xyz, sq, stokes, alpha,
         rays, stokes_xyz`` laid out like the Renderer's own for that size (``pipelines/preview.py``
@@ -971,6 +982,8 @@ class Renderer:
             with self.trace.medium(medium):
                 inputs = self._kernel_inputs(cam, film)
                 first, n = self._launch_range(0, h, w)
+                if launch is not None:
+                    first, n = first + int(launch[0]), max(0, min(int(launch[1]), n - int(launch[0])))
                 launch_tiled(
                     self._pixels,
                     n,
