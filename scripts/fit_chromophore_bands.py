@@ -12,6 +12,11 @@ and the comparison (:func:`~warpoptics.materials.chromophore_spectra.compare`): 
 ratios and RMS relative errors, first of the fit, then of the library's band set as it stands.
 
     python scripts/fit_chromophore_bands.py [file-name-substring ...]
+    python scripts/fit_chromophore_bands.py --joint FITTED.csv CHECK.csv POL
+
+``--joint`` refits the library's POL bands of FITTED's band set to both spectra at once (CHECK's
+concentration free, the relative residuals of both at their RMS points) and prints the comparison
+with each: what a refit to an independent check spectrum would cost the fitted one.
 
 The templates say which bands a spectrum shows (a choice of the model: how many bands, which
 shape); everything fitted comes from the measured points.
@@ -249,7 +254,41 @@ def report(result: dict) -> str:
     return "\n".join(lines)
 
 
+def joint(fitted_name: str, check_name: str, pol: str) -> int:
+    """The ``--joint`` refit (module docstring)."""
+    from warpoptics.materials import chromophores as C
+
+    a, b = read_measured_spectrum(DATA / fitted_name), read_measured_spectrum(DATA / check_name)
+    bs = C.band_set(a.host, a.chromophore)
+    bands = [(x.center_nm, x.width_nm, x.peak_alpha_per_mm, x.shape) for x in bs.bands[pol]]
+    p0 = [v for c, w, pk, _ in bands for v in (c, np.log(w), np.log(pk))] + [0.0]
+    ref = bs.reference_concentration
+    la, ma = a.wavelength_nm, a.alpha[pol]
+    lb, mb = b.wavelength_nm, b.alpha[pol]
+    ka, kb = rms_mask(la, ma), rms_mask(lb, mb)
+    rest = (~ka) & (la >= 380.0) & (la <= 720.0)
+    floor = CRITERIA["rms_floor"] * np.max(ma[(la >= 400) & (la <= 700)])
+    sa, sb = a.concentration / ref, b.concentration / ref
+
+    def resid(p):
+        m_a = sa * model(p[:-1], bands, None, la)
+        m_b = sb * np.exp(p[-1]) * model(p[:-1], bands, None, lb)
+        return np.concatenate(
+            [(m_a[ka] - ma[ka]) / ma[ka], 0.5 * (m_a[rest] - ma[rest]) / floor, (m_b[kb] - mb[kb]) / mb[kb]]
+        )
+
+    p = least_squares(resid, p0, x_scale="jac", max_nfev=20000).x
+    print(f"joint refit of {a.host} {a.chromophore} {pol}: {pol}={describe(p[:-1], bands, None, 1.0 / sa)}")
+    print(f"  {b.path.name}: concentration {b.concentration * np.exp(p[-1]):.4g} (file: {b.concentration:g})")
+    for sp, s in ((a, sa), (b, sb * np.exp(p[-1]))):
+        print(f"  {sp.path.name}:")
+        print(report({pol: compare(sp, lambda lam, _pol, s=s: s * model(p[:-1], bands, None, lam))[pol]}))
+    return 0
+
+
 def main(argv) -> int:
+    if argv[:1] == ["--joint"]:
+        return joint(*argv[1:4])
     files = sorted(DATA.glob("*.csv"))
     if argv:
         files = [f for f in files if any(a in f.name for a in argv)]
@@ -257,8 +296,10 @@ def main(argv) -> int:
         sp = read_measured_spectrum(f)
         tpl = TEMPLATES.get(f.name)
         print(f"{f.name}: {sp.host} {sp.chromophore} at {sp.concentration:g}")
-        if tpl is None:
+        if tpl is None:  # a check spectrum (role: check): the library's band set against it
             print("    (no template)")
+            print("  library:")
+            print(report(compare(sp)))
             continue
         fitted = {}
         for pol, (bands, tl) in tpl.items():

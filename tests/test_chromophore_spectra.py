@@ -9,6 +9,10 @@ library's band set must reproduce it: every stated band maximum within 5 nm, the
 exceeds 5 % of its maximum in that range (below that, a relative error of a near-zero value says
 nothing about the colour and is dominated by the baseline).  ``scripts/fit_chromophore_bands.py``
 regenerates the fitted numbers.
+
+Files with ``role: check`` are independent measured spectra the band set was not fitted to (the
+same criteria apply).  Where one is not reproduced, :data:`MISFITS` holds the measured numbers and
+the reason, and that test is a strict xfail: it fails loudly once the band set reproduces it.
 """
 
 from __future__ import annotations
@@ -29,6 +33,43 @@ from warpoptics.materials.chromophore_spectra import (
 
 SPECTRA = sorted((Path(__file__).parent / "data" / "chromophores" / "spectra").glob("*.csv"))
 
+#: (file, criterion) -> the measured misfit and its reason (`compare` at the file's concentration)
+MISFITS = {
+    ("corundum_cr3_caltech_grr1843.csv", "rms"): (
+        "natural Thai ruby GRR 1843 (no analysis), E perp c: RMS 21.9 % over 382 points, mostly from "
+        "430-470 nm where the stone absorbs 25-58 % more than the set fitted to the SIMS-analysed "
+        "synthetic GIA 1110 (centres 4.75 and 2.5 nm, violet peak -11.8 %, both within the "
+        "criteria).  A joint refit of the E perp c bands to both spectra passes both (GIA 1110 RMS "
+        "3.6 -> 14.2 %, GRR 1843 12.1 %) but would assign the unanalysed stone's extra blue "
+        "absorption to Cr3+; not done (docs/design/chromophore_spectra.md)"
+    ),
+    ("corundum_feti_caltech_grr1020a_o.csv", "peak"): (
+        "blue sapphire GRR 1020a, E perp c: model alpha at the 451 nm maximum -35.6 % (Fe2+-Ti4+ "
+        "0.387 + Fe3+ 0.065 in their units); the Fe3+ line sits on a broad shoulder the library's "
+        "sets do not have"
+    ),
+    ("corundum_feti_caltech_grr1020a_o.csv", "rms"): (
+        "blue sapphire GRR 1020a, E perp c: RMS 49.5 % over 230 points; above 600 nm the stone's "
+        "absorption rises towards its Fe2+-Fe3+ band at 870-890 nm (no corundum band set), while "
+        "Fe2+-Ti4+ (GIA's 14-wafer average, maximum 580 nm) falls: one set cannot do both"
+    ),
+    ("corundum_feti_caltech_grr1020a_e.csv", "peak"): (
+        "blue sapphire GRR 1020a, E par c: model alpha at the 453 nm maximum -29.0 %"
+    ),
+    ("corundum_feti_caltech_grr1020a_e.csv", "rms"): (
+        "blue sapphire GRR 1020a, E par c: RMS 335 % over 363 points: the file's minimum (538 nm), "
+        "removed as baseline, lies on the broad Fe2+-Ti4+ E par c band (model 0.13/mm there), so "
+        "the measured alpha is near zero at 500-560 nm; plus the Fe2+-Fe3+ flank above 600 nm"
+    ),
+}
+
+
+def _expect(request, sp, criterion: str) -> None:
+    """Mark a known misfit of a check spectrum as a strict xfail (its reason: the numbers)."""
+    reason = MISFITS.get((sp.path.name, criterion))
+    if reason is not None:
+        request.applymarker(pytest.mark.xfail(strict=True, reason=reason))
+
 
 @pytest.fixture(scope="module", params=SPECTRA, ids=lambda p: p.stem)
 def measured(request):
@@ -48,30 +89,34 @@ def test_the_file_says_where_it_comes_from(measured):
         assert word in text, (sp.path.name, word)
     assert set(sp.alpha) == set(sp.peaks_nm)
     assert set(sp.alpha) <= set(C.host_info(sp.host)["polarizations"])
-    # the band set cites the file, and its note says what is measured
+    assert sp.meta.get("role", "fit") in ("fit", "check"), sp.path.name
     bs = C.band_set(sp.host, sp.chromophore)
-    assert sp.path.name in bs.source and "measured:" in bs.note
+    if sp.meta.get("role", "fit") == "fit":  # the band set cites the file it was fitted to
+        assert sp.path.name in bs.source and "measured:" in bs.note
     for name in sp.also:  # other band sets the sample holds exist in the host
         assert C.band_set(sp.host, name).source, name
 
 
-def test_band_centres_within_5_nm(measured):
+def test_band_centres_within_5_nm(measured, request):
     sp, result = measured
+    _expect(request, sp, "centre")
     for pol, r in result.items():
         for p in r["peaks"]:
             assert abs(p["measured_nm"] - p["stated_nm"]) <= 5.0, (pol, p)  # the file's own maxima
             assert p["centre_error_nm"] <= CRITERIA["centre_nm"], (sp.path.name, pol, p)
 
 
-def test_peak_alpha_within_15_percent(measured):
+def test_peak_alpha_within_15_percent(measured, request):
     sp, result = measured
+    _expect(request, sp, "peak")
     for pol, r in result.items():
         for p in r["peaks"]:
             assert abs(p["peak_ratio"] - 1.0) <= CRITERIA["peak_rel"], (sp.path.name, pol, p)
 
 
-def test_rms_relative_error_below_20_percent(measured):
+def test_rms_relative_error_below_20_percent(measured, request):
     sp, result = measured
+    _expect(request, sp, "rms")
     for pol, r in result.items():
         assert r["n_rms"] >= 20, (sp.path.name, pol, r["n_rms"])
         assert r["rms"] < CRITERIA["rms_rel"], (sp.path.name, pol, r["rms"])

@@ -15,7 +15,9 @@ obtained), followed by ``key: value`` lines the reader uses, then the table:
 - ``columns``: ``column=polarization, ...`` (the host's polarization names);
 - ``peaks_nm``: the measured maxima checked, ``pol=λ1,λ2; pol=λ3``;
 - ``also`` (optional): other band sets of the host present in the sample,
-  ``name=concentration, ...``: the comparison is of their sum.
+  ``name=concentration, ...``: the comparison is of their sum;
+- ``role`` (optional): ``fit`` (default: the band set was fitted to this spectrum and cites it)
+  or ``check`` (an independent spectrum the band set is compared with, not fitted to).
 
 alpha (1/mm, base e) is ``sigma * number_density / 10`` or ``ln(10) (A - baseline) / path_mm``.
 
@@ -55,6 +57,7 @@ _KEYS = {
     "columns",
     "peaks_nm",
     "also",
+    "role",
 }
 
 
