@@ -95,12 +95,16 @@ VARIETIES: dict[str, dict] = {
     # ---- chrysoberyl (the index of the library's alexandrite entry: Walling et al.'s laser crystal)
     "alexandrite": dict(
         host="chrysoberyl",
-        concentrations={"Cr3+": 0.4},
+        concentrations={"Cr3+": 0.5},
         index=GEMS["alexandrite"]["index"],
         source=(
-            "0.4 of the Cr3+ of Caltech GRR 874 (the measured band set's unit), "
-            + _CHOSEN_FACE_UP
-            + " and its colour change under A"
+            "0.5 of the Cr3+ of Caltech GRR 874 (the measured band set's unit; no Cr2O3 analysis of "
+            "that sample or Cr3+ cross section in chrysoberyl was found, so a typical Cr2O3 content "
+            "cannot be converted to it), chosen for the trade hues of a 1 ct oval face up under D65 "
+            "and A: raised from 0.4, at which the oval's hue under A was 329 deg, 1 deg short of the "
+            "330-40 range (the hue under A rises with Cr3+ while the chroma falls: 0.45 -> 332, "
+            "0.5 -> 337 deg, C* 4.8; D65 C* 4.6 and 3.6; 32 px renders); no analysis used.  The "
+            "face-up colour rests mostly on the chosen X bands (chromophores/chrysoberyl.py)"
         ),
         orientation=(
             "principal axes X, Y, Z along the object's x, y, z (face up: D along X and Y); Liu et al. "

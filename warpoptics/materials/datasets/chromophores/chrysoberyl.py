@@ -20,7 +20,12 @@ Measured, and what is still chosen
   Z 4T2 maximum, are chosen so that D along X is purple-red and the face-up stone (D along X
   and Y) changes colour from daylight to incandescent light.
 - Y. Liu, J. E. Shigley, E. Fritsch, S. Hemphill, Mineral. Mag. 59, 111 (1995), abstract: the
-  colour change is largest for light travelling along a.
+  colour change is largest for light travelling along a.  In the Handbook of Mineralogy's cell as
+  Wikipedia's chrysoberyl articles quote it (Pbnm, a 5.48, b 9.42, c 4.43 A; X = c red-violet,
+  Y = b yellow-orange, Z = a emerald-green) a is Z, the variety's face-up direction; the
+  abstract names no cell, so this is assumed.
+- Face up (D along X and Y) the colour rests mostly on the chosen X bands: at the variety's 0.5,
+  3 mm along X is dark and near grey under D65 (L* 21, C* 5), red under A; not red-violet.
 
 The value of alexandrite in :mod:`..varieties` is chosen for its colour change.
 """
