@@ -55,6 +55,7 @@ from ..stages.pixel_beam import (
     beam_objects,
     beam_obstacle,
     beam_scene,
+    beam_targets,
     sink_sums,
     trace_beam,
 )
@@ -215,6 +216,10 @@ def _render_beam_block(
     rot_x = wp.randf(rng)
     rot_y = wp.randf(rng)
     rot_u = wp.randf(rng)
+    # the object the block's beam enters (stages/pixel_beam.py beam_targets; a stone alone: 0)
+    k = int(0)
+    if beams.others != 0:
+        k = beams.target[block]
     for _skip in range(film.spp_begin * film.groups * _DRAWS_PER_TRACE):
         wp.randf(rng)
     for kb in range(film.spp_begin * film.groups, end * film.groups):
@@ -233,7 +238,7 @@ def _render_beam_block(
         rot_b = wp.vec2f(rot_x + float(smp) * 0.7548776662466927, rot_y + float(smp) * 0.5698402909980532)
         nr, rng_trace = trace_beam(
             tp, geom, mats, env, surf, tables, polarized, beams, cam, px0, py0, bw, bh, film.width,
-            sink, lanes, lane_w, nl, grp, film.groups, rot_b, rng_trace,
+            sink, lanes, lane_w, nl, grp, film.groups, rot_b, k, rng_trace,
         )  # fmt: skip
         # the block's parts counted evenly over its pixels (the rest at its first)
         cells = bw * bh
@@ -885,7 +890,11 @@ class Renderer:
     def _kernel_inputs(self, camera: CameraParams, out) -> list:
         """The pixel kernel's arguments after the launch offset: the scene's stages and the film
         ``out`` (any object with the arrays ``xyz, sq, stokes, alpha, rays, stokes_xyz``: the
-        Renderer's own, or a preview's)."""
+        Renderer's own, or a preview's); for pixel beams among several objects, each block's
+        target for this camera first."""
+        if self.film.beam:
+            w, h = int(camera.width), int(camera.height)
+            beam_targets(self.beam_scene, camera, w, h, self.film.beam_block, self.device)
         return [
             camera,
             self.film,

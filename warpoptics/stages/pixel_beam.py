@@ -95,6 +95,7 @@ __all__ = [
     "beam_objects",
     "BeamScene",
     "beam_scene",
+    "beam_targets",
 ]
 
 #: facet planes of the stone a beam can handle
@@ -152,7 +153,8 @@ class BeamScene:
     the object's vertices (``side``); ``others``: 1 when the scene holds
     anything besides one stone in the environment, so that parts and misses may meet it;
     ``traced``: 1 when lights the environment lookups do not see (suns, spots) make every leaf
-    and miss a point sample."""
+    and miss a point sample; ``target``: when ``others``, each block's :func:`beam_target` for
+    the camera of the pass (:func:`beam_targets`)."""
 
     num_objects: int
     eligible: wp.array(dtype=wp.int32)
@@ -163,6 +165,7 @@ class BeamScene:
     side: wp.array2d(dtype=wp.vec2f)
     others: int
     traced: int
+    target: wp.array(dtype=wp.int32)
 
 
 @wp.func
@@ -433,10 +436,13 @@ def _exit_region(geom: SceneGeometry, k: int, f: int, poly: BeamPolygon, nv: int
 def _entry_split(geom: SceneGeometry, k: int, poly: BeamPolygon, nv: int, rng: wp.uint32):
     """Cut a beam arriving from outside convex object k by the facets its rays enter through:
     (pieces on their facets with their fractions of the beam, count, the fraction of the pieces
-    beyond the buffer's rows that one of them carries: 0 when every piece has its row)."""
+    beyond the buffer's rows that one of them carries: 0 when every piece has its row); no
+    pieces for k < 0 (no object: :func:`beam_target`)."""
+    buf = PieceBuf()
+    if k < 0:
+        return buf, int(0), float(0.0), rng
     s0 = geom.plane_start[k]
     count = geom.plane_count[k]
-    buf = PieceBuf()
     nb = int(0)
     first = int(-2)
     same = int(1)
@@ -607,7 +613,7 @@ def _may_meet_rect(bs: BeamScene, r: int, poly: BeamPolygon, nv: int):
     return _may_meet_plane(poly, nv, bs.rect[r]) and _may_meet_sphere(poly, nv, c, sp[3])
 
 
-@wp.func
+@wp.func(inline=False)  # out of line: kept out of the beams' hot loops (code size)
 def _clear(bs: BeamScene, poly: BeamPolygon, nv: int, k: int):
     """Whether the beam ``poly`` (rays leaving object k, or missing it) surely meets nothing but
     the environment: then the environment lookups are its light, else point samples."""
@@ -626,7 +632,7 @@ def _clear(bs: BeamScene, poly: BeamPolygon, nv: int, k: int):
     return True
 
 
-@wp.func
+@wp.func(inline=False)  # out of line: kept out of the beams' hot loops (code size)
 def beam_target(bs: BeamScene, poly: BeamPolygon, nv: int):
     """The object a block's beam enters: the one nearest the camera among those its rays may meet
     (-1: none), when beams may enter it and nothing may stand in front of it for any of the rays:
@@ -824,6 +830,140 @@ def _sink_coherency(
     _sink_write(sink, pix, polarized, acc_x, acc_y, acc_z, sc)
 
 
+@wp.func(inline=False)  # out of line: the point tracer's state stays out of the beams' loops
+def _point_sample(
+    p: TraceParams,
+    geom: SceneGeometry,
+    mats: MaterialTable,
+    env: Environment,
+    surf: Surfaces,
+    tables: SpectralTables,
+    polarized: int,
+    o: wp.vec3f,
+    d: wp.vec3f,
+    b: wp.vec3f,
+    wl: float,
+    xyz_w: wp.vec3f,
+    resp: wp.mat33f,
+    sink: wp.array2d(dtype=wp.float32),
+    pix: int,
+    m: Jones,
+    w: float,
+    rng: wp.uint32,
+):
+    """A point sample along (o, d) (frame ``b``) at one wavelength, traced by the point tracer
+    (``trace_radiance``), into pixel ``pix``'s sums through Jones matrix ``m`` and weight ``w``.
+    Returns (whether it met anything, rays traced, rng)."""
+    c_x, c_y, c_z, hit, nr, rng = trace_radiance(
+        p, geom, mats, env, surf, tables, polarized, o, d, b, wl, xyz_w, resp, 0, rng
+    )
+    _sink_coherency(sink, pix, polarized, m, w, c_x, c_y, c_z)
+    return hit, nr, rng
+
+
+@wp.func(inline=False)
+def _part_sample(
+    p: TraceParams,
+    geom: SceneGeometry,
+    mats: MaterialTable,
+    env: Environment,
+    surf: Surfaces,
+    tables: SpectralTables,
+    polarized: int,
+    q: BeamPolygon,
+    nq: int,
+    ix0: int,
+    ix1: int,
+    iy0: int,
+    iy1: int,
+    x_off: wp.vec3f,
+    basis: wp.vec3f,
+    wl: float,
+    xyz_w: wp.vec3f,
+    resp: wp.mat33f,
+    sink: wp.array2d(dtype=wp.float32),
+    pix0: int,
+    width: int,
+    m: Jones,
+    w: float,
+    u: wp.vec2f,
+    rng: wp.uint32,
+):
+    """A leaving part continued as a point sample: the ray at ``u`` uniform in the part (by its
+    area in the block's pixel coordinates; origin moved off the facet by ``x_off``), traced on,
+    its light entering the pixel it falls in (of the cells [ix0, ix1] x [iy0, iy1]; ``pix0``
+    the block's first pixel) through the part's Jones matrix and weight.  Returns (rays, rng)."""
+    bw = random_point(q, nq, u[0], u[1])
+    x = wp.vec3f(0.0, 0.0, 0.0)
+    d = wp.vec3f(0.0, 0.0, 0.0)
+    pu = float(0.0)
+    pv = float(0.0)
+    for r in range(nq):
+        x = x + _p(q, r) * bw[r]
+        d = d + _d(q, r) * bw[r]
+        pu += q[r, 0] * bw[r]
+        pv += q[r, 1] * bw[r]
+    d = wp.normalize(d)
+    ix = wp.clamp(int(wp.floor(pu)), ix0, ix1)
+    iy = wp.clamp(int(wp.floor(pv)), iy0, iy1)
+    b = wp.normalize(basis - d * wp.dot(basis, d))
+    _hit, nr, rng = _point_sample(
+        p, geom, mats, env, surf, tables, polarized, x + x_off, d, b, wl, xyz_w, resp, sink,
+        pix0 + ix + iy * width, m, w, rng,
+    )  # fmt: skip
+    return nr, rng
+
+
+@wp.func(inline=False)
+def _miss_sample(
+    p: TraceParams,
+    geom: SceneGeometry,
+    mats: MaterialTable,
+    env: Environment,
+    surf: Surfaces,
+    tables: SpectralTables,
+    polarized: int,
+    k: int,
+    cam: CameraParams,
+    px: int,
+    py: int,
+    wl: float,
+    xyz_w: wp.vec3f,
+    sink: wp.array2d(dtype=wp.float32),
+    pix: int,
+    u: wp.vec2f,
+    rng: wp.uint32,
+):
+    """A point sample at ``u`` uniform in pixel (px, py) for its part that misses object ``k``
+    (a ray that meets k is the beams' and adds nothing; k < 0: none is), traced and added to
+    the pixel's sums.  Returns (whether it met anything, rays, rng)."""
+    o, d, b = camera_ray(cam, float(px) + u[0], float(py) + u[1], 0.5, 0.5)
+    if k >= 0:
+        if _meets_convex(geom, k, o, d):
+            return int(0), int(0), rng
+    resp = spectral_response(env, tables, wl, xyz_w)
+    return _point_sample(
+        p,
+        geom,
+        mats,
+        env,
+        surf,
+        tables,
+        polarized,
+        o,
+        d,
+        b,
+        wl,
+        xyz_w,
+        resp,
+        sink,
+        pix,
+        jones_identity(),
+        1.0,
+        rng,
+    )
+
+
 @wp.func
 def _r2(rot: wp.vec2f, g: float):
     """Point g of the R2 sequence (Roberts 2018) rotated by ``rot`` (Cranley-Patterson)."""
@@ -946,7 +1086,9 @@ def _trace_entry(
             if miss_c > 1.0e-6:
                 cell, bx_c = pixel_beam(cam, px0 + ix, py0 + iy, 1, 1)
                 _x_c, d_cell = _centre(cell, 4)
-                clear = k != -2 and _clear(bs, cell, 4, k)
+                clear = k != -2
+                if clear and bs.others != 0:
+                    clear = _clear(bs, cell, 4, k)
                 for j in range(count):
                     xyz_w = wp.vec3f(weights[j, 0], weights[j, 1], weights[j, 2])
                     g_j = float(first + j * step)
@@ -957,17 +1099,10 @@ def _trace_entry(
                             sink, pix, polarized, one, miss_c, env.polarizer, -d_cell, bx_c, xyz_w * rad
                         )
                     else:
-                        u = _r2(rot, g_j)
-                        o, d, b = camera_ray(cam, float(px0 + ix) + u[0], float(py0 + iy) + u[1], 0.5, 0.5)
-                        if k >= 0:
-                            if _meets_convex(geom, k, o, d):
-                                continue
-                        resp = spectral_response(env, tables, wavelengths[j], xyz_w)
-                        c_x, c_y, c_z, hit, nr, rng = trace_radiance(
-                            p, geom, mats, env, surf, tables, polarized, o, d, b, wavelengths[j], xyz_w, resp,
-                            0, rng,
+                        hit, nr, rng = _miss_sample(
+                            p, geom, mats, env, surf, tables, polarized, k, cam, px0 + ix, py0 + iy,
+                            wavelengths[j], xyz_w, sink, pix, _r2(rot, g_j), rng,
                         )  # fmt: skip
-                        _sink_coherency(sink, pix, polarized, one, 1.0, c_x, c_y, c_z)
                         sink[pix, _K_COVER] += float(hit) / float(count)
                         parts += nr
     if n_entry == 0:
@@ -1141,32 +1276,17 @@ def _trace_entry(
                         # shared among the pixels it overlaps by their areas of it
                         share = frac * a_beam
                         ix0, ix1, iy0, iy1 = _cells(qc, nq, bw, bh)
-                        if not _clear(bs, qc, nq, k):
+                        traced = False
+                        if bs.others != 0:  # (a test of one int on the common path: no struct copies)
+                            traced = not _clear(bs, qc, nq, k)
+                        if traced:
                             # its rays may meet another object, a surface or a lamp: a point sample
-                            # uniform in the part (by its area in the block's pixel coordinates),
-                            # traced on from the facet; the pixel it falls in takes the part's light
-                            u = _r2(rot, g)
-                            bw_r = random_point(qc, nq, u[0], u[1])
-                            x_r = wp.vec3f(0.0, 0.0, 0.0)
-                            d_r = wp.vec3f(0.0, 0.0, 0.0)
-                            pu = float(0.0)
-                            pv = float(0.0)
-                            for r in range(nq):
-                                x_r = x_r + _p(qc, r) * bw_r[r]
-                                d_r = d_r + _d(qc, r) * bw_r[r]
-                                pu += qc[r, 0] * bw_r[r]
-                                pv += qc[r, 1] * bw_r[r]
-                            d_r = wp.normalize(d_r)
-                            ix = wp.clamp(int(wp.floor(pu)), ix0, ix1)
-                            iy = wp.clamp(int(wp.floor(pv)), iy0, iy1)
-                            b_r = wp.normalize(b_ch - d_r * wp.dot(b_ch, d_r))
-                            c_x, c_y, c_z, _hit, nr, rng = trace_radiance(
-                                p, geom, mats, env, surf, tables, polarized, x_r + n_out * eps, d_r, b_r, wl,
-                                xyz_w, resp, 0, rng,
+                            nr, rng = _part_sample(
+                                p, geom, mats, env, surf, tables, polarized, qc, nq, ix0, ix1, iy0, iy1,
+                                n_out * eps, b_ch, wl, xyz_w, resp, sink, px0 + py0 * width, width, m_c,
+                                w_c * share, _r2(rot, g), rng,
                             )  # fmt: skip
                             parts += nr
-                            pc = px0 + ix + (py0 + iy) * width
-                            _sink_coherency(sink, pc, polarized, m_c, w_c * share, c_x, c_y, c_z)
                             continue
                         if ix0 == ix1 and iy0 == iy1:
                             rad = _part_light(env, b3, qc, nq, rot, g)
@@ -1300,6 +1420,7 @@ def trace_beam(
     first: int,
     step: int,
     rot: wp.vec2f,
+    k: int,
     rng: wp.uint32,
 ):
     """The light reaching the camera through the block of ``bw`` x ``bh`` pixels from pixel
@@ -1307,7 +1428,7 @@ def trace_beam(
     added to each pixel's row of ``sink`` (:func:`sink_sums` reads it): coherency matrices J_X,
     J_Y, J_Z summed over the lanes, lane j's light weighted by ``weights[j]``, averaged over the
     pixel, and the fraction of the pixel that meets the stone.  Returns (the beam parts and point
-    rays traced, rng).  The block's beam enters the object :func:`beam_target` picks; a leaf's
+    rays traced, rng).  The block's beam enters object ``k`` (:func:`beam_target`); a leaf's
     part is cut by the pixels it overlaps (in the block's pixel coordinates, which every part
     carries), each pixel taking its share of the part's fraction of the block.  Lane j is the
     pixel's wavelength ``first + j step`` in the order of its strata: its environment lookups
@@ -1315,13 +1436,7 @@ def trace_beam(
     wavelengths), so that neighbouring wavelengths' lookups spread evenly over their parts
     (module docstring).  Module docstring for the method."""
     poly, basis_x = pixel_beam(cam, px0, py0, bw, bh)
-    k = beam_target(bs, poly, 4)
-    if k < 0:
-        return _trace_entry(
-            p, geom, mats, env, surf, tables, polarized, bs, k, cam, px0, py0, bw, bh, width, sink, basis_x,
-            PieceBuf(), 0, wavelengths, weights, count, first, step, rot, rng,
-        )  # fmt: skip
-    # the entry cut is the same for every wavelength
+    # the entry cut is the same for every wavelength (none for k < 0)
     entry, n_entry, over, rng = _entry_split(geom, k, poly, 4, rng)
     if over == 0.0 or bw * bh == 1:
         return _trace_entry(
@@ -1341,6 +1456,32 @@ def trace_beam(
             )  # fmt: skip
             parts += n_p
     return parts, rng
+
+
+@wp.kernel(enable_backward=False)
+def _beam_targets_kernel(
+    bs: BeamScene, cam: CameraParams, width: int, height: int, bsz: int, target: wp.array(dtype=wp.int32)
+):
+    b = wp.tid()
+    nbx = (width + bsz - 1) / bsz
+    px0 = (b % nbx) * bsz
+    py0 = (b / nbx) * bsz
+    poly, _bx = pixel_beam(cam, px0, py0, wp.min(bsz, width - px0), wp.min(bsz, height - py0))
+    target[b] = beam_target(bs, poly, 4)
+
+
+def beam_targets(bs: BeamScene, cam, width: int, height: int, block: int, device=None) -> None:
+    """Each block's :func:`beam_target` for camera ``cam`` on a ``width`` x ``height`` film in
+    blocks of ``block`` pixels, into ``bs.target`` (a kernel of its own, run before a pass when
+    the scene holds more than one stone in the environment: a target chosen inside the pixel
+    kernel cost a stone alone 10-20 % of its render time, measured on diamond_fire.toml)."""
+    if not bs.others:
+        return
+    n = (-(-int(width) // block)) * (-(-int(height) // block))
+    if bs.target.shape[0] < n:
+        bs.target = wp.zeros(n, dtype=wp.int32, device=bs.target.device)
+    inputs = [bs, cam, int(width), int(height), int(block), bs.target]
+    wp.launch(_beam_targets_kernel, dim=n, inputs=inputs, device=device or bs.target.device)
 
 
 def beam_objects(scene, geometry, built) -> list[bool]:
@@ -1413,5 +1554,6 @@ def beam_scene(geometry, surfaces, eligible, device=None) -> BeamScene:
     )
     bs.side = wp.array(side, dtype=wp.vec2f, device=dev)
     bs.traced = int(surfaces.num_sun > 0 or surfaces.num_spot > 0)
+    bs.target = wp.zeros(1, dtype=wp.int32, device=dev)
     bs.others = int(n > 1 or len(planes) > 0 or bs.traced != 0)
     return bs
