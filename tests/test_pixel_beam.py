@@ -134,7 +134,7 @@ def test_orthographic_beams_equal_point_sampling(device, polarization, obj, beam
     ]
     pts = []
     for seed in (1, 2):
-        ref_sc = _scene(polarization=polarization, obj=obj, estimator="point", spp=512, seed=seed)
+        ref_sc = _scene(polarization=polarization, obj=obj, estimator="point", spp=256, seed=seed)
         pts.append(Renderer(ref_sc, device=device).run().xyz)
     ref = 0.5 * (pts[0] + pts[1])
     noise = np.sqrt(((pts[0] - pts[1]) ** 2).mean()) / 2.0  # of their mean
@@ -193,9 +193,9 @@ def test_beams_through_several_stones_equal_point_sampling(device):
     and the parts that leave the front stone toward the other continue as point samples.  With
     an orthographic camera every beam is exact, so one beam render equals the mean of many
     point samples within their noise (as for one stone, above)."""
-    beams = [_render(_two_stones(wavelengths=64, bundle_lanes=16, seed=s), device) for s in (11, 12)]
+    beams = [_render(_two_stones(wavelengths=32, bundle_lanes=16, seed=s), device) for s in (11, 12)]
     assert Renderer(_two_stones(estimator="auto"), device=device).estimator == "beam"
-    pts = [Renderer(_two_stones(estimator="point", spp=512, seed=s), device=device).run().xyz for s in (1, 2)]
+    pts = [Renderer(_two_stones(estimator="point", spp=256, seed=s), device=device).run().xyz for s in (1, 2)]
     _agree_within_noise([b.xyz for b in beams], pts)
 
 
@@ -240,9 +240,9 @@ def test_beams_meet_surfaces_and_lamps_by_point_samples(device):
     two estimators' noise.  ``auto`` keeps point samples for such scenes and says why."""
     auto = Renderer(_on_a_table(estimator="auto"), device=device)
     assert auto.estimator == "point" and "surfaces or lamps" in auto.estimator_reason
-    beams = [_render(_on_a_table(spp=4, seed=s), device) for s in (11, 12)]
+    beams = [_render(_on_a_table(spp=2, seed=s), device) for s in (11, 12)]
     assert all(b.stats["estimator"] == "beam" for b in beams)
-    pts = [Renderer(_on_a_table(estimator="point", spp=512, seed=s), device=device).run().xyz for s in (1, 2)]
+    pts = [Renderer(_on_a_table(estimator="point", spp=256, seed=s), device=device).run().xyz for s in (1, 2)]
     _agree_within_noise([b.xyz for b in beams], pts)
 
 
