@@ -56,7 +56,7 @@ from ..geometry.polygon import (
     polygon_area,
     random_point,
 )
-from ..geometry.query import SceneGeometry, world_normal
+from ..geometry.query import SceneGeometry, convex_closest_hit, world_normal
 from ..materials.dispersion import MaterialTable
 from ..optics.absorption import bouguer_lambert
 from ..optics.biaxial import is_biaxial, medium_wave_normal
@@ -588,20 +588,35 @@ def _may_meet_sphere(poly: BeamPolygon, nv: int, c: wp.vec3f, r: float):
 
 
 @wp.func
-def _may_meet_plane(poly: BeamPolygon, nv: int, pl: wp.vec4f):
-    """Whether any ray of the beam ``poly`` may cross the plane n.x = d (False when every origin
-    lies on one side and every direction points away from the plane or along it)."""
+def _sides(poly: BeamPolygon, nv: int, pl: wp.vec4f):
+    """Of the beam's vertex rays against the plane n.x = d: how many origins lie on its positive
+    side, on its negative side, and of those how many rays point away from the plane or along
+    it (positive side, negative side)."""
     n = wp.vec3f(pl[0], pl[1], pl[2])
     pos = int(0)
     neg = int(0)
+    pos_away = int(0)
+    neg_away = int(0)
     for i in range(nv):
         sd = wp.dot(n, _p(poly, i)) - pl[3]
         sdir = wp.dot(n, _d(poly, i))
-        if sd > 0.0 and sdir >= 0.0:
+        if sd > 0.0:
             pos += 1
-        elif sd < 0.0 and sdir <= 0.0:
+            if sdir >= 0.0:
+                pos_away += 1
+        elif sd < 0.0:
             neg += 1
-    return pos != nv and neg != nv
+            if sdir <= 0.0:
+                neg_away += 1
+    return pos, neg, pos_away, neg_away
+
+
+@wp.func
+def _may_meet_plane(poly: BeamPolygon, nv: int, pl: wp.vec4f):
+    """Whether any ray of the beam ``poly`` may cross the plane n.x = d (False when every origin
+    lies on one side and every direction points away from the plane or along it)."""
+    _pos, _neg, pos_away, neg_away = _sides(poly, nv, pl)
+    return pos_away != nv and neg_away != nv
 
 
 @wp.func
@@ -666,17 +681,8 @@ def beam_target(bs: BeamScene, poly: BeamPolygon, nv: int):
                 return -2
     tol = 1.0e-3 * bs.sphere[k][3]
     for r in range(bs.num_rects):
-        pl = bs.rect[r]
         if _may_meet_rect(bs, r, poly, nv):
-            n = wp.vec3f(pl[0], pl[1], pl[2])
-            pos = int(0)
-            neg = int(0)
-            for i in range(nv):
-                sd = wp.dot(n, _p(poly, i)) - pl[3]
-                if sd > 0.0:
-                    pos += 1
-                elif sd < 0.0:
-                    neg += 1
+            pos, neg, _pa, _na = _sides(poly, nv, bs.rect[r])
             ext = bs.side[k, r]
             if not ((pos == nv and ext[0] >= -tol) or (neg == nv and ext[1] <= tol)):
                 return -2
@@ -685,17 +691,13 @@ def beam_target(bs: BeamScene, poly: BeamPolygon, nv: int):
 
 @wp.func
 def _meets_convex(geom: SceneGeometry, k: int, o: wp.vec3f, d: wp.vec3f):
-    """Whether the world ray o + t d (t > 0) meets convex object k (its facet planes)."""
+    """Whether the world ray o + t d (t > 0) from outside convex object k meets it (its facet
+    planes: ``geometry.query.convex_closest_hit``)."""
     m = geom.world_to_object[k]
     x = wp.transform_point(m, o)
     v = wp.transform_vector(m, d)
-    s = geom.plane_start[k]
-    t_in = float(-_BIG)
-    t_out = float(_BIG)
-    for g in range(geom.plane_count[k]):
-        t_in = wp.max(t_in, _t_entry(geom, s, g, x, v))
-        t_out = wp.min(t_out, _t_exit(geom, s, g, x, v))
-    return t_in < t_out and t_out > 0.0
+    _t, facet = convex_closest_hit(geom.planes, geom.plane_start[k], geom.plane_count[k], x, v, _BIG)
+    return facet >= 0
 
 
 @wp.func
